@@ -1,0 +1,42 @@
+# The two commands of the README: `make demo` and `make test`.
+# Both install missing Debian packages, configure and build first.
+PRESET ?= release
+BUILD  := build
+JOBS   ?= $(shell nproc)
+
+.PHONY: all deps configure build demo test test-asan clean
+
+all: build
+
+deps:
+	@scripts/install-deps.sh
+
+configure: deps
+	@cmake --preset $(PRESET) >/dev/null
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@$(BUILD)/nesshi demo
+
+# In CI (CI=true) warnings are errors and the unit tests also run under ASan+UBSan.
+test: deps
+ifeq ($(CI),true)
+	@cmake --preset ci >/dev/null
+else
+	@cmake --preset $(PRESET) >/dev/null
+endif
+	@cmake --build $(BUILD) -j $(JOBS)
+	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+ifeq ($(CI),true)
+	@$(MAKE) --no-print-directory test-asan
+endif
+
+test-asan: deps
+	@cmake --preset asan >/dev/null
+	@cmake --build build-asan -j $(JOBS)
+	@ctest --test-dir build-asan --output-on-failure -j $(JOBS) -L unit
+
+clean:
+	rm -rf build build-asan

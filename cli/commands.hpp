@@ -1,0 +1,15 @@
+// Registration of each `nesshi` subcommand; one function per file cmd_*.cpp.
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace nesshi::cli {
+// Each adds its subcommand to the app; the callback runs it and throws CLI::RuntimeError(code)
+// on failure, so main() returns that exit status.
+void add_asm(CLI::App& app);
+void add_dis(CLI::App& app);
+void add_sim(CLI::App& app);
+void add_debug(CLI::App& app);
+void add_scene(CLI::App& app);
+void add_render(CLI::App& app);
+void add_demo(CLI::App& app);
+} // namespace nesshi::cli

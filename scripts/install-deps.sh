@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs the Debian packages Nesshisen builds with, only those missing.
+set -euo pipefail
+pkgs=(g++ cmake ninja-build pkg-config libfmt-dev libcli11-dev catch2
+      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "installing: ${missing[*]}"
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq "${missing[@]}"
