@@ -12,4 +12,5 @@ void add_debug(CLI::App& app);
 void add_scene(CLI::App& app);
 void add_render(CLI::App& app);
 void add_demo(CLI::App& app);
+void add_isa(CLI::App& app);
 } // namespace nesshi::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_scene(app);
     nesshi::cli::add_render(app);
     nesshi::cli::add_demo(app);
+    nesshi::cli::add_isa(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

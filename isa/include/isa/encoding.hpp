@@ -1,0 +1,46 @@
+// The 64-bit operation word: encoder, decoder, and the decoded form every tool shares.
+//
+//   63     end of bundle (1 on the last operation of a bundle)
+//   62..56 opcode (index into kOps)
+//   55..53 issue slot (index into the machine's slot list)
+//   52..46 rd     45..39 rs1     38..32 rs2
+//   31..0  imm (immediate, memory offset, branch target, channel); rs3 in imm[6:0]
+// Fields an operation does not use must be zero; the decoder rejects anything else, so every
+// word either decodes to exactly one operation or is reported as an illegal encoding.
+#pragma once
+
+#include "isa/ops.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace nesshi::isa {
+
+struct Instr {
+    Opcode opcode = 0;
+    uint8_t slot = 0;
+    uint8_t rd = 0, rs1 = 0, rs2 = 0, rs3 = 0;
+    uint32_t imm = 0;
+
+    const OpInfo& info() const { return kOps[opcode]; }
+    friend bool operator==(const Instr&, const Instr&) = default;
+};
+
+inline constexpr uint64_t kEndOfBundle = uint64_t{1} << 63;
+inline constexpr int kMaxSlots = 8;
+inline constexpr int kMaxRegs = 128;
+
+uint64_t encode(const Instr& in, bool end_of_bundle);
+
+struct DecodeResult {
+    bool ok = false;
+    Instr instr;
+    bool end_of_bundle = false;
+    std::string error; // why the word is illegal
+};
+DecodeResult decode(uint64_t word);
+
+// Which fields an operation uses (bit i set = Field(i) used).
+unsigned used_fields(const OpInfo& info);
+
+} // namespace nesshi::isa

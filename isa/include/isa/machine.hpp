@@ -1,0 +1,75 @@
+// Machine descriptions: issue slots, latencies, register-file ports and memories, as data.
+//
+// Built-in presets (os, ic, seq and their -real variants) are embedded copies of
+// isa/machines/*.toml; users load their own with `-m PATH`. Both go through one parser that
+// reports `file:line:col: error:` for anything malformed or inconsistent.
+#pragma once
+
+#include "isa/ops.hpp"
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::isa {
+
+struct SlotDesc {
+    std::string name;
+    uint32_t classes = 0; // bit i set: accepts OpClass(i)
+    bool accepts(OpClass c) const { return (classes >> static_cast<int>(c)) & 1u; }
+};
+
+struct RegFileDesc {
+    uint32_t count = 128;
+    uint32_t read_ports = 1;
+    uint32_t write_ports = 1;
+};
+
+struct MemoryDesc {
+    std::string name;
+    uint32_t base = 0;
+    uint32_t size = 0;
+    uint32_t latency = 0; // extra stall cycles per access beyond the load class latency
+    bool cached = false;  // reached through the cache (ideal: always hits)
+    bool contains(uint32_t addr, uint32_t bytes) const {
+        return addr >= base && uint64_t{addr} + bytes <= uint64_t{base} + size;
+    }
+};
+
+struct Machine {
+    std::string name;
+    std::string description;
+    std::string source; // "builtin:os" or the file it was read from
+    std::vector<SlotDesc> slots;
+    std::array<uint32_t, kNumOpClasses> latency{};
+    std::array<RegFileDesc, kNumRegFiles> regs{};
+    std::vector<MemoryDesc> memories;
+    uint32_t branch_penalty = 0; // extra cycles after a taken branch
+
+    uint32_t latency_of(const OpInfo& op) const { return latency[static_cast<int>(op.cls)]; }
+    const RegFileDesc& regfile(RegFile rf) const { return regs[static_cast<int>(rf)]; }
+    const MemoryDesc* memory_at(uint32_t addr, uint32_t bytes) const;
+    int slot_index(std::string_view slot_name) const; // -1 when absent
+    uint32_t max_latency() const;
+    // A hash of everything that affects assembly or timing; objects record it.
+    uint64_t fingerprint() const;
+};
+
+// A malformed description; what() is `file:line:col: error: message`.
+class MachineError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+// Parses a description; `source` names it in error messages.
+Machine parse_machine(std::string_view toml_text, std::string_view source);
+// A preset name (os, ic, seq, os-real, ic-real, seq-real) or a path to a .toml file.
+Machine load_machine(std::string_view name_or_path);
+bool is_preset(std::string_view name);
+std::vector<std::string_view> preset_names();
+std::string_view preset_text(std::string_view name); // empty when absent
+
+} // namespace nesshi::isa

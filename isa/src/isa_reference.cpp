@@ -1,0 +1,102 @@
+// Renders docs/isa.md from kOps and the built-in machine presets; a test keeps the file current.
+#include "isa/reference.hpp"
+
+#include "isa/machine.hpp"
+#include "isa/ops.hpp"
+
+#include <fmt/format.h>
+
+namespace nesshi::isa {
+
+namespace {
+std::string operand_syntax(const OpInfo& op) {
+    std::string s;
+    int src = 1;
+    for (int i = 0; i < op.num_operands; ++i) {
+        const Operand& o = op.operands[i];
+        if (i) s += ", ";
+        switch (o.kind) {
+        case OperandKind::IntReg: s += o.is_dest ? "rd" : fmt::format("rs{}", src++); break;
+        case OperandKind::FloatReg: s += o.is_dest ? "fd" : fmt::format("fs{}", src++); break;
+        case OperandKind::Imm: s += "imm"; break;
+        case OperandKind::FloatImm: s += "fimm"; break;
+        case OperandKind::Mem: s += "imm(rs1)"; break;
+        case OperandKind::Target: s += "target"; break;
+        case OperandKind::Channel: s += "ch"; break;
+        }
+    }
+    return s;
+}
+
+std::string ports(const OpInfo& op) {
+    PortUse p = port_use(op);
+    std::string s;
+    for (int f = 0; f < kNumRegFiles; ++f) {
+        if (p.reads[f]) s += fmt::format("{}{} r{}", s.empty() ? "" : " ", kRegFileNames[f], p.reads[f]);
+        if (p.writes[f]) s += fmt::format("{}{} w{}", s.empty() ? "" : " ", kRegFileNames[f], p.writes[f]);
+    }
+    return s.empty() ? "-" : s;
+}
+} // namespace
+
+std::string isa_reference_markdown() {
+    std::string out;
+    out += "# Nesshisen ISA reference\n\n";
+    out += "Generated from `isa/include/isa/ops.hpp` and `isa/machines/*.toml` by "
+           "`nesshi isa --markdown`; a test keeps this file up to date. Do not edit by hand.\n\n";
+    out += "## Conventions\n\n"
+           "- 32-bit integers (two's complement, wrapping) and IEEE-754 binary32 floats, round to "
+           "nearest even; subnormals are kept (not flushed); no fused multiply-add.\n"
+           "- Registers `r0..r127` (IRF) and `f0..f127` (FPRF); no register is hard-wired to "
+           "zero. Conditions live in integer registers: compares write 0 or 1.\n"
+           "- Every register read counts against its file's read ports at issue; every write "
+           "counts against the write ports in the cycle it lands (issue + latency).\n"
+           "- Exposed pipeline: a result can be read by a bundle issued `latency` cycles after "
+           "its producer, not earlier; there are no interlocks. All units are pipelined.\n"
+           "- A taken branch redirects the next bundle (plus the machine's `branch_penalty` "
+           "bubble cycles). Branch targets are absolute bundle addresses.\n"
+           "- Memory is byte-addressed; accesses must be aligned to their width.\n"
+           "- `fmin`/`fmax` return the second operand when either is NaN; `ftoi` truncates, "
+           "saturates and maps NaN to 0.\n\n";
+    out += "## Encoding\n\nEach operation is a 64-bit word; a bundle is a run of words whose "
+           "last has bit 63 set.\n\n"
+           "| bits | field |\n|---|---|\n| 63 | end of bundle |\n| 62..56 | opcode |\n"
+           "| 55..53 | issue slot |\n| 52..46 | rd |\n| 45..39 | rs1 |\n| 38..32 | rs2 |\n"
+           "| 31..0 | imm / offset / target / channel; rs3 in bits 6..0 |\n\n"
+           "Unused fields must be zero; any other word is an illegal encoding.\n\n";
+    out += "## Operations\n\n| opcode | mnemonic | operands | class | ports | meaning |\n"
+           "|---:|---|---|---|---|---|\n";
+    for (int i = 0; i < kNumOps; ++i) {
+        const OpInfo& op = kOps[i];
+        out += fmt::format("| {} | `{}` | `{}` | {} | {} | {} |\n", i, op.mnemonic,
+                           operand_syntax(op), kOpClassNames[int(op.cls)], ports(op), op.summary);
+    }
+    out += "\n## Machine presets\n\n";
+    for (auto name : preset_names()) {
+        Machine m = load_machine(name);
+        out += fmt::format("### `{}`\n\n{}\n\n", m.name, m.description);
+        out += "| slot | accepts |\n|---|---|\n";
+        for (const auto& s : m.slots) {
+            std::vector<std::string_view> cls;
+            for (int c = 0; c < kNumOpClasses; ++c)
+                if (s.accepts(OpClass(c))) cls.push_back(kOpClassNames[c]);
+            out += fmt::format("| {} | {} |\n", s.name, fmt::join(cls, ", "));
+        }
+        out += "\n| register file | count | read ports | write ports |\n|---|---:|---:|---:|\n";
+        for (int f = 0; f < kNumRegFiles; ++f)
+            out += fmt::format("| {} | {} | {} | {} |\n", kRegFileNames[f], m.regs[f].count,
+                               m.regs[f].read_ports, m.regs[f].write_ports);
+        out += "\n| class | latency |\n|---|---:|\n";
+        for (int c = 0; c < kNumOpClasses; ++c)
+            out += fmt::format("| {} | {} |\n", kOpClassNames[c], m.latency[c]);
+        out += fmt::format("\nTaken-branch penalty: {} cycles.\n\n", m.branch_penalty);
+        out += "| memory | base | size | extra latency | cached |\n|---|---|---|---:|---|\n";
+        for (const auto& d : m.memories)
+            out += fmt::format("| {} | 0x{:08x} | {} KiB | {} | {} |\n", d.name, d.base,
+                               d.size / 1024, d.latency, d.cached ? "yes" : "no");
+        out += "\n";
+    }
+    return out;
+}
+
+} // namespace nesshi::isa

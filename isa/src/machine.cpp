@@ -1,0 +1,253 @@
+// Parser and validator for machine descriptions (TOML), and the built-in presets.
+#include "isa/machine.hpp"
+
+#include "isa/encoding.hpp"
+#include "machine_presets.hpp" // generated: kPresets[] from isa/machines/*.toml
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace nesshi::isa {
+
+namespace {
+
+struct Ctx {
+    std::string source;
+    [[noreturn]] void fail(const toml::source_region& where, const std::string& msg) const {
+        throw MachineError(fmt::format("{}:{}:{}: error: {}", source, where.begin.line,
+                                       where.begin.column, msg));
+    }
+    [[noreturn]] void fail_top(const std::string& msg) const {
+        throw MachineError(fmt::format("{}:1:1: error: {}", source, msg));
+    }
+};
+
+void reject_unknown_keys(const Ctx& ctx, const toml::table& t, std::set<std::string> known,
+                         std::string_view where) {
+    for (auto&& [k, v] : t)
+        if (!known.count(std::string(k.str())))
+            ctx.fail(v.source(), fmt::format("unknown key '{}' in {}", k.str(), where));
+}
+
+uint32_t get_uint(const Ctx& ctx, const toml::table& t, std::string_view key, bool required,
+                  uint32_t fallback, uint64_t max, const toml::source_region& parent) {
+    const toml::node* n = t.get(key);
+    if (!n) {
+        if (required) ctx.fail(parent, fmt::format("missing key '{}'", key));
+        return fallback;
+    }
+    auto v = n->value<int64_t>();
+    if (!n->is_integer() || !v) ctx.fail(n->source(), fmt::format("'{}' must be an integer", key));
+    if (*v < 0 || uint64_t(*v) > max)
+        ctx.fail(n->source(), fmt::format("'{}' = {} is out of range 0..{}", key, *v, max));
+    return uint32_t(*v);
+}
+
+std::string get_string(const Ctx& ctx, const toml::table& t, std::string_view key, bool required,
+                       const toml::source_region& parent) {
+    const toml::node* n = t.get(key);
+    if (!n) {
+        if (required) ctx.fail(parent, fmt::format("missing key '{}'", key));
+        return {};
+    }
+    if (!n->is_string()) ctx.fail(n->source(), fmt::format("'{}' must be a string", key));
+    return std::string(*n->value<std::string_view>());
+}
+
+int class_index(std::string_view name) {
+    for (int i = 0; i < kNumOpClasses; ++i)
+        if (kOpClassNames[i] == name) return i;
+    return -1;
+}
+
+void parse_regs(const Ctx& ctx, const toml::table& root, Machine& m) {
+    const toml::node* rn = root.get("registers");
+    if (!rn || !rn->is_table()) ctx.fail_top("missing table [registers.int] / [registers.float]");
+    const auto& regs = *rn->as_table();
+    reject_unknown_keys(ctx, regs, {"int", "float"}, "[registers]");
+    const char* names[] = {"int", "float"};
+    for (int f = 0; f < kNumRegFiles; ++f) {
+        const toml::node* n = regs.get(names[f]);
+        if (!n || !n->is_table())
+            ctx.fail(rn->source(), fmt::format("missing table [registers.{}]", names[f]));
+        const auto& t = *n->as_table();
+        reject_unknown_keys(ctx, t, {"count", "read_ports", "write_ports"},
+                            fmt::format("[registers.{}]", names[f]));
+        RegFileDesc& d = m.regs[f];
+        d.count = get_uint(ctx, t, "count", true, 0, kMaxRegs, t.source());
+        d.read_ports = get_uint(ctx, t, "read_ports", true, 0, 64, t.source());
+        d.write_ports = get_uint(ctx, t, "write_ports", true, 0, 64, t.source());
+        if (d.count == 0) ctx.fail(t.source(), "a register file needs at least one register");
+        if (d.read_ports == 0 || d.write_ports == 0)
+            ctx.fail(t.source(), "a register file needs at least one read and one write port");
+    }
+}
+
+void parse_latency(const Ctx& ctx, const toml::table& root, Machine& m) {
+    const toml::node* n = root.get("latency");
+    if (!n || !n->is_table()) ctx.fail_top("missing table [latency]");
+    const auto& t = *n->as_table();
+    for (auto&& [k, v] : t)
+        if (class_index(k.str()) < 0)
+            ctx.fail(v.source(), fmt::format("unknown operation class '{}'", k.str()));
+    for (int c = 0; c < kNumOpClasses; ++c)
+        m.latency[c] = get_uint(ctx, t, kOpClassNames[c], true, 1, 1000, t.source());
+    for (int c = 0; c < kNumOpClasses; ++c)
+        if (m.latency[c] == 0)
+            ctx.fail(t.get(kOpClassNames[c])->source(), "latencies are at least 1 cycle");
+}
+
+void parse_slots(const Ctx& ctx, const toml::table& root, Machine& m) {
+    const toml::node* n = root.get("slot");
+    if (!n || !n->is_array_of_tables()) ctx.fail_top("missing [[slot]] entries");
+    const auto& arr = *n->as_array();
+    if (arr.size() > size_t(kMaxSlots))
+        ctx.fail(arr.source(), fmt::format("at most {} issue slots", kMaxSlots));
+    for (const auto& e : arr) {
+        const auto& t = *e.as_table();
+        reject_unknown_keys(ctx, t, {"name", "accepts"}, "[[slot]]");
+        SlotDesc s;
+        s.name = get_string(ctx, t, "name", true, t.source());
+        if (s.name.empty()) ctx.fail(t.source(), "slot name is empty");
+        if (m.slot_index(s.name) >= 0)
+            ctx.fail(t.get("name")->source(), fmt::format("duplicate slot name '{}'", s.name));
+        const toml::node* acc = t.get("accepts");
+        if (!acc || !acc->is_array()) ctx.fail(t.source(), "slot needs 'accepts', a list of classes");
+        for (const auto& c : *acc->as_array()) {
+            int idx = c.is_string() ? class_index(*c.value<std::string_view>()) : -1;
+            if (idx < 0)
+                ctx.fail(c.source(),
+                         fmt::format("unknown operation class (known: {})",
+                                     fmt::join(kOpClassNames.begin(), kOpClassNames.end(), ", ")));
+            s.classes |= 1u << idx;
+        }
+        m.slots.push_back(std::move(s));
+    }
+    // Every class must be issuable somewhere, or programs using it could never assemble.
+    for (int c = 0; c < kNumOpClasses; ++c) {
+        bool any = false;
+        for (const auto& s : m.slots) any |= s.accepts(OpClass(c));
+        if (!any)
+            ctx.fail(arr.source(),
+                     fmt::format("no slot accepts operation class '{}'", kOpClassNames[c]));
+    }
+}
+
+void parse_memories(const Ctx& ctx, const toml::table& root, Machine& m) {
+    const toml::node* n = root.get("memory");
+    if (!n || !n->is_array_of_tables()) ctx.fail_top("missing [[memory]] entries");
+    for (const auto& e : *n->as_array()) {
+        const auto& t = *e.as_table();
+        reject_unknown_keys(ctx, t, {"name", "base", "size", "latency", "cached"}, "[[memory]]");
+        MemoryDesc d;
+        d.name = get_string(ctx, t, "name", true, t.source());
+        d.base = get_uint(ctx, t, "base", true, 0, 0xffffffffu, t.source());
+        d.size = get_uint(ctx, t, "size", true, 0, 0xffffffffu, t.source());
+        d.latency = get_uint(ctx, t, "latency", false, 0, 100000, t.source());
+        if (const toml::node* c = t.get("cached")) {
+            if (!c->is_boolean()) ctx.fail(c->source(), "'cached' must be true or false");
+            d.cached = *c->value<bool>();
+        }
+        if (d.size == 0 || d.base % 4 || d.size % 4)
+            ctx.fail(t.source(), "memory base and size must be multiples of 4, size > 0");
+        if (uint64_t{d.base} + d.size > 0x100000000ull)
+            ctx.fail(t.source(), "memory extends past the 32-bit address space");
+        for (const auto& o : m.memories)
+            if (d.base < uint64_t{o.base} + o.size && o.base < uint64_t{d.base} + d.size)
+                ctx.fail(t.source(), fmt::format("memory '{}' overlaps '{}'", d.name, o.name));
+        m.memories.push_back(std::move(d));
+    }
+}
+
+} // namespace
+
+Machine parse_machine(std::string_view text, std::string_view source) {
+    Ctx ctx{std::string(source)};
+    toml::table root;
+    try {
+        root = toml::parse(text, source);
+    } catch (const toml::parse_error& e) {
+        ctx.fail(e.source(), std::string(e.description()));
+    }
+    reject_unknown_keys(ctx, root,
+                        {"name", "description", "branch_penalty", "registers", "latency", "slot",
+                         "memory"},
+                        "the top level");
+    Machine m;
+    m.source = std::string(source);
+    m.name = get_string(ctx, root, "name", true, root.source());
+    m.description = get_string(ctx, root, "description", false, root.source());
+    if (m.name.empty()) ctx.fail_top("machine name is empty");
+    m.branch_penalty = get_uint(ctx, root, "branch_penalty", false, 0, 1000, root.source());
+    parse_regs(ctx, root, m);
+    parse_latency(ctx, root, m);
+    parse_slots(ctx, root, m);
+    parse_memories(ctx, root, m);
+    return m;
+}
+
+const MemoryDesc* Machine::memory_at(uint32_t addr, uint32_t bytes) const {
+    for (const auto& d : memories)
+        if (d.contains(addr, bytes)) return &d;
+    return nullptr;
+}
+
+int Machine::slot_index(std::string_view slot_name) const {
+    for (size_t i = 0; i < slots.size(); ++i)
+        if (slots[i].name == slot_name) return int(i);
+    return -1;
+}
+
+uint32_t Machine::max_latency() const {
+    uint32_t m = 1;
+    for (auto l : latency) m = std::max(m, l);
+    return m;
+}
+
+uint64_t Machine::fingerprint() const {
+    // FNV-1a over a canonical rendering of everything that matters to assembly and timing.
+    std::string s = fmt::format("{}|bp{}|", name, branch_penalty);
+    for (const auto& sl : slots) s += fmt::format("{}:{};", sl.name, sl.classes);
+    for (auto l : latency) s += fmt::format("{},", l);
+    for (const auto& r : regs) s += fmt::format("r{}/{}/{};", r.count, r.read_ports, r.write_ports);
+    for (const auto& d : memories)
+        s += fmt::format("{}@{}+{}l{}c{};", d.name, d.base, d.size, d.latency, d.cached);
+    uint64_t h = 14695981039346656037ull;
+    for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
+
+bool is_preset(std::string_view name) { return !preset_text(name).empty(); }
+
+std::vector<std::string_view> preset_names() {
+    std::vector<std::string_view> v;
+    for (const auto& p : kPresets) v.push_back(p.name);
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+std::string_view preset_text(std::string_view name) {
+    for (const auto& p : kPresets)
+        if (p.name == name) return p.text;
+    return {};
+}
+
+Machine load_machine(std::string_view name_or_path) {
+    if (auto text = preset_text(name_or_path); !text.empty())
+        return parse_machine(text, fmt::format("builtin:{}", name_or_path));
+    std::ifstream in{std::string(name_or_path)};
+    if (!in)
+        throw MachineError(fmt::format(
+            "{}: error: no such machine preset or file (presets: {})", name_or_path,
+            fmt::join(preset_names(), ", ")));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_machine(ss.str(), name_or_path);
+}
+
+} // namespace nesshi::isa
