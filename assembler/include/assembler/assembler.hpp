@@ -1,0 +1,44 @@
+// Public interface of the assembler and disassembler.
+//
+//   auto r = assemble_file("loop.s", isa::load_machine("os"), {});
+//   if (!r.ok) { fmt::print(stderr, "{}", r.diagnostics); ... }
+//   isa::write_object_file(r.object, "loop.o");
+//   std::string text = disassemble(r.object, machine);   // re-assembles byte-identically
+#pragma once
+
+#include "isa/machine.hpp"
+#include "isa/object.hpp"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::assembler {
+
+struct AsmOptions {
+    std::vector<std::string> include_dirs; // searched by .include after the including file's dir
+    bool listing = false;                  // fill AsmResult::listing
+};
+
+struct AsmResult {
+    bool ok = false;            // no errors (warnings allowed)
+    isa::ObjectFile object;     // valid only when ok
+    std::string diagnostics;    // rendered errors/warnings/notes with source line and caret
+    std::string listing;        // when requested
+    int errors = 0;
+    int warnings = 0;
+};
+
+AsmResult assemble_file(const std::string& path, const isa::Machine& m, const AsmOptions& opts);
+// `filename` names the text in diagnostics and in the object's line table.
+AsmResult assemble_string(std::string_view text, std::string_view filename, const isa::Machine& m,
+                          const AsmOptions& opts);
+
+struct DisOptions {
+    bool slots = true; // print each op's issue slot ("fpu0: fadd ..."), needed for byte identity
+    bool lines = true; // print .file/.loc so the line table is reproduced
+};
+// Assembly text that re-assembles (on the same machine) to a byte-identical object.
+std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const DisOptions& opts = {});
+
+} // namespace nesshi::assembler
