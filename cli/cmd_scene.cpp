@@ -1,9 +1,96 @@
-// `nesshi scene`: placeholder until its issue lands.
+// `nesshi scene`: `info` (counts, view, bounds, grid sizes against the machine's memories) and `gen`.
 #include "commands.hpp"
 
+#include "rt/grid.hpp"
+#include "rt/scene.hpp"
+#include "rt/shapes.hpp"
+#include "rt/render.hpp"
+#include "rt/spd.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+
 namespace nesshi::cli {
-void add_scene(CLI::App& app) {
-    auto* cmd = app.add_subcommand("scene", "(not yet built)");
-    cmd->callback([] { throw CLI::RuntimeError("nesshi scene: not built yet", 2); });
+
+namespace {
+
+void scene_info(const std::string& what, const std::vector<int>& grids) {
+    rt::Scene s = rt::load_scene(what);
+    rt::SceneCounts c = rt::count(s);
+    rt::Box b = rt::scene_bounds(s);
+    fmt::print("scene {}\n", s.name);
+    fmt::print("primitives {}: {} spheres, {} cylinders, {} cones, {} polygons, {} patches ({} triangles)\n",
+               c.total(), c.spheres, c.cylinders, c.cones, c.polygons, c.patches, c.triangles);
+    fmt::print("lights {}, materials {}, reflective primitives {}, transmitting primitives {}\n", s.lights.size(),
+               s.materials.size(), c.reflective, c.transmitting);
+    const rt::View& v = s.view;
+    fmt::print("view from ({:g} {:g} {:g}) at ({:g} {:g} {:g}) up ({:g} {:g} {:g}) angle {:g} hither {:g} "
+               "resolution {}x{}\n",
+               v.from.x, v.from.y, v.from.z, v.at.x, v.at.y, v.at.z, v.up.x, v.up.y, v.up.z, v.angle, v.hither, v.width,
+               v.height);
+    fmt::print("background {:g} {:g} {:g}\n", s.background.r, s.background.g, s.background.b);
+    if (!b.empty())
+        fmt::print("bounding box ({:g} {:g} {:g}) - ({:g} {:g} {:g})\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+    if (grids.empty()) return;
+    rt::ShapeSet set = rt::build_shapes(s);
+    fmt::print("shape records {} ({} bytes in IC memory)\n", set.shapes.size(), set.shapes.size() * rt::kShapeWords * 4);
+    for (int n : grids) {
+        rt::Grid g = rt::build_grid(s, set, n);
+        fmt::print("{}", rt::format_grid(g, set.shapes.size()));
+    }
 }
+
+} // namespace
+
+void add_scene(CLI::App& app) {
+    auto* cmd = app.add_subcommand("scene", "Inspect or generate SPD/NFF scenes");
+    cmd->require_subcommand(1);
+
+    auto* info = cmd->add_subcommand("info", "Counts, view, bounds, and grid memory footprint of a scene");
+    auto file = std::make_shared<std::string>();
+    auto grids = std::make_shared<std::vector<int>>(std::vector<int>{20, 50, 100});
+    auto no_grid = std::make_shared<bool>(false);
+    info->add_option("scene", *file, "NFF file or built-in name (balls mount rings tetra tree, NAME:SIZE)")->required();
+    info->add_option("--grid", *grids, "grid resolutions to report (0 = auto)")->delimiter(',');
+    info->add_flag("--no-grid", *no_grid, "skip the grid report");
+    info->callback([=] {
+        try {
+            scene_info(*file, *no_grid ? std::vector<int>{} : *grids);
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "{}\n", e.what());
+            throw CLI::RuntimeError(1);
+        }
+    });
+
+    auto* gen = cmd->add_subcommand("gen", "Write a built-in SPD scene as NFF");
+    auto name = std::make_shared<std::string>();
+    auto size = std::make_shared<int>(0);
+    auto out = std::make_shared<std::string>();
+    gen->add_option("name", *name, "balls mount rings tetra tree")->required();
+    gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)");
+    gen->add_option("-o,--output", *out, "output file (default: stdout)");
+    gen->callback([=] {
+        try {
+            std::string nm = *name;
+            int sz = *size;
+            if (auto p = rt::parse_spd_name(nm)) {
+                nm = p->name;
+                if (sz == 0) sz = p->size;
+            }
+            std::string text = rt::generate_spd(nm, sz);
+            if (out->empty()) {
+                fmt::print("{}", text);
+            } else {
+                std::ofstream f(*out, std::ios::binary);
+                f << text;
+                if (!f) throw std::runtime_error(fmt::format("{}: cannot write", *out));
+            }
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "nesshi scene gen: error: {}\n", e.what());
+            throw CLI::RuntimeError(1);
+        }
+    });
+}
+
 } // namespace nesshi::cli

@@ -1,0 +1,117 @@
+// Render and grid reports: stats JSON and readable tables.
+#include "rt/render.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace nesshi::rt {
+
+namespace {
+nlohmann::json grid_json(const Grid& g, std::size_t shapes) {
+    MemoryFootprint m = g.footprint(shapes);
+    return {
+        {"n", {g.stats.n[0], g.stats.n[1], g.stats.n[2]}},
+        {"voxels", g.stats.voxels},
+        {"empty_voxels", g.stats.empty_voxels},
+        {"references", g.stats.references},
+        {"refs_per_nonempty_voxel", g.stats.refs_per_nonempty},
+        {"build_seconds", g.stats.build_seconds},
+        {"box", {{"lo", {g.box.lo.x, g.box.lo.y, g.box.lo.z}}, {"hi", {g.box.hi.x, g.box.hi.y, g.box.hi.z}}}},
+        {"memory",
+         {{"os_voxel_map_bytes", m.os_voxel_map},
+          {"os_geometry_bytes", m.os_geometry},
+          {"os_total_bytes", m.os_total()},
+          {"os_sram_bytes", kOsSramBytes},
+          {"os_fits", m.os_fits()},
+          {"ic_offsets_bytes", m.ic_offsets},
+          {"ic_lists_bytes", m.ic_lists},
+          {"ic_shapes_bytes", m.ic_shapes},
+          {"ic_total_bytes", m.ic_total()},
+          {"ic_resident_bytes", kIcResidentBytes},
+          {"ic_cache_bytes", kIcCacheBytes},
+          {"ic_fits_resident", m.ic_resident_fits()}}},
+    };
+}
+
+std::string mib(std::size_t b) { return fmt::format("{:.3f} MiB", static_cast<double>(b) / (1024.0 * 1024.0)); }
+} // namespace
+
+std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, const RenderResult& r,
+                       const std::string& model) {
+    const RayStats& s = r.stats.rays;
+    nlohmann::json j;
+    j["scene"] = prep.scene.name;
+    j["size"] = {opt.width, opt.height};
+    j["grid"] = grid_json(prep.grid, prep.shapes.shapes.size());
+    j["model"] = model;
+    j["spd_mode"] = opt.cutoff <= 0;
+    j["max_depth"] = opt.max_depth;
+    j["epsilon"] = r.stats.epsilon;
+    j["primitives"] = prep.scene.entities.size();
+    j["shapes"] = prep.shapes.shapes.size();
+    j["rays"] = {{"eye_rays", s.eye_rays},
+                 {"eye_rays_hit", s.eye_rays_hit},
+                 {"shadow_rays", s.shadow_rays},
+                 {"shadow_rays_blocked", s.shadow_rays_blocked},
+                 {"reflection_rays", s.reflection_rays},
+                 {"refraction_rays", s.refraction_rays},
+                 {"secondary_rays_hit", s.secondary_rays_hit},
+                 {"total_internal_reflections", s.total_internal_reflections}};
+    nlohmann::json trav = nlohmann::json::object();
+    for (int k = 0; k < kRayKinds; ++k) {
+        const TraceCounters& c = r.stats.traversal[static_cast<std::size_t>(k)];
+        trav[ray_kind_name(static_cast<RayKind>(k))] = {{"rays", c.rays},
+                                                         {"voxel_steps", c.voxel_steps},
+                                                         {"nonempty_voxels", c.nonempty_voxels},
+                                                         {"triangle_tests", c.triangle_tests},
+                                                         {"quadric_tests", c.quadric_tests}};
+    }
+    j["traversal"] = trav;
+    j["host"] = {{"setup_seconds", r.stats.setup_seconds},
+                 {"trace_seconds", r.stats.trace_seconds},
+                 {"threads", r.stats.threads}};
+    return j.dump(2) + "\n";
+}
+
+std::string format_rays(const RenderStats& st) {
+    const RayStats& s = st.rays;
+    std::string o;
+    o += fmt::format("rays (SPD mode, epsilon {:g}):\n", st.epsilon);
+    o += fmt::format("  eye rays            {:>12}   hit {:>12}\n", s.eye_rays, s.eye_rays_hit);
+    o += fmt::format("  shadow rays         {:>12}   blocked {:>8}\n", s.shadow_rays, s.shadow_rays_blocked);
+    o += fmt::format("  reflection rays     {:>12}\n", s.reflection_rays);
+    o += fmt::format("  refraction rays     {:>12}   total internal reflections {}\n", s.refraction_rays,
+                     s.total_internal_reflections);
+    o += fmt::format("  secondary rays hit  {:>12}\n", s.secondary_rays_hit);
+    o += "traversal      rays      voxel steps   non-empty      tri tests   quadric tests\n";
+    for (int k = 0; k < kRayKinds; ++k) {
+        const TraceCounters& c = st.traversal[static_cast<std::size_t>(k)];
+        o += fmt::format("  {:<10} {:>10} {:>14} {:>11} {:>14} {:>15}\n", ray_kind_name(static_cast<RayKind>(k)), c.rays,
+                         c.voxel_steps, c.nonempty_voxels, c.triangle_tests, c.quadric_tests);
+    }
+    o += fmt::format("time: setup {:.3f} s, trace {:.3f} s ({} threads)\n", st.setup_seconds, st.trace_seconds,
+                     st.threads);
+    return o;
+}
+
+std::string format_grid(const Grid& g, std::size_t shapes) {
+    MemoryFootprint m = g.footprint(shapes);
+    std::string o;
+    o += fmt::format("grid {}x{}x{}: {} voxels, {} empty ({:.1f}%), {} references, {:.2f} per non-empty voxel, "
+                     "built in {:.3f} s\n",
+                     g.stats.n[0], g.stats.n[1], g.stats.n[2], g.stats.voxels, g.stats.empty_voxels,
+                     g.stats.voxels ? 100.0 * static_cast<double>(g.stats.empty_voxels) / static_cast<double>(g.stats.voxels) : 0.0,
+                     g.stats.references, g.stats.refs_per_nonempty, g.stats.build_seconds);
+    o += fmt::format("memory   OS SRAM: voxel map {} B + geometry {} B = {} of {} ({})\n", m.os_voxel_map, m.os_geometry,
+                     mib(m.os_total()), mib(kOsSramBytes), m.os_fits() ? "fits" : "DOES NOT FIT");
+    o += fmt::format("         IC: offsets {} B + lists {} B + shapes {} B = {} against {} resident + {} cache ({})\n",
+                     m.ic_offsets, m.ic_lists, m.ic_shapes, mib(m.ic_total()), mib(kIcResidentBytes),
+                     mib(kIcCacheBytes),
+                     m.ic_resident_fits() ? "fits resident"
+                                          : (m.ic_total() <= kIcResidentBytes + kIcCacheBytes
+                                                 ? "exceeds resident, fits resident + cache size"
+                                                 : "exceeds resident + cache: lives in global memory"));
+    return o;
+}
+
+} // namespace nesshi::rt
