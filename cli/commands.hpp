@@ -3,8 +3,9 @@
 #include <CLI/CLI.hpp>
 
 namespace nesshi::cli {
-// Each adds its subcommand to the app; the callback runs it and throws CLI::RuntimeError(code)
-// on failure, so main() returns that exit status.
+// Each adds its subcommand to the app; the callback runs it and throws
+// CLI::RuntimeError(message, code) on failure: main() prints "nesshi: error: message" (unless the
+// message is empty, for commands that printed their own diagnostics) and exits with code.
 void add_asm(CLI::App& app);
 void add_dis(CLI::App& app);
 void add_sim(CLI::App& app);

@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <exception>
+#include <string>
 
 int main(int argc, char** argv) {
     CLI::App app{"nesshi: toolchain and simulator for the Nesshisen ray-tracing machine"};
@@ -19,6 +20,12 @@ int main(int argc, char** argv) {
     nesshi::cli::add_isa(app);
     try {
         app.parse(argc, argv);
+    } catch (const CLI::RuntimeError& e) {
+        // Commands signal failure with RuntimeError(message, exit code); an empty message means
+        // the command already printed its own diagnostics.
+        std::string what = e.what();
+        if (!what.empty() && what != "Runtime error") fmt::print(stderr, "nesshi: error: {}\n", what);
+        return e.get_exit_code();
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const std::exception& e) {
