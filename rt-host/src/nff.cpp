@@ -51,6 +51,7 @@ public:
         auto [p, ec] = std::from_chars(b, e, v);
         if (ec != std::errc() || p != e) fail(t, fmt::format("expected {} (a number), got '{}'", what, t.text));
         if (!std::isfinite(v)) fail(t, fmt::format("{} must be finite, got '{}'", what, t.text));
+        if (std::abs(v) > 1e30) fail(t, fmt::format("{} is out of range (|x| <= 1e30), got '{}'", what, t.text));
         return v;
     }
     bool next_is_number() {

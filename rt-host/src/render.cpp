@@ -55,7 +55,7 @@ struct Tracer {
 
     Col trace(const Ray& ray, float weight, Hit* first) {
         TraceCounters& tc = trav[static_cast<std::size_t>(ray.kind)];
-        Hit hit = nearest_hit(prep.grid, prep.shapes, ray, tc);
+        Hit hit = opt.brute_force ? nearest_hit_brute(prep.shapes, ray, tc) : nearest_hit(prep.grid, prep.shapes, ray, tc);
         if (first) *first = hit;
         if (!hit.hit) return from(prep.scene.background);
         if (ray.kind == RayKind::eye) ++rays.eye_rays_hit;
@@ -85,7 +85,8 @@ struct Tracer {
             sr.kind = RayKind::shadow;
             sr.depth = ray.depth + 1;
             ++rays.shadow_rays;
-            if (any_hit(prep.grid, prep.shapes, sr, trav[static_cast<std::size_t>(RayKind::shadow)])) {
+            TraceCounters& sc = trav[static_cast<std::size_t>(RayKind::shadow)];
+            if (opt.brute_force ? any_hit_brute(prep.shapes, sr, sc) : any_hit(prep.grid, prep.shapes, sr, sc)) {
                 ++rays.shadow_rays_blocked;
                 continue;
             }

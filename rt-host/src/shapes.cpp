@@ -2,10 +2,19 @@
 #include "rt/shapes.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace nesshi::rt {
 
 namespace {
+
+// double -> binary32 without undefined behaviour: out-of-range values saturate to +-inf.
+float to_f(double v) {
+    constexpr double big = static_cast<double>(std::numeric_limits<float>::max());
+    if (v > big) return std::numeric_limits<float>::infinity();
+    if (v < -big) return -std::numeric_limits<float>::infinity();
+    return static_cast<float>(v); // NaN converts to NaN
+}
 
 void set_triangle(Shape& s, Vec3d v0, Vec3d v1, Vec3d v2) {
     Vec3d e1 = v1 - v0, e2 = v2 - v0, n = cross(e1, e2);
@@ -15,10 +24,10 @@ void set_triangle(Shape& s, Vec3d v0, Vec3d v1, Vec3d v2) {
     Vec3d r1 = cross(n, e1) * (1.0 / det);
     Vec3d r2 = n * (1.0 / det);
     auto put = [&](int at, Vec3d r) {
-        s.w[static_cast<std::size_t>(at)] = static_cast<float>(r.x);
-        s.w[static_cast<std::size_t>(at + 1)] = static_cast<float>(r.y);
-        s.w[static_cast<std::size_t>(at + 2)] = static_cast<float>(r.z);
-        s.w[static_cast<std::size_t>(at + 3)] = static_cast<float>(-dot(r, v0));
+        s.w[static_cast<std::size_t>(at)] = to_f(r.x);
+        s.w[static_cast<std::size_t>(at + 1)] = to_f(r.y);
+        s.w[static_cast<std::size_t>(at + 2)] = to_f(r.z);
+        s.w[static_cast<std::size_t>(at + 3)] = to_f(-dot(r, v0));
     };
     put(0, r2);
     put(4, r0);
@@ -35,7 +44,7 @@ void set_quadric(Shape& s, Vec3d origin, Vec3d axis, double r0, double k, double
     double J = sign * (-r0 * r0);
     double vals[18] = {origin.x, origin.y, origin.z, m[0][0], m[1][1], m[2][2], m[0][1], m[1][2], m[0][2],
                        gh.x,     gh.y,     gh.z,     J,       axis.x,  axis.y,  axis.z,  len,     0.0};
-    for (std::size_t i = 0; i < 18; ++i) s.w[i] = static_cast<float>(vals[i]);
+    for (std::size_t i = 0; i < 18; ++i) s.w[i] = to_f(vals[i]);
 }
 
 } // namespace

@@ -27,6 +27,7 @@ struct RenderOptions {
     float epsilon = kSecondaryEpsilon;
     double cutoff = 0;       // the paper's contribution cut-off; 0 = off (SPD mode)
     bool id_buffer = false, t_buffer = false;
+    bool brute_force = false; // test every shape for every ray (reference for the grid's ray counts)
     // Called from the calling thread about 10 times a second with (corner rows done, rows total).
     std::function<void(int, int)> progress;
 };

@@ -8,7 +8,7 @@
 //       (inside: lo <= o && o <= hi)  -- selects, so 0*inf never reaches a result
 //   t_in = max(max(max(tmin, near_x), near_y), near_z); t_exit = min(min(min(tmax, far_x), far_y), far_z)
 //   no voxel when !(t_in <= t_exit)
-//   p = o + t_in*d;  f = (p - lo)*inv_cell;  f = max(0, min(n - 1, f));  i = int(f)
+//   p = o + t_in*d;  f = (p - lo)*inv_cell;  f = max(min(f, n - 1), 0);  i = int(f)
 //   step = d > 0 ? 1 : -1;  end = d > 0 ? n : -1;  address step = step * (1, nx, nx*ny)
 //   next = (lo + float(i + (d > 0)) * cell - o) * inv   (d == 0: +inf)
 //   delta = cell * abs(inv)                              (d == 0: +inf)
@@ -75,7 +75,7 @@ inline bool dda_setup(const GridGeom& g, Vec3f o, Vec3f d, float tmin, float tma
         const float dk = d[k];
         const float p = o[k] + t_in * dk;
         float f = (p - g.lo[k]) * g.inv_cell[k];
-        f = fmax2(0.0f, fmin2(static_cast<float>(g.n[k] - 1), f));
+        f = fmax2(fmin2(f, static_cast<float>(g.n[k] - 1)), 0.0f); // a NaN becomes n - 1
         const int i = static_cast<int>(f);
         const bool pos = dk > 0.0f;
         const bool zero = dk == 0.0f;
