@@ -1,9 +1,61 @@
-// `nesshi asm`: placeholder until its issue lands.
+// `nesshi asm`: assemble a source file into an object (diagnostics to stderr, exit 1 on error).
 #include "commands.hpp"
+
+#include "assembler/assembler.hpp"
+#include "isa/machine.hpp"
+#include "isa/object.hpp"
+
+#include <fmt/core.h>
+
+#include <fstream>
+#include <memory>
 
 namespace nesshi::cli {
 void add_asm(CLI::App& app) {
-    auto* cmd = app.add_subcommand("asm", "(not yet built)");
-    cmd->callback([] { throw CLI::RuntimeError("nesshi asm: not built yet", 2); });
+    auto* cmd = app.add_subcommand("asm", "Assemble a VLIW source file into an object file");
+    struct Opts {
+        std::string machine = "os", input, output, listing;
+        std::vector<std::string> includes;
+    };
+    auto o = std::make_shared<Opts>();
+    cmd->add_option("-m,--machine", o->machine, "Machine preset (os, ic, seq, os-real, ...) or TOML file")
+        ->capture_default_str();
+    cmd->add_option("input", o->input, "Assembly source (.s)")->required();
+    cmd->add_option("-o,--output", o->output, "Object file (default: input with .o)");
+    cmd->add_option("--listing", o->listing, "Write a listing (encodings, slots, port usage)");
+    cmd->add_option("-I,--include-dir", o->includes, "Directory searched by .include");
+    cmd->callback([o] {
+        isa::Machine m;
+        try {
+            m = isa::load_machine(o->machine);
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "{}\n", e.what());
+            throw CLI::RuntimeError(1);
+        }
+        assembler::AsmOptions opts;
+        opts.include_dirs = o->includes;
+        opts.listing = !o->listing.empty();
+        auto r = assembler::assemble_file(o->input, m, opts);
+        fmt::print(stderr, "{}", r.diagnostics);
+        if (!r.ok) throw CLI::RuntimeError(1);
+        std::string out = o->output;
+        if (out.empty()) {
+            auto dot = o->input.find_last_of('.');
+            auto slash = o->input.find_last_of('/');
+            bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+            out = (has_ext ? o->input.substr(0, dot) : o->input) + ".o";
+        }
+        try {
+            isa::write_object_file(r.object, out);
+            if (!o->listing.empty()) {
+                std::ofstream lst(o->listing, std::ios::trunc);
+                lst << r.listing;
+                if (!lst) throw isa::ObjectError(fmt::format("{}: error: cannot write listing", o->listing));
+            }
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "{}\n", e.what());
+            throw CLI::RuntimeError(1);
+        }
+    });
 }
 } // namespace nesshi::cli

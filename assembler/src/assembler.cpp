@@ -1,0 +1,83 @@
+// The assembler driver: parse, lay out, encode and check, analyse hazards, emit.
+#include "assembler/assembler.hpp"
+
+#include "checks.hpp"
+#include "emit.hpp"
+#include "hazards.hpp"
+#include "layout.hpp"
+#include "listing.hpp"
+#include "operands.hpp"
+#include "parser.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace nesshi::assembler {
+
+namespace {
+
+AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine& m, const AsmOptions& opts) {
+    Diagnostics diags(sources);
+    Parser parser(sources, diags, m, opts);
+    parser.parse_file(main_file);
+    Layout layout(sources, diags, m);
+    layout.run(parser.items);
+
+    // Second pass: immediates (labels now known), then the per-bundle resource rules.
+    Resolver resolve = layout.resolver();
+    bool code_ok = true;
+    for (PlacedBundle& b : layout.bundles) {
+        bool ok = !b.rec->had_errors;
+        for (OpRec& o : b.rec->ops) ok = resolve_imm(o, resolve, layout.bundles.size(), diags) && ok;
+        if (ok) ok = check_bundle_rules(*b.rec, m, diags);
+        code_ok = code_ok && ok;
+    }
+    fill_data(layout, diags);
+    apply_globals(layout, diags);
+    if (code_ok) {
+        std::vector<size_t> labels;
+        for (const auto& [name, s] : layout.symbols)
+            if (s.kind == SymbolDef::Kind::Code) labels.push_back(size_t(s.value));
+        check_hazards(layout.bundles, m, diags, labels);
+    }
+
+    AsmResult r;
+    r.errors = diags.errors();
+    r.warnings = diags.warnings();
+    r.ok = r.errors == 0;
+    r.diagnostics = diags.render();
+    if (r.errors) r.diagnostics += fmt::format("{} error{} generated.\n", r.errors, r.errors == 1 ? "" : "s");
+    if (r.ok) {
+        r.object = build_object(layout, m);
+        if (opts.listing) r.listing = make_listing(layout, r.object, m);
+    }
+    return r;
+}
+
+} // namespace
+
+AsmResult assemble_string(std::string_view text, std::string_view filename, const isa::Machine& m,
+                          const AsmOptions& opts) {
+    SourceSet sources;
+    int id = sources.add(std::string(filename), text);
+    return assemble_sources(sources, id, m, opts);
+}
+
+AsmResult assemble_file(const std::string& path, const isa::Machine& m, const AsmOptions& opts) {
+    std::error_code ec;
+    std::ifstream in(path, std::ios::binary);
+    if (!std::filesystem::is_regular_file(path, ec) || !in) {
+        AsmResult r;
+        r.errors = 1;
+        r.diagnostics = fmt::format("error: cannot open '{}'\n", path);
+        return r;
+    }
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return assemble_string(ss.str(), path, m, opts);
+}
+
+} // namespace nesshi::assembler

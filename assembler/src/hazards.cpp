@@ -1,0 +1,258 @@
+// Latency-hazard analysis (see hazards.hpp).
+#include "hazards.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+#include <tuple>
+
+namespace nesshi::assembler {
+
+namespace {
+
+struct Pending {
+    uint8_t file;
+    uint8_t reg;
+    uint32_t k;     // cycles from this bundle's issue until the value lands (>= 1)
+    uint32_t op;    // global op id of the producer
+    auto key() const { return std::tie(file, reg, k, op); }
+    bool operator<(const Pending& o) const { return key() < o.key(); }
+    bool operator==(const Pending& o) const { return key() == o.key(); }
+};
+using State = std::vector<Pending>; // sorted, unique
+
+struct RegAccess {
+    isa::RegFile file;
+    uint8_t reg;
+};
+
+char prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
+
+uint8_t field(const isa::Instr& in, isa::Field f) {
+    switch (f) {
+    case isa::Field::Rd: return in.rd;
+    case isa::Field::Rs1: return in.rs1;
+    case isa::Field::Rs2: return in.rs2;
+    case isa::Field::Rs3: return in.rs3;
+    default: return 0;
+    }
+}
+
+void accesses(const isa::Instr& in, std::vector<RegAccess>& reads, std::vector<RegAccess>& writes) {
+    const isa::OpInfo& info = in.info();
+    for (int i = 0; i < info.num_operands; ++i) {
+        const isa::Operand& o = info.operands[size_t(i)];
+        if (o.kind == isa::OperandKind::Mem) reads.push_back({isa::RegFile::Int, in.rs1});
+        if (o.kind != isa::OperandKind::IntReg && o.kind != isa::OperandKind::FloatReg) continue;
+        RegAccess a{o.kind == isa::OperandKind::IntReg ? isa::RegFile::Int : isa::RegFile::Float, field(in, o.field)};
+        (o.is_dest ? writes : reads).push_back(a);
+    }
+}
+
+struct Edge {
+    size_t to;
+    uint32_t delay;
+};
+
+class Analysis {
+  public:
+    Analysis(const std::vector<PlacedBundle>& b, const isa::Machine& m, Diagnostics& d)
+        : bundles_(b), m_(m), diags_(d) {
+        for (size_t i = 0; i < b.size(); ++i)
+            for (size_t j = 0; j < b[i].rec->ops.size(); ++j) ops_.push_back({i, j});
+        build_edges();
+    }
+
+    void run() {
+        size_t n = bundles_.size();
+        in_.assign(n, {});
+        std::vector<bool> queued(n, true);
+        std::vector<size_t> work;
+        for (size_t i = n; i-- > 0;) work.push_back(i);
+        while (!work.empty()) {
+            size_t b = work.back();
+            work.pop_back();
+            queued[b] = false;
+            for (const Edge& e : edges_[b]) {
+                State out = transfer(b, e.delay);
+                if (merge(in_[e.to], out) && !queued[e.to]) {
+                    queued[e.to] = true;
+                    work.push_back(e.to);
+                }
+            }
+        }
+        for (size_t b = 0; b < n; ++b) report(b);
+    }
+
+  private:
+    const isa::Instr& instr(uint32_t op) const { return op_rec(op).instr; }
+    const OpRec& op_rec(uint32_t op) const { return bundles_[ops_[op].first].rec->ops[ops_[op].second]; }
+    uint32_t first_op(size_t b) const {
+        return uint32_t(std::lower_bound(ops_.begin(), ops_.end(), std::pair<size_t, size_t>{b, 0}) - ops_.begin());
+    }
+
+    void build_edges() {
+        size_t n = bundles_.size();
+        uint32_t penalty = m_.branch_penalty;
+        std::vector<size_t> indirect; // return points and code labels
+        for (size_t b = 0; b + 1 < n; ++b)
+            for (const auto& o : bundles_[b].rec->ops)
+                if (o.instr.info().kind == isa::Kind::JumpLink) indirect.push_back(b + 1);
+        edges_.assign(n, {});
+        for (size_t b = 0; b < n; ++b) {
+            bool ends = false;
+            for (const auto& o : bundles_[b].rec->ops) {
+                const isa::Instr& in = o.instr;
+                switch (in.info().kind) {
+                case isa::Kind::Branch:
+                    if (in.imm < n) edges_[b].push_back({in.imm, 1 + penalty});
+                    break;
+                case isa::Kind::Jump:
+                case isa::Kind::JumpLink:
+                    if (in.imm < n) edges_[b].push_back({in.imm, 1 + penalty});
+                    ends = true;
+                    break;
+                case isa::Kind::JumpReg:
+                    jr_.push_back(b);
+                    ends = true;
+                    break;
+                case isa::Kind::Halt: ends = true; break;
+                default: break;
+                }
+            }
+            if (!ends && b + 1 < n) edges_[b].push_back({b + 1, 1});
+        }
+        for (size_t b : jr_)
+            for (size_t t : indirect) edges_[b].push_back({t, 1 + penalty});
+    }
+
+public:
+    void add_indirect_targets(const std::vector<size_t>& targets) {
+        for (size_t b : jr_)
+            for (size_t t : targets)
+                if (t < bundles_.size()) edges_[b].push_back({t, 1 + m_.branch_penalty});
+    }
+
+private:
+    State transfer(size_t b, uint32_t delay) const {
+        State out;
+        for (const Pending& p : in_[b])
+            if (p.k > delay) out.push_back({p.file, p.reg, p.k - delay, p.op});
+        uint32_t op = first_op(b);
+        for (const auto& o : bundles_[b].rec->ops) {
+            std::vector<RegAccess> r, w;
+            accesses(o.instr, r, w);
+            uint32_t lat = m_.latency_of(o.instr.info());
+            for (const RegAccess& a : w)
+                if (lat > delay) out.push_back({uint8_t(a.file), a.reg, lat - delay, op});
+            ++op;
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        return out;
+    }
+
+    static bool merge(State& into, const State& add) {
+        State merged;
+        std::set_union(into.begin(), into.end(), add.begin(), add.end(), std::back_inserter(merged));
+        if (merged.size() == into.size()) return false;
+        into = std::move(merged);
+        return true;
+    }
+
+    void report(size_t b) {
+        const State& s = in_[b];
+        if (s.empty()) return;
+        uint32_t op = first_op(b);
+        for (const auto& o : bundles_[b].rec->ops) {
+            std::vector<RegAccess> reads, writes;
+            accesses(o.instr, reads, writes);
+            std::set<std::pair<int, int>> seen;
+            for (const RegAccess& a : reads) {
+                if (!seen.insert({int(a.file), a.reg}).second) continue;
+                for (const Pending& p : s) {
+                    if (p.file != uint8_t(a.file) || p.reg != a.reg) continue;
+                    const isa::Instr& pin = instr(p.op);
+                    uint32_t lat = m_.latency_of(pin.info());
+                    Diagnostic& d = diags_.error(
+                        o.loc, fmt::format("{}{} is read before its new value lands: '{}' was issued {} "
+                                           "cycle{} earlier and has latency {}", prefix(a.file), a.reg,
+                                           pin.info().mnemonic, lat - p.k, lat - p.k == 1 ? "" : "s", lat));
+                    Diagnostics::note(d, op_rec(p.op).loc,
+                                      fmt::format("{}{} is written here; the result lands in cycle +{}",
+                                                  prefix(a.file), a.reg, lat));
+                    break;
+                }
+            }
+            uint32_t lat = m_.latency_of(o.instr.info());
+            for (const RegAccess& a : writes)
+                for (const Pending& p : s)
+                    if (p.file == uint8_t(a.file) && p.reg == a.reg && p.k == lat) {
+                        Diagnostic& d = diags_.error(
+                            o.loc, fmt::format("{}{} is written twice in one cycle: this result and an "
+                                               "earlier '{}' both land in cycle +{}", prefix(a.file), a.reg,
+                                               instr(p.op).info().mnemonic, lat));
+                        Diagnostics::note(d, op_rec(p.op).loc, fmt::format("other write of {}{}", prefix(a.file), a.reg));
+                        break;
+                    }
+            ++op;
+        }
+        write_ports(b);
+    }
+
+    // Writes landing in one cycle, this bundle's plus those still in flight, against the ports.
+    void write_ports(size_t b) {
+        const State& s = in_[b];
+        for (int f = 0; f < isa::kNumRegFiles; ++f) {
+            uint32_t ports = m_.regs[size_t(f)].write_ports;
+            std::set<uint32_t> reported;
+            uint32_t count_by_lat[64] = {};
+            for (const auto& o : bundles_[b].rec->ops) {
+                std::vector<RegAccess> reads, writes;
+                accesses(o.instr, reads, writes);
+                uint32_t lat = m_.latency_of(o.instr.info());
+                for (const RegAccess& a : writes) {
+                    if (int(a.file) != f || lat >= 64) continue;
+                    uint32_t earlier = 0;
+                    const Pending* first = nullptr;
+                    std::set<uint32_t> producers;
+                    for (const Pending& p : s)
+                        if (p.file == f && p.k == lat && producers.insert(p.op).second) {
+                            ++earlier;
+                            if (!first) first = &p;
+                        }
+                    if (earlier == 0) continue;
+                    uint32_t total = earlier + ++count_by_lat[lat];
+                    if (total <= ports || !reported.insert(lat).second) continue;
+                    Diagnostic& d = diags_.error(
+                        o.loc, fmt::format("{} writes land in one cycle: {} has {} {} write ports "
+                                           "(this result lands in cycle +{} together with {} issued earlier)",
+                                           total, m_.name, ports, isa::kRegFileNames[size_t(f)], lat, earlier));
+                    Diagnostics::note(d, op_rec(first->op).loc,
+                                      fmt::format("'{}' issued earlier lands in the same cycle",
+                                                  instr(first->op).info().mnemonic));
+                }
+            }
+        }
+    }
+
+    const std::vector<PlacedBundle>& bundles_;
+    const isa::Machine& m_;
+    Diagnostics& diags_;
+    std::vector<std::pair<size_t, size_t>> ops_; // global op id -> (bundle, op)
+    std::vector<std::vector<Edge>> edges_;
+    std::vector<size_t> jr_;
+    std::vector<State> in_;
+};
+
+} // namespace
+
+void check_hazards(const std::vector<PlacedBundle>& bundles, const isa::Machine& m, Diagnostics& diags,
+                   const std::vector<size_t>& code_labels) {
+    Analysis a(bundles, m, diags);
+    a.add_indirect_targets(code_labels);
+    a.run();
+}
+
+} // namespace nesshi::assembler

@@ -1,0 +1,30 @@
+// Splits one source line into tokens with their columns; comments (`#`, `//`) end the line.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::assembler {
+
+enum class Tok : uint8_t {
+    Ident,  // names, mnemonics, registers, directives (may start with '.')
+    Int,    // integer literal (decimal, 0x, 0b, 'c')
+    Float,  // decimal literal with '.' or an exponent
+    String, // "..." (text holds the contents, escapes resolved)
+    Punct,  // one of , ; : { } ( ) + - * / % & | ^ ~ and the two-char << >>
+    Bad,    // a character or literal the lexer cannot read (text says why)
+};
+
+struct Token {
+    Tok kind;
+    std::string text; // spelling (for Punct the operator; for Int/Float the literal)
+    uint64_t value = 0;
+    int col = 1; // 1-based column of the first character
+    bool is(std::string_view punct) const { return kind == Tok::Punct && text == punct; }
+};
+
+std::vector<Token> lex_line(std::string_view line);
+
+} // namespace nesshi::assembler

@@ -1,0 +1,56 @@
+// Source files, locations and clang-style diagnostics (`file:line:col: error: ...`, line, caret).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::assembler {
+
+struct Loc {
+    int file = -1; // index into SourceSet::files; -1 = no location
+    int line = 0;  // 1-based
+    int col = 0;   // 1-based
+};
+
+struct SourceFile {
+    std::string name;  // as shown in diagnostics
+    std::string dir;   // directory for relative .include
+    std::vector<std::string> lines;
+};
+
+struct SourceSet {
+    std::vector<SourceFile> files;
+    int add(std::string name, std::string_view text);
+    std::string_view line(const Loc& loc) const;
+};
+
+enum class Severity : uint8_t { Error, Warning, Note };
+
+struct Diagnostic {
+    Severity severity = Severity::Error;
+    Loc loc;
+    std::string message;
+    std::vector<Diagnostic> notes;
+};
+
+class Diagnostics {
+  public:
+    explicit Diagnostics(const SourceSet& sources) : sources_(sources) {}
+    Diagnostic& error(Loc loc, std::string message);
+    Diagnostic& warning(Loc loc, std::string message);
+    static void note(Diagnostic& d, Loc loc, std::string message);
+    int errors() const { return errors_; }
+    int warnings() const { return warnings_; }
+    std::string render() const;
+
+  private:
+    std::string render_one(const Diagnostic& d) const;
+    const SourceSet& sources_;
+    std::vector<Diagnostic> list_;
+    int errors_ = 0;
+    int warnings_ = 0;
+};
+
+} // namespace nesshi::assembler
