@@ -1,9 +1,167 @@
-// `nesshi sim`: placeholder until its issue lands.
+// `nesshi sim`: run one processor standalone, print statistics, trace, FIFO files.
 #include "commands.hpp"
+#include "sim_load.hpp"
+
+#include "iss/channel.hpp"
+#include "iss/lockstep.hpp"
+#include "iss/processor.hpp"
+#include "iss/stats.hpp"
+#include "iss/trace.hpp"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
 
 namespace nesshi::cli {
-void add_sim(CLI::App& app) {
-    auto* cmd = app.add_subcommand("sim", "(not yet built)");
-    cmd->callback([] { throw CLI::RuntimeError("nesshi sim: not built yet", 2); });
+
+namespace {
+
+struct SimOpts {
+    std::string input, machine, stats_json, trace, trace_format = "auto", engine = "fast";
+    std::vector<std::string> fifo_in, fifo_out;
+    uint64_t max_cycles = 100'000'000;
+    bool quiet = false;
+};
+
+// "[CH=]FILE" -> (channel, file); the default channel is `def`.
+std::pair<uint32_t, std::string> channel_spec(const std::string& spec, uint32_t def) {
+    auto eq = spec.find('=');
+    if (eq != std::string::npos && eq > 0 && spec.find_first_not_of("0123456789") == eq)
+        return {uint32_t(std::stoul(spec.substr(0, eq))), spec.substr(eq + 1)};
+    return {def, spec};
 }
+
+// The channels of one processor: inputs fed from files (then closed), outputs collected.
+struct Fifos {
+    std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> in, out;
+    void attach(iss::Processor& p) {
+        for (auto& [ch, q] : in) p.attach_channel(ch, q.get());
+        for (auto& [ch, q] : out) p.attach_channel(ch, q.get());
+    }
+};
+
+Fifos make_fifos(const SimOpts& o, const std::vector<std::vector<uint32_t>>& inputs) {
+    Fifos f;
+    for (size_t i = 0; i < o.fifo_in.size(); ++i) {
+        auto [ch, file] = channel_spec(o.fifo_in[i], 0);
+        auto q = std::make_unique<iss::QueueChannel>();
+        for (uint32_t w : inputs[i]) q->feed(w);
+        q->close();
+        f.in[ch] = std::move(q);
+    }
+    for (const auto& spec : o.fifo_out) {
+        auto [ch, file] = channel_spec(spec, 1);
+        f.out[ch] = std::make_unique<iss::QueueChannel>();
+    }
+    return f;
+}
+
+void write_file(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::trunc | std::ios::binary);
+    out << text;
+    if (!out) throw CLI::RuntimeError(fmt::format("{}: cannot write", path), 1);
+}
+
+void run_sim(const SimOpts& o) {
+    auto prog = load_sim_input(o.input, o.machine);
+    std::vector<std::vector<uint32_t>> inputs;
+    for (const auto& spec : o.fifo_in) {
+        try {
+            inputs.push_back(iss::read_word_file(channel_spec(spec, 0).second));
+        } catch (const std::exception& e) {
+            throw CLI::RuntimeError(e.what(), 1);
+        }
+    }
+    bool lockstep = o.engine == "lockstep";
+    iss::Processor p(prog, o.engine == "checked" ? iss::Engine::Checked : iss::Engine::Fast);
+    Fifos fifos = make_fifos(o, inputs);
+    fifos.attach(p);
+
+    std::FILE* trace_file = nullptr;
+    std::unique_ptr<iss::Tracer> tracer;
+    if (!o.trace.empty()) {
+        trace_file = o.trace == "-" ? stdout : std::fopen(o.trace.c_str(), "wb");
+        if (!trace_file) throw CLI::RuntimeError(fmt::format("{}: cannot write", o.trace), 1);
+        bool chrome = o.trace_format == "chrome" ||
+                      (o.trace_format == "auto" && o.trace.size() > 5 && o.trace.ends_with(".json"));
+        if (chrome) tracer = std::make_unique<iss::ChromeTracer>(trace_file);
+        else tracer = std::make_unique<iss::TextTracer>(trace_file);
+        p.set_tracer(tracer.get());
+    }
+
+    std::optional<iss::Fault> fault;
+    iss::Status st;
+    std::map<uint32_t, std::vector<uint32_t>> outputs;
+    if (lockstep) {
+        iss::Processor checked(prog, iss::Engine::Checked);
+        Fifos fifos2 = make_fifos(o, inputs);
+        fifos2.attach(checked);
+        auto r = iss::run_lockstep(p, checked, o.max_cycles);
+        st = r.status;
+        fault = r.fault;
+        for (auto& [ch, q] : fifos.out) {
+            outputs[ch] = q->drain_all();
+            if (!fault && outputs[ch] != fifos2.out[ch]->drain_all())
+                fault = iss::Fault{iss::FaultKind::Divergence, p.cycle(), p.pc(),
+                                   fmt::format("fast and checked engines sent different words on channel {}", ch), {}};
+        }
+    } else {
+        st = p.run(o.max_cycles);
+        if (p.fault()) fault = p.fault();
+        for (auto& [ch, q] : fifos.out) outputs[ch] = q->drain_all();
+    }
+    if (tracer) {
+        p.set_tracer(nullptr);
+        tracer.reset();
+        if (trace_file != stdout) std::fclose(trace_file);
+    }
+    if (!fault && st == iss::Status::Running)
+        fault = iss::Fault{iss::FaultKind::CycleLimit, p.cycle(), p.pc(),
+                           fmt::format("the cycle limit ({}) was reached without halt", o.max_cycles), {}};
+    if (!fault && st == iss::Status::Blocked)
+        fault = iss::Fault{iss::FaultKind::Deadlock, p.cycle(), p.pc(),
+                           fmt::format("blocked on channel {} with nothing left to run", p.blocked_channel()), {}};
+
+    for (const auto& spec : o.fifo_out) {
+        auto [ch, file] = channel_spec(spec, 1);
+        write_file(file, iss::format_words(outputs[ch]));
+    }
+    iss::Stats s = iss::compute_stats(p);
+    if (!o.stats_json.empty()) write_file(o.stats_json, iss::stats_json(s).dump(2) + "\n");
+    if (!o.quiet) {
+        fmt::print("{}: {} after {} cycles ({} engine)\n", o.input,
+                   fault ? "stopped" : "halted", p.cycle(), o.engine);
+        fmt::print("{}", iss::stats_text(s));
+    }
+    std::fflush(stdout);
+    if (fault) {
+        fmt::print(stderr, "{}", iss::format_fault(p.program(), *fault));
+        throw CLI::RuntimeError(2);
+    }
+}
+
+} // namespace
+
+void add_sim(CLI::App& app) {
+    auto* cmd = app.add_subcommand("sim", "Run a program on the instruction-set simulator and print statistics");
+    auto o = std::make_shared<SimOpts>();
+    cmd->add_option("input", o->input, "Object file (.o), or assembly source (.s) assembled first")->required();
+    cmd->add_option("-m,--machine", o->machine, "Machine (default: the one the object names)");
+    cmd->add_option("--max-cycles", o->max_cycles, "Stop with a fault after this many cycles")->capture_default_str();
+    cmd->add_option("--fifo-in", o->fifo_in, "[CH=]FILE: words fed to channel CH (default 0)");
+    cmd->add_option("--fifo-out", o->fifo_out, "[CH=]FILE: words sent on channel CH (default 1)");
+    cmd->add_option("--stats-json", o->stats_json, "Write statistics as JSON");
+    cmd->add_option("--trace", o->trace, "Write a per-cycle trace ('-' for stdout; *.json: Chrome trace events)");
+    cmd->add_option("--trace-format", o->trace_format, "auto, text or chrome")
+        ->check(CLI::IsMember({"auto", "text", "chrome"}))->capture_default_str();
+    cmd->add_option("--engine", o->engine, "fast, checked, or lockstep (both, compared every bundle)")
+        ->check(CLI::IsMember({"fast", "checked", "lockstep"}))->capture_default_str();
+    cmd->add_flag("-q,--quiet", o->quiet, "Print no statistics");
+    cmd->callback([o] { run_sim(*o); });
+}
+
 } // namespace nesshi::cli

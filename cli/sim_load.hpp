@@ -1,0 +1,52 @@
+// Shared by `nesshi sim`, `nesshi debug` and `nesshi demo`: load an object or assemble a source.
+//
+// A `.s` file is assembled on the fly for the machine named by --machine, else by its first-line
+// comment `# machine: NAME`, else `os`. Anything else is read as an object file.
+#pragma once
+
+#include "assembler/assembler.hpp"
+#include "iss/program.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace nesshi::cli {
+
+// The machine named by a `# machine: NAME` first line, or empty.
+inline std::string machine_comment(std::string_view text) {
+    std::string_view first = text.substr(0, text.find('\n'));
+    constexpr std::string_view key = "# machine:";
+    if (first.substr(0, key.size()) != key) return {};
+    std::string_view rest = first.substr(key.size());
+    while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+    while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\r' || rest.back() == '\t')) rest.remove_suffix(1);
+    return std::string(rest);
+}
+
+// Prints diagnostics to stderr and throws CLI::RuntimeError(1) on any loading problem.
+inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& path, const std::string& machine) {
+    try {
+        bool source = path.size() > 2 && path.compare(path.size() - 2, 2, ".s") == 0;
+        if (!source) return iss::load_program_file(path, machine);
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw iss::LoadError(fmt::format("{}: error: cannot open", path));
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::string name = !machine.empty() ? machine : machine_comment(text);
+        isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+        auto r = assembler::assemble_string(text, path, m, {});
+        fmt::print(stderr, "{}", r.diagnostics);
+        if (!r.ok) throw CLI::RuntimeError(1);
+        return iss::load_program(r.object, m);
+    } catch (const CLI::RuntimeError&) {
+        throw;
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "nesshi: error: {}\n", e.what());
+        throw CLI::RuntimeError(1);
+    }
+}
+
+} // namespace nesshi::cli

@@ -1,0 +1,75 @@
+// FIFO channels: the interface a host implements to connect processors, and a simple queue.
+//
+// Words carry the cycle from which they can be received, so a consumer that runs ahead of
+// its producer waits exactly until the word exists (deterministic whatever the host's
+// scheduling order). A `recv` on a channel with no readable word blocks its whole bundle: the
+// processor counts a wait cycle and retries. A `send` on a full channel blocks likewise.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nesshi::iss {
+
+class Channel {
+  public:
+    virtual ~Channel() = default;
+    // Number of words receivable at `cycle` (words whose ready cycle <= cycle).
+    virtual size_t readable(uint64_t cycle) const = 0;
+    // Ready cycle of the front word; nullopt when the channel is empty.
+    virtual std::optional<uint64_t> front_ready() const = 0;
+    virtual uint32_t pop() = 0;
+    // Free space; SIZE_MAX when unbounded.
+    virtual size_t writable() const = 0;
+    // Called with the cycle the sending bundle issues.
+    virtual void push(uint32_t word, uint64_t cycle) = 0;
+    // True when no word will ever arrive again (standalone input files): receiving from an
+    // empty closed channel is a deadlock, not a wait.
+    virtual bool closed() const { return false; }
+};
+
+// An in-memory FIFO: unbounded by default; `latency` cycles between send and receive.
+class QueueChannel : public Channel {
+  public:
+    explicit QueueChannel(size_t capacity = std::numeric_limits<size_t>::max(), uint32_t latency = 1)
+        : capacity_(capacity), latency_(latency) {}
+
+    size_t readable(uint64_t cycle) const override;
+    std::optional<uint64_t> front_ready() const override;
+    uint32_t pop() override;
+    size_t writable() const override { return capacity_ - words_.size(); }
+    void push(uint32_t word, uint64_t cycle) override;
+    bool closed() const override { return closed_; }
+
+    // Host side.
+    void feed(uint32_t word, uint64_t ready_cycle = 0) { words_.push_back({word, ready_cycle}); }
+    void close() { closed_ = true; }
+    size_t size() const { return words_.size(); }
+    std::vector<uint32_t> drain_all();
+    uint64_t pushed() const { return pushed_; }
+    uint64_t popped() const { return popped_; }
+
+  private:
+    struct Word { uint32_t value; uint64_t ready; };
+    std::deque<Word> words_;
+    size_t capacity_;
+    uint32_t latency_;
+    bool closed_ = false;
+    uint64_t pushed_ = 0, popped_ = 0;
+};
+
+// Word files for `nesshi sim --fifo-in/--fifo-out`: whitespace-separated tokens, `#` starts a
+// comment. A token is an integer (decimal, or 0x hex; negative allowed) or a float (has a
+// '.', an exponent, or is inf/nan), stored as its binary32 bits. Throws std::runtime_error
+// with file:line on a bad token.
+std::vector<uint32_t> parse_words(std::string_view text, std::string_view name);
+std::vector<uint32_t> read_word_file(const std::string& path);
+// One word per line: "0x3f800000  # 1065353216 1.0"; parse_words reads it back.
+std::string format_words(const std::vector<uint32_t>& words);
+
+} // namespace nesshi::iss

@@ -1,0 +1,97 @@
+// The memory system of one processor: the machine's regions over sparse paged storage.
+//
+// Each region (OS SRAM, IC resident memory, global memory, ...) comes from the machine
+// description. Storage is a PagedMemory: 4 KiB pages allocated on first write, so an
+// untouched 64 MiB region costs only its page table. A host shares one PagedMemory between
+// processors (e.g. the IC global memory) with Processor::attach_memory; reads never allocate,
+// so concurrent readers of read-only data are safe. Out-of-range and misaligned accesses are
+// faults, never undefined behaviour. An optional CacheModel adds stall cycles per access.
+#pragma once
+
+#include "isa/machine.hpp"
+
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace nesshi::iss {
+
+class PagedMemory {
+  public:
+    static constexpr uint32_t kPageBits = 12;
+    static constexpr uint32_t kPageSize = 1u << kPageBits;
+
+    explicit PagedMemory(uint32_t size);
+    uint32_t size() const { return size_; }
+
+    // Offsets are relative to the start of the storage; callers check bounds and alignment.
+    uint32_t read(uint32_t off, uint32_t bytes) const {
+        const uint8_t* p = pages_[off >> kPageBits].get();
+        if (!p) return 0;
+        uint32_t v = 0;
+        std::memcpy(&v, p + (off & (kPageSize - 1)), bytes); // little-endian host assumed
+        return v;
+    }
+    void write(uint32_t off, uint32_t bytes, uint32_t v) {
+        auto& p = pages_[off >> kPageBits];
+        if (!p) p = std::make_unique<uint8_t[]>(kPageSize); // zero-initialised
+        std::memcpy(p.get() + (off & (kPageSize - 1)), &v, bytes);
+    }
+    void write_bytes(uint32_t off, std::span<const uint8_t> bytes);
+    size_t pages_in_use() const;
+    // FNV-1a over the contents (zero pages and missing pages hash alike).
+    uint64_t hash() const;
+
+  private:
+    uint32_t size_;
+    std::vector<std::unique_ptr<uint8_t[]>> pages_;
+};
+
+// Optional timing model for a region: extra stall cycles of one access (0 = hit).
+class CacheModel {
+  public:
+    virtual ~CacheModel() = default;
+    virtual uint32_t access(uint32_t addr, uint32_t bytes, bool write) = 0;
+};
+
+struct MemRegion {
+    isa::MemoryDesc desc;
+    std::shared_ptr<PagedMemory> store;
+    CacheModel* cache = nullptr; // not owned
+};
+
+enum class MemError : uint8_t { None, OutOfRange, Misaligned };
+
+class MemorySystem {
+  public:
+    explicit MemorySystem(const isa::Machine& m);
+
+    std::vector<MemRegion>& regions() { return regions_; }
+    const std::vector<MemRegion>& regions() const { return regions_; }
+    MemRegion* region(std::string_view name);
+
+    // The region holding [addr, addr+bytes), or nullptr.
+    const MemRegion* find(uint32_t addr, uint32_t bytes) const {
+        for (const MemRegion& r : regions_)
+            if (r.desc.contains(addr, bytes)) return &r;
+        return nullptr;
+    }
+    MemError check(uint32_t addr, uint32_t bytes) const {
+        if (addr & (bytes - 1)) return MemError::Misaligned;
+        return find(addr, bytes) ? MemError::None : MemError::OutOfRange;
+    }
+
+    // Debugger / host access: false when out of range (alignment not required).
+    bool peek(uint32_t addr, uint32_t bytes, uint32_t& out) const;
+    bool poke(uint32_t addr, uint32_t bytes, uint32_t value);
+    void load_data(uint32_t addr, std::span<const uint8_t> bytes); // throws LoadError
+    uint64_t hash() const;
+
+  private:
+    std::vector<MemRegion> regions_;
+};
+
+} // namespace nesshi::iss

@@ -1,0 +1,139 @@
+// The embedding API: one simulated processor (OS, IC or sequential) running one program.
+//
+//   auto prog = iss::load_program(obj, isa::load_machine("ic"));
+//   iss::Processor p(prog);
+//   iss::QueueChannel in, out;
+//   p.attach_channel(0, &in);                    // channel numbers as used by recv/send
+//   p.attach_channel(1, &out);
+//   p.attach_memory("global", shared_global);    // host-owned, shared by every IC
+//   while (p.run_until(p.cycle() + 1000) == iss::Status::Running) {}
+//   iss::Stats s = iss::compute_stats(p);
+//
+// Deterministic: the same program, inputs and calls give the same cycles and state. Cheap:
+// the program is shared, memory is paged on demand, registers are 1 KiB.
+#pragma once
+
+#include "iss/channel.hpp"
+#include "iss/fault.hpp"
+#include "iss/memory.hpp"
+#include "iss/program.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace nesshi::iss {
+
+enum class Engine : uint8_t {
+    Fast,    // trusts the assembler's static checks; traps only memory, PC and channel faults
+    Checked, // also checks in-flight reads, write ports and duplicate writes per landing cycle
+};
+
+enum class Status : uint8_t {
+    Running, // stopped at the requested cycle or bundle count; can continue
+    Blocked, // a FIFO operation cannot proceed (empty recv / full send); call run again later
+    Halted,  // executed `halt`
+    Faulted, // see fault()
+};
+std::string_view status_name(Status s);
+
+// A write in flight: lands (becomes visible) at the start of cycle `lands`.
+struct PendingWrite {
+    uint16_t reg = 0;   // flat register index (see program.hpp)
+    uint32_t value = 0;
+    uint64_t lands = 0;
+    uint32_t op = 0;    // index into Program::ops() of the producer
+};
+
+// Raw counters, cheap enough to be always on. Stats (stats.hpp) derives every view from them.
+struct Counters {
+    std::vector<uint64_t> exec;   // per bundle: times issued
+    std::vector<uint64_t> wait;   // per bundle: cycles blocked before issuing (FIFO)
+    std::vector<uint64_t> taken;  // per bundle: taken control transfers
+    std::vector<uint64_t> stall;  // per bundle: memory stall cycles (extra latency, cache)
+    uint64_t wait_cycles = 0, bubble_cycles = 0, stall_cycles = 0;
+    uint64_t words_received = 0, words_sent = 0;
+    // write_hist[file][n]: cycles in which n writes landed in that file.
+    std::array<std::vector<uint64_t>, isa::kNumRegFiles> write_hist;
+};
+
+// Observer of every cycle (trace.hpp implements text and Chrome trace-event writers).
+struct CycleEvent {
+    enum What : uint8_t { Issue, Wait, Bubble } what = Issue;
+    uint64_t cycle = 0;
+    uint32_t pc = 0;                          // bundle issued, or waiting to issue
+    const std::vector<PendingWrite>* landed;  // writes that landed at the start of this cycle
+};
+class Tracer {
+  public:
+    virtual ~Tracer() = default;
+    virtual void on_cycle(const Program& prog, const CycleEvent& ev) = 0;
+};
+
+struct Core; // engine state (src/core.hpp)
+
+class Processor {
+  public:
+    explicit Processor(std::shared_ptr<const Program> prog, Engine engine = Engine::Fast);
+    Processor(const Processor&) = delete;
+    Processor& operator=(const Processor&) = delete;
+    ~Processor();
+
+    const Program& program() const { return *prog_; }
+    std::shared_ptr<const Program> program_ptr() const { return prog_; }
+    Engine engine() const { return engine_; }
+    void set_engine(Engine e);
+    void set_tracer(Tracer* t) { tracer_ = t; } // not owned; nullptr to stop tracing
+
+    // Connections. Channels are not owned; channel ids are those used by send/recv.
+    void attach_channel(uint32_t id, Channel* ch);
+    Channel* channel(uint32_t id) const;
+    // Replace a region's storage (e.g. the shared global memory of all IC processors).
+    // Throws std::invalid_argument when the region does not exist or the sizes differ.
+    void attach_memory(std::string_view region, std::shared_ptr<PagedMemory> store);
+    void attach_cache(std::string_view region, CacheModel* cache);
+    MemorySystem& memory() { return *mem_; }
+    const MemorySystem& memory() const { return *mem_; }
+
+    // Running. Each returns the status at the stop.
+    Status run_until(uint64_t cycle);  // stop when cycle() reaches `cycle` (blocked: waits to it)
+    Status run(uint64_t max_cycles = std::numeric_limits<uint64_t>::max()); // until halt/block/fault
+    Status step(uint64_t bundles = 1); // issue `bundles` bundles (waits and bubbles included)
+
+    Status status() const { return status_; }
+    const std::optional<Fault>& fault() const { return fault_; }
+    std::string fault_report() const; // empty when no fault
+    uint64_t cycle() const;
+    uint32_t pc() const;
+    // The channel a Blocked processor waits on.
+    uint32_t blocked_channel() const { return blocked_channel_; }
+
+    // Architectural state.
+    uint32_t reg(uint16_t flat) const;
+    void set_reg(uint16_t flat, uint32_t value);
+    std::vector<PendingWrite> inflight() const; // sorted by landing cycle
+    const Counters& counters() const { return counters_; }
+
+    // Back to the loaded state (registers zero, pc 0, data reloaded, counters cleared).
+    void reset();
+
+  private:
+    template <bool Checked, bool Traced> friend struct EngineLoop;
+    Status dispatch(uint64_t cycle_limit, uint64_t bundle_budget, bool wait_blocked);
+
+    std::shared_ptr<const Program> prog_;
+    Engine engine_;
+    Tracer* tracer_ = nullptr;
+    std::unique_ptr<Core> core_;
+    std::unique_ptr<MemorySystem> mem_;
+    std::vector<Channel*> channels_;
+    Counters counters_;
+    Status status_ = Status::Running;
+    std::optional<Fault> fault_;
+    uint32_t blocked_channel_ = 0;
+};
+
+} // namespace nesshi::iss

@@ -1,0 +1,112 @@
+// The pre-decoded program: every bundle decoded once at load, ready for the engines.
+//
+// A Program is immutable and shared (std::shared_ptr<const Program>) by any number of
+// Processor instances, so many processors running one kernel cost one copy of the code.
+#pragma once
+
+#include "isa/encoding.hpp"
+#include "isa/machine.hpp"
+#include "isa/object.hpp"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nesshi::iss {
+
+struct Core;
+struct DecodedOp;
+// One operation's semantics, specialised per opcode at compile time (see src/handlers.hpp).
+using Handler = void (*)(Core& core, const DecodedOp& op);
+
+// Register operands are flat indices into the 256-entry register array: r0..r127 are 0..127,
+// f0..f127 are 128..255. Index kNoReg (256) names a scratch slot for unused operands.
+inline constexpr uint16_t kNumRegs = 2 * isa::kMaxRegs;
+inline constexpr uint16_t kNoReg = kNumRegs;
+
+struct DecodedOp {
+    Handler fn = nullptr;
+    uint16_t dst = kNoReg;             // destination (flat index) or kNoReg
+    uint16_t a = kNoReg, b = kNoReg, c = kNoReg; // sources by field Rs1, Rs2, Rs3
+    uint32_t imm = 0;
+    uint32_t latency = 1;              // cycles from issue until the write lands
+    uint32_t index = 0;                // index into Program::ops (for reports)
+    uint32_t bundle = 0;               // bundle address
+    isa::Instr instr;                  // the decoded operation, for printing
+};
+
+// Static properties of a bundle; dynamic behaviour only needs its execution count.
+struct DecodedBundle {
+    uint32_t first = 0, count = 0;     // range in Program::ops (stores placed last)
+    uint32_t ops = 0;                  // non-nop operations
+    bool fifo = false;                 // contains send/recv: a communication cycle
+    bool slow = false;                 // needs the engine's slow path (FIFO gate)
+    std::array<uint32_t, isa::kNumRegFiles> reads{};
+    std::array<uint32_t, isa::kNumRegFiles> writes{};
+    uint32_t slot_mask = 0;            // bit s: slot s issues a non-nop operation
+};
+
+// A code label region: from a label's bundle to the next label's bundle (exclusive).
+struct Region {
+    std::string label;
+    uint32_t first = 0, end = 0;
+};
+
+// A loading problem: illegal encoding, bundle that breaks a static rule, data outside memory.
+class LoadError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+class Program {
+  public:
+    // Decodes and statically checks `obj` for machine `m`. Throws LoadError.
+    Program(const isa::ObjectFile& obj, const isa::Machine& m);
+
+    const isa::Machine& machine() const { return machine_; }
+    const isa::ObjectFile& object() const { return object_; }
+    const std::vector<DecodedBundle>& bundles() const { return bundles_; }
+    const std::vector<DecodedOp>& ops() const { return ops_; }
+    const std::vector<Region>& regions() const { return regions_; }
+    uint32_t size() const { return uint32_t(bundles_.size()); }
+    // The ops of bundle `pc` in slot order (as written), for printing.
+    std::vector<isa::Instr> bundle_instrs(uint32_t pc) const;
+
+    // Symbols: code labels resolve to bundle addresses, data labels to byte addresses.
+    const isa::Symbol* find_symbol(std::string_view name) const;
+    // "label" or "label+3" for a bundle address; empty when no label precedes it.
+    std::string code_name(uint32_t pc) const;
+    // The label whose region contains pc, or -1.
+    int region_of(uint32_t pc) const { return pc < region_index_.size() ? region_index_[pc] : -1; }
+    // "file:line" of bundle pc, or empty.
+    std::string source_of(uint32_t pc) const;
+    // "{ iu0: add r1, r2, r3 ; fpu0: fadd f1, f2, f3 }", branch targets named by label.
+    std::string format_bundle(uint32_t pc) const;
+    std::string format_op(const isa::Instr& in) const;
+
+  private:
+    isa::Machine machine_;
+    isa::ObjectFile object_;
+    std::vector<DecodedBundle> bundles_;
+    std::vector<DecodedOp> ops_;
+    std::vector<Region> regions_;
+    std::vector<int> region_index_;
+    std::vector<const isa::Symbol*> code_labels_; // sorted by address
+    std::vector<std::vector<isa::Instr>> original_; // bundles as written (slot order)
+};
+
+std::shared_ptr<const Program> load_program(const isa::ObjectFile& obj, const isa::Machine& m);
+// Reads the object and the machine it names (or `machine_override` when not empty).
+std::shared_ptr<const Program> load_program_file(const std::string& path,
+                                                 const std::string& machine_override = {});
+
+// Flat register index helpers and names ("r5", "f12").
+constexpr uint16_t flat_reg(isa::RegFile f, uint32_t n) {
+    return uint16_t(static_cast<int>(f) * isa::kMaxRegs + n);
+}
+std::string reg_name(uint16_t flat);
+
+} // namespace nesshi::iss

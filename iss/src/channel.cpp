@@ -1,0 +1,125 @@
+// The in-memory FIFO and the word-file format of `nesshi sim --fifo-in/--fifo-out`.
+#include "iss/channel.hpp"
+
+#include <fmt/core.h>
+
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace nesshi::iss {
+
+size_t QueueChannel::readable(uint64_t cycle) const {
+    size_t n = 0;
+    for (const Word& w : words_) {
+        if (w.ready > cycle) break;
+        ++n;
+    }
+    return n;
+}
+
+std::optional<uint64_t> QueueChannel::front_ready() const {
+    if (words_.empty()) return std::nullopt;
+    return words_.front().ready;
+}
+
+uint32_t QueueChannel::pop() {
+    if (words_.empty()) return 0; // the engine never pops an empty channel
+    uint32_t v = words_.front().value;
+    words_.pop_front();
+    ++popped_;
+    return v;
+}
+
+void QueueChannel::push(uint32_t word, uint64_t cycle) {
+    words_.push_back({word, cycle + latency_});
+    ++pushed_;
+}
+
+std::vector<uint32_t> QueueChannel::drain_all() {
+    std::vector<uint32_t> out;
+    for (const Word& w : words_) out.push_back(w.value);
+    words_.clear();
+    return out;
+}
+
+namespace {
+bool parse_token(std::string_view tok, uint32_t& out) {
+    bool neg = !tok.empty() && tok[0] == '-';
+    std::string_view body = neg || (!tok.empty() && tok[0] == '+') ? tok.substr(1) : tok;
+    if (body.size() > 2 && body[0] == '0' && (body[1] == 'x' || body[1] == 'X')) {
+        uint64_t v = 0;
+        auto r = std::from_chars(body.data() + 2, body.data() + body.size(), v, 16);
+        if (r.ec != std::errc() || r.ptr != body.data() + body.size() || v > 0xffffffffull) return false;
+        out = neg ? uint32_t(0u - uint32_t(v)) : uint32_t(v);
+        return true;
+    }
+    bool is_float = body.find_first_of(".eE") != std::string_view::npos || body == "inf" || body == "nan";
+    if (is_float) {
+        std::string s(tok);
+        char* end = nullptr;
+        float f = std::strtof(s.c_str(), &end);
+        if (end != s.c_str() + s.size()) return false;
+        out = std::bit_cast<uint32_t>(f);
+        return true;
+    }
+    int64_t v = 0;
+    auto r = std::from_chars(body.data(), body.data() + body.size(), v, 10);
+    if (r.ec != std::errc() || r.ptr != body.data() + body.size() || body.empty()) return false;
+    if (neg) v = -v;
+    if (v < INT32_MIN || v > int64_t{UINT32_MAX}) return false;
+    out = uint32_t(v);
+    return true;
+}
+} // namespace
+
+std::vector<uint32_t> parse_words(std::string_view text, std::string_view name) {
+    std::vector<uint32_t> out;
+    size_t line_no = 0, pos = 0;
+    while (pos <= text.size()) {
+        size_t nl = text.find('\n', pos);
+        std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+        ++line_no;
+        if (size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+        size_t i = 0;
+        while (i < line.size()) {
+            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+            size_t j = i;
+            while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+            if (j > i) {
+                uint32_t w;
+                if (!parse_token(line.substr(i, j - i), w))
+                    throw std::runtime_error(fmt::format("{}:{}:{}: error: bad word '{}'", name, line_no, i + 1,
+                                                         line.substr(i, j - i)));
+                out.push_back(w);
+            }
+            i = j;
+        }
+        if (nl == std::string_view::npos) break;
+        pos = nl + 1;
+    }
+    return out;
+}
+
+std::vector<uint32_t> read_word_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(fmt::format("{}: error: cannot open", path));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_words(ss.str(), path);
+}
+
+std::string format_words(const std::vector<uint32_t>& words) {
+    std::string out;
+    for (uint32_t w : words) {
+        float f = std::bit_cast<float>(w);
+        std::string fs = std::isfinite(f) ? fmt::format("{}", f) : (std::isnan(f) ? "nan" : (f > 0 ? "inf" : "-inf"));
+        out += fmt::format("0x{:08x}  # {} {}\n", w, int32_t(w), fs);
+    }
+    return out;
+}
+
+} // namespace nesshi::iss

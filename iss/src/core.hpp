@@ -1,0 +1,105 @@
+// Engine state shared by the fast and checked engines: registers, the pending-write ring,
+// and the per-bundle event flags the operation handlers raise.
+#pragma once
+
+#include "iss/channel.hpp"
+#include "iss/memory.hpp"
+#include "iss/program.hpp"
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+namespace nesshi::iss {
+
+// At most one bundle issues per cycle and each op writes at most one register, so the writes
+// landing in one cycle are bounded by (ops per bundle) x (distinct latencies).
+inline constexpr uint32_t kRingCap = isa::kMaxSlots * isa::kNumOpClasses;
+
+struct RingWrite {
+    uint16_t reg;
+    uint32_t value;
+    uint32_t op;
+};
+struct RingSlot {
+    uint32_t n = 0;
+    std::array<RingWrite, kRingCap> w;
+};
+
+enum Event : uint32_t { kTaken = 1, kHalt = 2, kFault = 4, kStall = 8 };
+
+struct Core {
+    std::array<uint32_t, kNumRegs + 1> r{}; // + scratch slot kNoReg
+    std::array<uint64_t, kNumRegs + 1> busy{}; // checked engine: cycle the last pending write lands
+    uint64_t cycle = 0;
+    uint64_t land_next = 0; // next cycle whose writes have not landed yet
+    uint32_t pc = 0, next_pc = 0;
+    uint32_t event = 0;
+    uint32_t stall = 0;     // memory stall cycles raised by this bundle
+    uint32_t pending = 0;   // writes in the ring
+    std::vector<RingSlot> ring;
+    uint64_t mask = 0;
+    MemorySystem* mem = nullptr;
+    Channel* const* channels = nullptr;
+    uint64_t* words_received = nullptr;
+    uint64_t* words_sent = nullptr;
+    // The first fault raised inside a bundle.
+    const DecodedOp* fault_op = nullptr;
+    MemError fault_mem = MemError::None;
+    uint32_t fault_addr = 0;
+
+    explicit Core(uint32_t max_latency) {
+        uint64_t size = std::bit_ceil(uint64_t{max_latency} + 1);
+        ring.resize(size);
+        mask = size - 1;
+    }
+
+    void push(const DecodedOp& d, uint32_t v) {
+        RingSlot& s = ring[(cycle + d.latency) & mask];
+        s.w[s.n++] = RingWrite{d.dst, v, d.index};
+        ++pending;
+    }
+
+    void mem_fault(const DecodedOp& d, MemError e, uint32_t addr) {
+        if (!(event & kFault)) {
+            fault_op = &d;
+            fault_mem = e;
+            fault_addr = addr;
+        }
+        event |= kFault;
+    }
+
+    // Memory access with range, alignment and stall accounting; false after a fault.
+    bool load(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t& out) {
+        const MemRegion* reg = mem->find(addr, bytes);
+        if (!reg || (addr & (bytes - 1))) [[unlikely]] {
+            mem_fault(d, reg ? MemError::Misaligned : MemError::OutOfRange, addr);
+            return false;
+        }
+        out = reg->store->read(addr - reg->desc.base, bytes);
+        if (reg->desc.latency || reg->cache) [[unlikely]]
+            add_stall(*reg, addr, bytes, false);
+        return true;
+    }
+    bool store(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t value) {
+        MemRegion* reg = const_cast<MemRegion*>(mem->find(addr, bytes));
+        if (!reg || (addr & (bytes - 1))) [[unlikely]] {
+            mem_fault(d, reg ? MemError::Misaligned : MemError::OutOfRange, addr);
+            return false;
+        }
+        reg->store->write(addr - reg->desc.base, bytes, value);
+        if (reg->desc.latency || reg->cache) [[unlikely]]
+            add_stall(*reg, addr, bytes, true);
+        return true;
+    }
+    void add_stall(const MemRegion& reg, uint32_t addr, uint32_t bytes, bool write) {
+        uint32_t extra = reg.desc.latency + (reg.cache ? reg.cache->access(addr, bytes, write) : 0);
+        if (extra) {
+            stall += extra;
+            event |= kStall;
+        }
+    }
+};
+
+} // namespace nesshi::iss

@@ -1,0 +1,432 @@
+// The Processor and its two engines (fast and checked), built from one run loop.
+//
+// The loop, per cycle: land the writes due this cycle, pass the FIFO gate (bundles with
+// send/recv only), run the bundle's handlers (all sources are read before any write lands,
+// because writes go to the pending ring), then handle the rare events a handler raised
+// (taken branch, halt, memory fault or stall). The checked engine adds the dynamic rules
+// around the handler calls; tracing adds observers. Both are template flags, so the fast
+// engine pays nothing for them.
+#include "iss/processor.hpp"
+
+#include "core.hpp"
+
+#include "isa/printer.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <bit>
+#include <stdexcept>
+
+namespace nesshi::iss {
+
+std::string_view status_name(Status s) {
+    switch (s) {
+    case Status::Running: return "running";
+    case Status::Blocked: return "blocked";
+    case Status::Halted: return "halted";
+    case Status::Faulted: return "faulted";
+    }
+    return "?";
+}
+
+namespace {
+
+constexpr uint64_t kNoLimit = std::numeric_limits<uint64_t>::max();
+
+std::string op_note(const Program& prog, const DecodedOp& d, uint64_t issued) {
+    std::string src = prog.source_of(d.bundle);
+    return fmt::format("{} (bundle {}, issued in cycle {}{}{})", isa::format_instr(d.instr), d.bundle, issued,
+                       src.empty() ? "" : ", ", src);
+}
+
+} // namespace
+
+// Everything the loop needs that is not in Core; a friend of Processor.
+template <bool Checked, bool Traced> struct EngineLoop {
+    Processor& p;
+    Core& c;
+    const Program& prog;
+    Counters& k;
+    std::vector<PendingWrite> landed; // Traced: writes landed this cycle
+    CycleEvent::What gap_kind = CycleEvent::Bubble;
+
+    explicit EngineLoop(Processor& proc)
+        : p(proc), c(*proc.core_), prog(*proc.prog_), k(proc.counters_) {}
+
+    Status fault(FaultKind kind, std::string msg, std::vector<std::string> notes = {}) {
+        p.fault_ = Fault{kind, c.cycle, c.pc, std::move(msg), std::move(notes)};
+        return Status::Faulted;
+    }
+
+    void emit(CycleEvent::What what, uint64_t cycle) {
+        CycleEvent ev{what, cycle, c.pc, &landed};
+        p.tracer_->on_cycle(prog, ev);
+        landed.clear();
+    }
+
+    // Land every write due up to and including the current cycle.
+    void land() {
+        while (c.land_next <= c.cycle) {
+            if (!Traced && c.pending == 0) {
+                uint64_t gap = c.cycle + 1 - c.land_next;
+                k.write_hist[0][0] += gap;
+                k.write_hist[1][0] += gap;
+                c.land_next = c.cycle + 1;
+                return;
+            }
+            RingSlot& s = c.ring[c.land_next & c.mask];
+            uint32_t n[2] = {0, 0};
+            for (uint32_t i = 0; i < s.n; ++i) {
+                const RingWrite& w = s.w[i];
+                c.r[w.reg] = w.value;
+                ++n[(w.reg >> 7) & 1];
+                if constexpr (Traced) landed.push_back({w.reg, w.value, c.land_next, w.op});
+            }
+            c.pending -= s.n;
+            s.n = 0;
+            ++k.write_hist[0][n[0]];
+            ++k.write_hist[1][n[1]];
+            if constexpr (Traced)
+                if (c.land_next < c.cycle) emit(gap_kind, c.land_next);
+            ++c.land_next;
+        }
+    }
+
+    // Writes still in flight at a halt land at once (they are not counted as port use).
+    void flush() {
+        for (uint64_t t = c.land_next; c.pending && t <= c.land_next + c.mask; ++t) {
+            RingSlot& s = c.ring[t & c.mask];
+            for (uint32_t i = 0; i < s.n; ++i) c.r[s.w[i].reg] = s.w[i].value;
+            c.pending -= s.n;
+            s.n = 0;
+        }
+        c.busy.fill(0);
+    }
+
+    void wait_until(uint64_t target) {
+        if constexpr (Traced) emit(CycleEvent::Wait, c.cycle);
+        uint64_t gap = target - c.cycle;
+        k.wait[c.pc] += gap;
+        k.wait_cycles += gap;
+        c.cycle = target;
+        gap_kind = CycleEvent::Wait;
+    }
+
+    enum class Gate { Go, Retry, Stop };
+
+    // A bundle with FIFO operations issues only when every recv has a word and every send
+    // has room; otherwise the whole bundle waits.
+    Gate fifo_gate(const DecodedBundle& b, uint64_t limit, bool wait_blocked, Status& st) {
+        const DecodedOp* ops = prog.ops().data() + b.first;
+        for (uint32_t i = 0; i < b.count; ++i) {
+            const DecodedOp& d = ops[i];
+            isa::Kind kind = d.instr.info().kind;
+            if (kind != isa::Kind::Recv && kind != isa::Kind::Send) continue;
+            uint32_t ch = d.imm;
+            Channel* chan = ch < p.channels_.size() ? p.channels_[ch] : nullptr;
+            if (!chan) {
+                st = fault(FaultKind::NoChannel, fmt::format("{} uses channel {}, which is not attached",
+                                                              d.instr.info().mnemonic, ch));
+                return Gate::Stop;
+            }
+            size_t need = 0; // this op plus earlier ops of the bundle on the same channel and direction
+            for (uint32_t j = 0; j <= i; ++j)
+                need += ops[j].instr.info().kind == kind && ops[j].imm == ch;
+            if (kind == isa::Kind::Recv) {
+                if (chan->readable(c.cycle) >= need) continue;
+                std::optional<uint64_t> ready = chan->front_ready();
+                if (ready && *ready > c.cycle) { // the word exists but arrives later: wait for it
+                    wait_until(std::min(*ready, limit));
+                    return Gate::Retry;
+                }
+                if (ready) { // front ready but a later word of this bundle is not: wait a cycle
+                    wait_until(std::min(c.cycle + 1, limit));
+                    return Gate::Retry;
+                }
+                if (chan->closed()) {
+                    st = fault(FaultKind::Deadlock,
+                               fmt::format("{} on channel {}, which is empty and will never be fed",
+                                           d.instr.info().mnemonic, ch),
+                               {fmt::format("{} received {} words before", prog.format_op(d.instr),
+                                            k.words_received)});
+                    return Gate::Stop;
+                }
+            } else if (chan->writable() >= need) {
+                continue;
+            }
+            p.blocked_channel_ = ch;
+            if (wait_blocked && limit != kNoLimit && limit > c.cycle) wait_until(limit);
+            st = Status::Blocked;
+            return Gate::Stop;
+        }
+        return Gate::Go;
+    }
+
+    // Checked engine: no source may have a write still in flight.
+    bool check_reads(const DecodedBundle& b, Status& st) {
+        const DecodedOp* ops = prog.ops().data() + b.first;
+        for (uint32_t i = 0; i < b.count; ++i) {
+            const DecodedOp& d = ops[i];
+            for (uint16_t s : {d.a, d.b, d.c}) {
+                if (s == kNoReg || c.busy[s] <= c.cycle) continue;
+                std::vector<std::string> notes{fmt::format("reader: {}", prog.format_op(d.instr))};
+                for (const PendingWrite& w : p.inflight())
+                    if (w.reg == s)
+                        notes.push_back(fmt::format("producer: {} writes {} in cycle {}",
+                                                    op_note(prog, prog.ops()[w.op], w.lands - prog.ops()[w.op].latency),
+                                                    reg_name(s), w.lands));
+                st = fault(FaultKind::InflightRead,
+                           fmt::format("{} reads {} in cycle {}, but its write lands in cycle {}",
+                                       d.instr.info().mnemonic, reg_name(s), c.cycle, c.busy[s]),
+                           std::move(notes));
+                return false;
+            }
+        }
+        return true;
+    }
+
+    // Checked engine: writes landing in one cycle fit the write ports and name distinct registers.
+    bool check_writes(const DecodedBundle& b, Status& st) {
+        const isa::Machine& m = prog.machine();
+        const DecodedOp* ops = prog.ops().data() + b.first;
+        for (uint32_t i = 0; i < b.count; ++i) {
+            const DecodedOp& d = ops[i];
+            if (d.dst == kNoReg) continue;
+            uint64_t t = c.cycle + d.latency;
+            const RingSlot& s = c.ring[t & c.mask];
+            int file = d.dst / isa::kMaxRegs;
+            uint32_t same_file = 0, same_reg = 0;
+            for (uint32_t j = 0; j < s.n; ++j) {
+                same_file += s.w[j].reg / isa::kMaxRegs == uint32_t(file);
+                same_reg += s.w[j].reg == d.dst;
+            }
+            uint32_t ports = m.regs[file].write_ports;
+            if (same_file > ports || same_reg > 1) {
+                std::vector<std::string> notes;
+                for (uint32_t j = 0; j < s.n; ++j) {
+                    const RingWrite& w = s.w[j];
+                    if (w.reg / isa::kMaxRegs != uint32_t(file)) continue;
+                    if (same_file <= ports && w.reg != d.dst) continue;
+                    const DecodedOp& o = prog.ops()[w.op];
+                    notes.push_back(fmt::format("{} writes {} in cycle {}", op_note(prog, o, t - o.latency),
+                                                reg_name(w.reg), t));
+                }
+                if (same_file > ports)
+                    st = fault(FaultKind::WritePorts,
+                               fmt::format("{} {} writes land in cycle {}; {} has {} {} write ports", same_file,
+                                           isa::kRegFileNames[file], t, m.name, ports, isa::kRegFileNames[file]),
+                               std::move(notes));
+                else
+                    st = fault(FaultKind::DupWrite,
+                               fmt::format("{} is written twice in cycle {}", reg_name(d.dst), t), std::move(notes));
+                return false;
+            }
+            c.busy[d.dst] = std::max(c.busy[d.dst], t);
+        }
+        return true;
+    }
+
+    Status memory_fault() {
+        const DecodedOp& d = *c.fault_op;
+        const char* what = c.fault_mem == MemError::Misaligned ? "is not aligned to" : "is outside every memory region for";
+        std::vector<std::string> notes{fmt::format("{}: base {} = 0x{:08x}, offset {}", prog.format_op(d.instr),
+                                                   reg_name(d.a), c.r[d.a], int32_t(d.imm))};
+        for (const auto& r : p.mem_->regions())
+            notes.push_back(fmt::format("region {}: 0x{:08x}..0x{:08x}", r.desc.name, r.desc.base,
+                                        uint64_t{r.desc.base} + r.desc.size - 1));
+        return fault(c.fault_mem == MemError::Misaligned ? FaultKind::MemAlign : FaultKind::MemRange,
+                     fmt::format("{} address 0x{:08x} {} a {}-byte access", d.instr.info().mnemonic, c.fault_addr,
+                                 what, d.instr.info().mem_bytes),
+                     std::move(notes));
+    }
+
+    Status run(uint64_t limit, uint64_t budget, bool wait_blocked) {
+        const DecodedBundle* bundles = prog.bundles().data();
+        const DecodedOp* ops = prog.ops().data();
+        const uint32_t nb = prog.size();
+        const uint32_t penalty = prog.machine().branch_penalty;
+        uint64_t* exec = k.exec.data();
+        Status st = Status::Running;
+        while (c.cycle < limit && budget) {
+            land();
+            const DecodedBundle& b = bundles[c.pc];
+            if (b.slow) [[unlikely]] {
+                Gate g = fifo_gate(b, limit, wait_blocked, st);
+                if (g == Gate::Stop) return st;
+                if (g == Gate::Retry) continue;
+            }
+            if constexpr (Checked)
+                if (!check_reads(b, st)) return st;
+            c.next_pc = c.pc + 1;
+            for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
+            if (c.event) [[unlikely]] {
+                if (c.event & kFault) {
+                    c.event = 0;
+                    c.stall = 0;
+                    return memory_fault();
+                }
+            }
+            if constexpr (Checked)
+                if (!check_writes(b, st)) return st;
+            ++exec[c.pc];
+            if constexpr (Traced) emit(CycleEvent::Issue, c.cycle);
+            ++c.cycle;
+            --budget;
+            if (c.event) [[unlikely]] {
+                uint32_t ev = c.event;
+                c.event = 0;
+                if (ev & kStall) {
+                    k.stall[c.pc] += c.stall;
+                    k.stall_cycles += c.stall;
+                    c.cycle += c.stall;
+                    c.stall = 0;
+                    gap_kind = CycleEvent::Bubble;
+                }
+                if (ev & kHalt) {
+                    flush();
+                    return Status::Halted;
+                }
+                if (ev & kTaken) {
+                    ++k.taken[c.pc];
+                    k.bubble_cycles += penalty;
+                    c.cycle += penalty;
+                    gap_kind = CycleEvent::Bubble;
+                }
+            }
+            if (c.next_pc >= nb) [[unlikely]] {
+                --c.cycle; // report at the cycle of the bundle that sent control away
+                Status s = fault(FaultKind::BadPc,
+                                 c.next_pc == c.pc + 1
+                                     ? fmt::format("execution ran past the last bundle ({}) without halt", nb - 1)
+                                     : fmt::format("control transfer to pc {}, outside the code (bundles 0..{})",
+                                                   c.next_pc, nb - 1));
+                ++c.cycle;
+                return s;
+            }
+            c.pc = c.next_pc;
+        }
+        return st;
+    }
+};
+
+Processor::Processor(std::shared_ptr<const Program> prog, Engine engine)
+    : prog_(std::move(prog)), engine_(engine) {
+    reset();
+}
+
+Processor::~Processor() = default;
+
+void Processor::reset() {
+    const isa::Machine& m = prog_->machine();
+    uint32_t max_lat = 1;
+    for (const DecodedOp& d : prog_->ops()) max_lat = std::max(max_lat, d.latency);
+    core_ = std::make_unique<Core>(max_lat);
+    auto old = std::move(mem_);
+    mem_ = std::make_unique<MemorySystem>(m);
+    for (const auto& sec : prog_->object().data) mem_->load_data(sec.address, sec.bytes);
+    if (old) // keep host-attached storage and caches
+        for (size_t i = 0; i < old->regions().size(); ++i) {
+            if (old->regions()[i].store.use_count() > 1) mem_->regions()[i].store = old->regions()[i].store;
+            mem_->regions()[i].cache = old->regions()[i].cache;
+        }
+    uint32_t max_ch = 0;
+    bool any = false;
+    for (const DecodedOp& d : prog_->ops()) {
+        isa::Kind kind = d.instr.info().kind;
+        if (kind == isa::Kind::Recv || kind == isa::Kind::Send) {
+            max_ch = std::max(max_ch, std::min<uint32_t>(d.imm, 4095));
+            any = true;
+        }
+    }
+    if (channels_.size() < (any ? max_ch + 1 : 0)) channels_.resize(max_ch + 1, nullptr);
+    core_->mem = mem_.get();
+    core_->channels = channels_.data();
+    core_->words_received = &counters_.words_received;
+    core_->words_sent = &counters_.words_sent;
+    counters_ = Counters{};
+    size_t n = prog_->size();
+    counters_.exec.assign(n, 0);
+    counters_.wait.assign(n, 0);
+    counters_.taken.assign(n, 0);
+    counters_.stall.assign(n, 0);
+    for (auto& h : counters_.write_hist) h.assign(kRingCap + 1, 0);
+    status_ = Status::Running;
+    fault_.reset();
+}
+
+void Processor::set_engine(Engine e) {
+    engine_ = e;
+    // The checked engine's in-flight map is rebuilt from the ring, so engines can be switched.
+    core_->busy.fill(0);
+    for (const PendingWrite& w : inflight()) core_->busy[w.reg] = std::max(core_->busy[w.reg], w.lands);
+}
+
+void Processor::attach_channel(uint32_t id, Channel* ch) {
+    if (id >= channels_.size()) channels_.resize(size_t{id} + 1, nullptr);
+    channels_[id] = ch;
+    core_->channels = channels_.data();
+}
+
+Channel* Processor::channel(uint32_t id) const { return id < channels_.size() ? channels_[id] : nullptr; }
+
+void Processor::attach_memory(std::string_view region, std::shared_ptr<PagedMemory> store) {
+    MemRegion* r = mem_->region(region);
+    if (!r) throw std::invalid_argument(fmt::format("machine {} has no memory region '{}'", prog_->machine().name, region));
+    if (!store || store->size() != r->desc.size)
+        throw std::invalid_argument(fmt::format("memory for region '{}' must be {} bytes", region, r->desc.size));
+    r->store = std::move(store);
+    for (const auto& sec : prog_->object().data)
+        if (!sec.bytes.empty() && r->desc.contains(sec.address, uint32_t(sec.bytes.size())))
+            r->store->write_bytes(sec.address - r->desc.base, sec.bytes);
+}
+
+void Processor::attach_cache(std::string_view region, CacheModel* cache) {
+    MemRegion* r = mem_->region(region);
+    if (!r) throw std::invalid_argument(fmt::format("machine {} has no memory region '{}'", prog_->machine().name, region));
+    r->cache = cache;
+}
+
+Status Processor::dispatch(uint64_t limit, uint64_t budget, bool wait_blocked) {
+    if (status_ == Status::Halted || status_ == Status::Faulted) return status_;
+    Status st;
+    bool checked = engine_ == Engine::Checked;
+    if (tracer_) {
+        if (checked) st = EngineLoop<true, true>(*this).run(limit, budget, wait_blocked);
+        else st = EngineLoop<false, true>(*this).run(limit, budget, wait_blocked);
+    } else {
+        if (checked) st = EngineLoop<true, false>(*this).run(limit, budget, wait_blocked);
+        else st = EngineLoop<false, false>(*this).run(limit, budget, wait_blocked);
+    }
+    status_ = st;
+    return st;
+}
+
+Status Processor::run_until(uint64_t cycle) { return dispatch(cycle, kNoLimit, true); }
+
+Status Processor::run(uint64_t max_cycles) {
+    uint64_t limit = max_cycles > kNoLimit - core_->cycle ? kNoLimit : core_->cycle + max_cycles;
+    return dispatch(limit, kNoLimit, false);
+}
+
+Status Processor::step(uint64_t bundles) { return dispatch(kNoLimit, bundles, false); }
+
+std::string Processor::fault_report() const { return fault_ ? format_fault(*prog_, *fault_) : std::string(); }
+uint64_t Processor::cycle() const { return core_->cycle; }
+uint32_t Processor::pc() const { return core_->pc; }
+uint32_t Processor::reg(uint16_t flat) const { return flat < kNumRegs ? core_->r[flat] : 0; }
+void Processor::set_reg(uint16_t flat, uint32_t value) {
+    if (flat < kNumRegs) core_->r[flat] = value;
+}
+
+std::vector<PendingWrite> Processor::inflight() const {
+    std::vector<PendingWrite> out;
+    const Core& c = *core_;
+    for (uint64_t t = c.land_next; out.size() < c.pending && t <= c.land_next + c.mask; ++t) {
+        const RingSlot& s = c.ring[t & c.mask];
+        for (uint32_t i = 0; i < s.n; ++i) out.push_back({s.w[i].reg, s.w[i].value, t, s.w[i].op});
+    }
+    return out;
+}
+
+} // namespace nesshi::iss

@@ -1,0 +1,199 @@
+// Loading: decode every bundle once, check its static rules, and build the engine's form.
+#include "iss/program.hpp"
+
+#include "handlers.hpp"
+
+#include "isa/bundle_check.hpp"
+#include "isa/printer.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+
+namespace nesshi::iss {
+
+std::string reg_name(uint16_t flat) {
+    if (flat >= kNumRegs) return "-";
+    return fmt::format("{}{}", flat < isa::kMaxRegs ? 'r' : 'f', flat % isa::kMaxRegs);
+}
+
+namespace {
+
+uint16_t reg_index(const isa::Instr& in, const isa::OpInfo& info, isa::Field f) {
+    for (int i = 0; i < info.num_operands; ++i) {
+        const isa::Operand& o = info.operands[i];
+        bool reg = o.kind == isa::OperandKind::IntReg || o.kind == isa::OperandKind::FloatReg;
+        if (o.kind == isa::OperandKind::Mem && f == isa::Field::Rs1) return flat_reg(isa::RegFile::Int, in.rs1);
+        if (!reg || o.field != f) continue;
+        auto file = o.kind == isa::OperandKind::IntReg ? isa::RegFile::Int : isa::RegFile::Float;
+        uint8_t n = f == isa::Field::Rd ? in.rd : f == isa::Field::Rs1 ? in.rs1 : f == isa::Field::Rs2 ? in.rs2 : in.rs3;
+        return flat_reg(file, n);
+    }
+    return kNoReg;
+}
+
+DecodedOp decode_op(const isa::Instr& in, const isa::Machine& m, uint32_t bundle, uint32_t index) {
+    const isa::OpInfo& info = in.info();
+    DecodedOp d;
+    d.fn = detail::kHandlers[in.opcode];
+    d.dst = reg_index(in, info, isa::Field::Rd);
+    d.a = reg_index(in, info, isa::Field::Rs1);
+    d.b = reg_index(in, info, isa::Field::Rs2);
+    d.c = reg_index(in, info, isa::Field::Rs3);
+    d.imm = in.imm;
+    d.latency = std::max<uint32_t>(1, m.latency_of(info)); // a result is never visible in its own cycle
+    d.index = index;
+    d.bundle = bundle;
+    d.instr = in;
+    return d;
+}
+
+} // namespace
+
+Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m), object_(obj) {
+    if (!obj.machine.empty() && obj.machine != m.name)
+        throw LoadError(fmt::format("object was assembled for machine '{}', not '{}'", obj.machine, m.name));
+    if (obj.machine_fingerprint != 0 && obj.machine_fingerprint != m.fingerprint())
+        throw LoadError(fmt::format("object was assembled for a different description of machine '{}' "
+                                    "(fingerprint mismatch)", m.name));
+    std::vector<std::vector<isa::Instr>> decoded;
+    try {
+        decoded = isa::decode_bundles(obj);
+    } catch (const isa::ObjectError& e) {
+        throw LoadError(e.what());
+    }
+    if (decoded.empty()) throw LoadError("object has no code");
+    if (!obj.lines.empty() && obj.lines.size() != decoded.size())
+        throw LoadError(fmt::format("line table has {} entries for {} bundles", obj.lines.size(), decoded.size()));
+    for (const auto& le : obj.lines)
+        if (le.file >= obj.files.size() && le.line != 0) throw LoadError("line table names a missing file");
+
+    for (uint32_t pc = 0; pc < decoded.size(); ++pc) {
+        const auto& ops = decoded[pc];
+        auto violations = isa::check_bundle(m, ops);
+        if (!violations.empty()) {
+            std::string msg = fmt::format("bundle {} breaks a static rule of machine '{}':", pc, m.name);
+            for (const auto& v : violations)
+                msg += fmt::format("\n  {}: {}", isa::rule_name(v.rule), v.message);
+            throw LoadError(msg);
+        }
+        DecodedBundle b;
+        b.first = uint32_t(ops_.size());
+        b.count = uint32_t(ops.size());
+        isa::BundleUsage u = isa::bundle_usage(ops);
+        b.ops = u.ops;
+        b.reads = u.reads;
+        b.writes = u.writes;
+        // Stores go last, so every load of the bundle reads memory as it was before the bundle.
+        for (int pass = 0; pass < 2; ++pass)
+            for (const isa::Instr& in : ops) {
+                bool is_store = in.info().kind == isa::Kind::Store;
+                if (is_store != (pass == 1)) continue;
+                ops_.push_back(decode_op(in, m, pc, uint32_t(ops_.size())));
+            }
+        for (const isa::Instr& in : ops) {
+            isa::Kind k = in.info().kind;
+            if (k == isa::Kind::Recv || k == isa::Kind::Send) b.fifo = b.slow = true;
+            if (k != isa::Kind::Nop) b.slot_mask |= 1u << in.slot;
+            if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) &&
+                in.imm >= decoded.size()) {
+                // Not an error at load (the branch may never be taken); the engine traps it.
+            }
+        }
+        bundles_.push_back(b);
+    }
+    original_ = std::move(decoded);
+
+    // Label regions, from code symbols sorted by address.
+    for (const auto& s : object_.symbols)
+        if (s.kind == isa::SymbolKind::Code && s.value < size()) code_labels_.push_back(&s);
+    std::stable_sort(code_labels_.begin(), code_labels_.end(),
+                     [](const isa::Symbol* a, const isa::Symbol* b) { return a->value < b->value; });
+    region_index_.assign(size(), -1);
+    // Code before the first label forms the "(entry)" region.
+    uint32_t first_label = code_labels_.empty() ? size() : code_labels_.front()->value;
+    if (first_label > 0) {
+        for (uint32_t pc = 0; pc < first_label; ++pc) region_index_[pc] = 0;
+        regions_.push_back({"(entry)", 0, first_label});
+    }
+    for (size_t i = 0; i < code_labels_.size(); ++i) {
+        uint32_t first = code_labels_[i]->value;
+        uint32_t end = i + 1 < code_labels_.size() ? code_labels_[i + 1]->value : size();
+        if (end <= first) continue; // several labels on one bundle: the last one owns the region
+        for (uint32_t pc = first; pc < end; ++pc) region_index_[pc] = int(regions_.size());
+        regions_.push_back({code_labels_[i]->name, first, end});
+    }
+}
+
+std::vector<isa::Instr> Program::bundle_instrs(uint32_t pc) const {
+    return pc < original_.size() ? original_[pc] : std::vector<isa::Instr>{};
+}
+
+const isa::Symbol* Program::find_symbol(std::string_view name) const {
+    for (const auto& s : object_.symbols)
+        if (s.name == name) return &s;
+    return nullptr;
+}
+
+std::string Program::code_name(uint32_t pc) const {
+    const isa::Symbol* best = nullptr;
+    for (const isa::Symbol* s : code_labels_) {
+        if (s->value > pc) break;
+        best = s;
+    }
+    if (!best) return {};
+    return best->value == pc ? best->name : fmt::format("{}+{}", best->name, pc - best->value);
+}
+
+std::string Program::source_of(uint32_t pc) const {
+    if (pc >= object_.lines.size()) return {};
+    const isa::LineEntry& le = object_.lines[pc];
+    if (le.line == 0 || le.file >= object_.files.size()) return {};
+    return fmt::format("{}:{}", object_.files[le.file], le.line);
+}
+
+std::string Program::format_op(const isa::Instr& in) const {
+    return isa::format_instr_slotted(in, machine_, [this](uint32_t target) {
+        for (const isa::Symbol* s : code_labels_)
+            if (s->value == target) return s->name;
+        return std::string();
+    });
+}
+
+std::string Program::format_bundle(uint32_t pc) const {
+    if (pc >= original_.size()) return "{ }";
+    std::string out = "{ ";
+    for (size_t i = 0; i < original_[pc].size(); ++i) {
+        if (i) out += " ; ";
+        out += format_op(original_[pc][i]);
+    }
+    return out + " }";
+}
+
+std::shared_ptr<const Program> load_program(const isa::ObjectFile& obj, const isa::Machine& m) {
+    return std::make_shared<const Program>(obj, m);
+}
+
+std::shared_ptr<const Program> load_program_file(const std::string& path, const std::string& machine_override) {
+    isa::ObjectFile obj;
+    try {
+        obj = isa::read_object_file(path);
+    } catch (const isa::ObjectError& e) {
+        throw LoadError(e.what());
+    }
+    std::string name = machine_override.empty() ? obj.machine : machine_override;
+    if (name.empty()) throw LoadError(fmt::format("{}: object names no machine; pass --machine", path));
+    isa::Machine m;
+    try {
+        m = isa::load_machine(name);
+    } catch (const isa::MachineError& e) {
+        throw LoadError(e.what());
+    }
+    try {
+        return load_program(obj, m);
+    } catch (const LoadError& e) {
+        throw LoadError(fmt::format("{}: {}", path, e.what()));
+    }
+}
+
+} // namespace nesshi::iss
