@@ -79,9 +79,10 @@ TEST_CASE("Cylinder and cone twins: hits on the surface within the axial range, 
     ShapeSet set = build_shapes(one("c 1 2 3 0.5 2 2.5 4.5 0.5\nc -1 0 0 0.8 -1 0 2 0.2\n"));
     REQUIRE(set.shapes.size() == 2);
     std::mt19937 rng(3);
+    const Scene src = parse_nff("c 1 2 3 0.5 2 2.5 4.5 0.5\nc -1 0 0 0.8 -1 0 2 0.2\n", "x");
     for (std::size_t si = 0; si < 2; ++si) {
         const Shape& s = set.shapes[si];
-        const Entity& e = parse_nff("c 1 2 3 0.5 2 2.5 4.5 0.5\nc -1 0 0 0.8 -1 0 2 0.2\n", "x").entities[si];
+        const Entity& e = src.entities[si];
         Vec3d axis = normalize(e.apex - e.base);
         double len = length(e.apex - e.base);
         int hits = 0;
