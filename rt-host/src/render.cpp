@@ -158,18 +158,21 @@ RenderResult render_native(const PreparedScene& prep, const RenderOptions& opt) 
         }
     };
     auto t0 = std::chrono::steady_clock::now();
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
     if (opt.progress) {
-        // The calling thread reports progress while the pool works, then joins in.
-        while (rows_done.load() < static_cast<int>(ch) && threads > 1) {
+        // All rows go to the pool; the calling thread only reports progress, then joins.
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+        while (rows_done.load() < static_cast<int>(ch)) {
             opt.progress(rows_done.load(), static_cast<int>(ch));
             std::this_thread::sleep_for(std::chrono::milliseconds(100));
-            if (next_row.load() >= static_cast<int>(ch)) break;
         }
+        for (std::thread& t : pool) t.join();
+    } else {
+        std::vector<std::thread> pool;
+        for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+        worker();
+        for (std::thread& t : pool) t.join();
     }
-    worker();
-    for (std::thread& t : pool) t.join();
     if (opt.progress) opt.progress(static_cast<int>(ch), static_cast<int>(ch));
     res.stats.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     res.stats.setup_seconds = prep.setup_seconds;

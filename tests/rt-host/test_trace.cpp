@@ -93,3 +93,17 @@ TEST_CASE("Grid nearest hit equals brute force on axis-parallel and eye rays", "
         }
     }
 }
+
+TEST_CASE("Ray and hit records format with fmt", "[trace]") {
+    Ray r;
+    r.o = {1, 2, 3};
+    r.d = {0, 0, 1};
+    CHECK(fmt::format("{}", r) == "eye ray depth 1 o (1 2 3) d (0 0 1) t (0, inf)");
+    Hit h;
+    CHECK(fmt::format("{}", h) == "miss");
+    h.hit = true;
+    h.entity = 4;
+    h.shape = 7;
+    h.t = 2.5f;
+    CHECK(fmt::format("{}", h) == "hit primitive 4 (shape 7) t 2.5");
+}

@@ -3,6 +3,8 @@
 #include "rt/grid.hpp"
 #include "rt/shapes.hpp"
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <limits>
 
@@ -51,3 +53,26 @@ bool any_hit_brute(const ShapeSet& set, const Ray& ray, TraceCounters& c);
 Hit intersect_shape(const ShapeSet& set, std::size_t shape, const Ray& ray);
 
 } // namespace nesshi::rt
+
+template <>
+struct fmt::formatter<nesshi::rt::Vec3f> : fmt::formatter<float> {
+    auto format(const nesshi::rt::Vec3f& v, fmt::format_context& ctx) const {
+        return fmt::format_to(ctx.out(), "({:g} {:g} {:g})", v.x, v.y, v.z);
+    }
+};
+
+template <>
+struct fmt::formatter<nesshi::rt::Ray> : fmt::formatter<float> {
+    auto format(const nesshi::rt::Ray& r, fmt::format_context& ctx) const {
+        return fmt::format_to(ctx.out(), "{} ray depth {} o {} d {} t ({:g}, {:g})", nesshi::rt::ray_kind_name(r.kind),
+                              r.depth, r.o, r.d, r.tmin, r.tmax);
+    }
+};
+
+template <>
+struct fmt::formatter<nesshi::rt::Hit> : fmt::formatter<float> {
+    auto format(const nesshi::rt::Hit& h, fmt::format_context& ctx) const {
+        if (!h.hit) return fmt::format_to(ctx.out(), "miss");
+        return fmt::format_to(ctx.out(), "hit primitive {} (shape {}) t {:g}", h.entity, h.shape, h.t);
+    }
+};
