@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <string>
+
 namespace nesshi::rt {
 
 namespace {
@@ -46,7 +48,7 @@ std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, cons
     j["model"] = model;
     j["spd_mode"] = opt.cutoff <= 0;
     j["max_depth"] = opt.max_depth;
-    j["epsilon"] = r.stats.epsilon;
+    j["epsilon"] = std::stod(fmt::format("{:g}", r.stats.epsilon)); // 1e-4, not 9.99999974e-05
     j["primitives"] = prep.scene.entities.size();
     j["shapes"] = prep.shapes.shapes.size();
     j["rays"] = {{"eye_rays", s.eye_rays},
