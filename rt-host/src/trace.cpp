@@ -61,45 +61,68 @@ inline void count_test(const ShapeSet& set, std::size_t si, TraceCounters& c) {
 
 } // namespace
 
+VoxelWalk::VoxelWalk(const Grid& grid, const Ray& ray) : grid_(&grid) {
+    live_ = twins::dda_setup(grid.geom, ray.o, ray.d, ray.tmin, ray.tmax, s_);
+}
+
+bool VoxelWalk::next(VoxelSpan& span, TraceCounters& c) {
+    while (live_) {
+        if (!first_ && !twins::dda_step(s_)) {
+            live_ = false;
+            break;
+        }
+        first_ = false;
+        ++c.voxel_steps;
+        if (grid_->occupancy[static_cast<std::size_t>(s_.addr)]) {
+            ++c.nonempty_voxels;
+            span = {s_.addr, s_.t_in, s_.voxel_exit()};
+            return true;
+        }
+    }
+    return false;
+}
+
+bool intersect_voxel_nearest(const Grid& grid, const ShapeSet& set, const Ray& ray, const VoxelSpan& span, Hit& best,
+                             TraceCounters& c) {
+    const std::uint32_t* p = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr)];
+    const std::uint32_t* e = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr) + 1];
+    for (; p != e; ++p) {
+        count_test(set, *p, c);
+        Hit h = intersect_shape(set, *p, ray);
+        if (!h.hit || !(h.t <= span.t_out) || !(h.t < ray.tmax)) continue;
+        if (h.t < best.t || (h.t == best.t && h.shape < best.shape)) best = h;
+    }
+    return best.hit;
+}
+
+bool intersect_voxel_any(const Grid& grid, const ShapeSet& set, const Ray& ray, const VoxelSpan& span,
+                         TraceCounters& c) {
+    const std::uint32_t* p = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr)];
+    const std::uint32_t* e = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr) + 1];
+    for (; p != e; ++p) {
+        count_test(set, *p, c);
+        Hit h = intersect_shape(set, *p, ray);
+        if (h.hit && h.t < ray.tmax) return true;
+    }
+    return false;
+}
+
 Hit nearest_hit(const Grid& grid, const ShapeSet& set, const Ray& ray, TraceCounters& c) {
     ++c.rays;
     Hit best;
-    twins::DdaState s;
-    if (!twins::dda_setup(grid.geom, ray.o, ray.d, ray.tmin, ray.tmax, s)) return best;
-    do {
-        ++c.voxel_steps;
-        if (!grid.occupancy[static_cast<std::size_t>(s.addr)]) continue;
-        ++c.nonempty_voxels;
-        const float t_out = s.voxel_exit();
-        const std::uint32_t* p = grid.prims.data() + grid.offsets[static_cast<std::size_t>(s.addr)];
-        const std::uint32_t* e = grid.prims.data() + grid.offsets[static_cast<std::size_t>(s.addr) + 1];
-        for (; p != e; ++p) {
-            count_test(set, *p, c);
-            Hit h = intersect_shape(set, *p, ray);
-            if (!h.hit || !(h.t <= t_out) || !(h.t < ray.tmax)) continue;
-            if (h.t < best.t || (h.t == best.t && h.shape < best.shape)) best = h;
-        }
-        if (best.hit) return best;
-    } while (twins::dda_step(s));
+    VoxelWalk walk(grid, ray);
+    VoxelSpan span;
+    while (walk.next(span, c))
+        if (intersect_voxel_nearest(grid, set, ray, span, best, c)) break;
     return best;
 }
 
 bool any_hit(const Grid& grid, const ShapeSet& set, const Ray& ray, TraceCounters& c) {
     ++c.rays;
-    twins::DdaState s;
-    if (!twins::dda_setup(grid.geom, ray.o, ray.d, ray.tmin, ray.tmax, s)) return false;
-    do {
-        ++c.voxel_steps;
-        if (!grid.occupancy[static_cast<std::size_t>(s.addr)]) continue;
-        ++c.nonempty_voxels;
-        const std::uint32_t* p = grid.prims.data() + grid.offsets[static_cast<std::size_t>(s.addr)];
-        const std::uint32_t* e = grid.prims.data() + grid.offsets[static_cast<std::size_t>(s.addr) + 1];
-        for (; p != e; ++p) {
-            count_test(set, *p, c);
-            Hit h = intersect_shape(set, *p, ray);
-            if (h.hit && h.t < ray.tmax) return true;
-        }
-    } while (twins::dda_step(s));
+    VoxelWalk walk(grid, ray);
+    VoxelSpan span;
+    while (walk.next(span, c))
+        if (intersect_voxel_any(grid, set, ray, span, c)) return true;
     return false;
 }
 

@@ -41,6 +41,33 @@ struct TraceCounters {
     TraceCounters& operator+=(const TraceCounters& o);
 };
 
+// The OS stage as an iterator: walks the grid with the 3DDDA twin and yields each non-empty voxel
+// with its t-span. Every voxel visited counts one voxel step.
+struct VoxelSpan {
+    int addr = 0;     // voxel address (iz*ny + iy)*nx + ix
+    float t_in = 0;   // where the ray enters the voxel
+    float t_out = 0;  // where it leaves it (clamped to the ray's tmax and the grid box)
+};
+
+class VoxelWalk {
+public:
+    VoxelWalk(const Grid& grid, const Ray& ray);
+    bool next(VoxelSpan& span, TraceCounters& c);
+
+private:
+    const Grid* grid_;
+    twins::DdaState s_{};
+    bool live_ = false, first_ = true;
+};
+
+// The IC stage for one voxel: the nearest hit among its primitives with t <= span.t_out, merged into
+// `best` (an exact tie goes to the lower shape index); true when `best` now holds a hit.
+bool intersect_voxel_nearest(const Grid& grid, const ShapeSet& set, const Ray& ray, const VoxelSpan& span, Hit& best,
+                             TraceCounters& c);
+// Any hit among the voxel's primitives with t < ray.tmax (shadow rays).
+bool intersect_voxel_any(const Grid& grid, const ShapeSet& set, const Ray& ray, const VoxelSpan& span,
+                         TraceCounters& c);
+
 // Nearest hit with t in (tmin, tmax); an exact tie goes to the lower shape (= entity) index.
 Hit nearest_hit(const Grid& grid, const ShapeSet& set, const Ray& ray, TraceCounters& c);
 // Any hit with t in (tmin, tmax): shadow rays.
