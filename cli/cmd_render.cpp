@@ -94,7 +94,7 @@ void run_render(const RenderArgs& a) {
 void add_render(CLI::App& app) {
     auto* cmd = app.add_subcommand("render", "Render a scene (NFF file or built-in SPD name) to PNG");
     auto a = std::make_shared<RenderArgs>();
-    cmd->add_option("scene", a->scene, "NFF file or built-in name (balls mount rings tetra tree, NAME:SIZE)")->required();
+    cmd->add_option("scene", a->scene, "NFF file or built-in name (balls mount rings tetra tree gears, NAME:SIZE)")->required();
     cmd->add_option("--model", a->model, "model: native (S, M, V come with the macropipeline host)");
     cmd->add_option("--size", a->size, "image size W or WxH (default 512)");
     cmd->add_option("--grid", a->grid, "voxels per axis, or 'auto' (default 50)");

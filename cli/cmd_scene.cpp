@@ -51,7 +51,7 @@ void add_scene(CLI::App& app) {
     auto file = std::make_shared<std::string>();
     auto grids = std::make_shared<std::vector<int>>(std::vector<int>{20, 50, 100});
     auto no_grid = std::make_shared<bool>(false);
-    info->add_option("scene", *file, "NFF file or built-in name (balls mount rings tetra tree, NAME:SIZE)")->required();
+    info->add_option("scene", *file, "NFF file or built-in name (balls mount rings tetra tree gears, NAME:SIZE)")->required();
     info->add_option("--grid", *grids, "grid resolutions to report (0 = auto)")->delimiter(',');
     info->add_flag("--no-grid", *no_grid, "skip the grid report");
     info->callback([=] {
@@ -67,7 +67,7 @@ void add_scene(CLI::App& app) {
     auto name = std::make_shared<std::string>();
     auto size = std::make_shared<int>(0);
     auto out = std::make_shared<std::string>();
-    gen->add_option("name", *name, "balls mount rings tetra tree")->required();
+    gen->add_option("name", *name, "balls mount rings tetra tree gears")->required();
     gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)");
     gen->add_option("-o,--output", *out, "output file (default: stdout)");
     gen->callback([=] {

@@ -11,7 +11,7 @@
 namespace nesshi::rt {
 
 const std::vector<std::string>& spd_names() {
-    static const std::vector<std::string> names = {"balls", "mount", "rings", "tetra", "tree"};
+    static const std::vector<std::string> names = {"balls", "mount", "rings", "tetra", "tree"};  // the paper's five
     return names;
 }
 
@@ -21,6 +21,7 @@ int spd_default_size(std::string_view name) {
     if (name == "rings") return 7;
     if (name == "tetra") return 6;
     if (name == "tree") return 11;
+    if (name == "gears") return 4;
     return 0;
 }
 
@@ -49,7 +50,8 @@ std::string generate_spd(std::string_view name, int size) {
     else if (name == "rings") gen_rings(w, size);
     else if (name == "tetra") gen_tetra(w, size);
     else if (name == "tree") gen_tree(w, size);
-    else throw std::invalid_argument(fmt::format("unknown scene '{}' (built-in: balls mount rings tetra tree)", name));
+    else if (name == "gears") gen_gears(w, size);
+    else throw std::invalid_argument(fmt::format("unknown scene '{}' (built-in: balls mount rings tetra tree gears)", name));
     return w.str();
 }
 

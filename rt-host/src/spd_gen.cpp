@@ -2,6 +2,7 @@
 // reproducing the default NFF output (curved primitives) of the public-domain originals.
 #include "spd_gen.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -256,7 +257,68 @@ struct Tree {
     }
 };
 
+// ---- gears ----
+
+constexpr int kTeeth = 36;
+
+void gear_tooth(double gear_angle, double tooth_angle, Vec3d center, Vec3d outer, Vec3d inner, Vec3d* edge) {
+    edge[0] = xform_vector(outer, rotate(kZ, gear_angle - 0.19 * tooth_angle)) + center;
+    edge[1] = xform_vector(outer, rotate(kZ, gear_angle + 0.19 * tooth_angle)) + center;
+    edge[2] = xform_vector(inner, rotate(kZ, gear_angle + 0.3 * tooth_angle)) + center;
+    edge[3] = xform_vector(inner, rotate(kZ, gear_angle + 0.7 * tooth_angle)) + center;
+}
+
+// One gear: the top face (a concave 144-gon), 144 side rectangles, the bottom face.
+void gear(NffWriter& w, Vec3d center, double offset_angle, double outer_r, double inner_r, double thickness) {
+    Vec3d outer{outer_r, 0, 0}, inner{inner_r, 0, 0};
+    const double tooth = 2.0 * kPi / kTeeth;
+    Vec3d pts[4 * kTeeth];
+    for (int t = 0; t < kTeeth; ++t)
+        gear_tooth(offset_angle + 2.0 * kPi * t / kTeeth, tooth, center, outer, inner, &pts[t * 4]);
+    w.polygon(pts, pts + 4 * kTeeth);
+    for (int side = 0; side < 4 * kTeeth; ++side) {
+        const int next = (side + 1) % (4 * kTeeth);
+        Vec3d q[4] = {pts[side], pts[side], pts[next], pts[next]};
+        q[1].z -= thickness;
+        q[2].z -= thickness;
+        w.polygon(q, q + 4);
+    }
+    outer.z = inner.z = -thickness;
+    for (int t = 0; t < kTeeth; ++t)
+        gear_tooth(offset_angle - 2.0 * kPi * t / kTeeth, -tooth, center, outer, inner, &pts[t * 4]);
+    w.polygon(pts, pts + 4 * kTeeth);
+}
+
 } // namespace
+
+void gen_gears(NffWriter& w, int size) {
+    check_size(size, 1, 8, "gears");
+    header(w, {-1.1, -2.1, 2.6}, {0, 0, 0}, {0, 0, 1}, 1.0);
+    for (Vec3d l : {Vec3d{2, 4, 4}, Vec3d{-2, 4, 3}, Vec3d{2, -2.5, 2.5}, Vec3d{-1, -4, 2}, Vec3d{-1.111, -2.121, 2.626}})
+        w.light(l);
+    material(w, {1.0, 0.85, 0.7}, 0.3, 0.6, 37.0, 0.0, 0.0);
+    const Vec3d ground[4] = {{2, 2, 0}, {-2, 2, 0}, {-2, -2, 0}, {2, -2, 0}};
+    w.polygon(ground, ground + 4);
+    const double edge_diff = 1.0 - 0.9;
+    const double outer_r = 1.0 / (static_cast<double>(size) - static_cast<double>(size - 1) * edge_diff / 2.0);
+    const Vec3d zero{-1.0 + outer_r, -1.0 + outer_r, 1.0};
+    const Vec3d off{outer_r * (2.0 - edge_diff), outer_r * (2.0 - edge_diff), -1.0 / static_cast<double>(size)};
+    auto frac = [](double x) { return x - static_cast<double>(static_cast<long>(x)); };
+    for (int iz = 0; iz < size; ++iz)
+        for (int iy = 0; iy < size; ++iy)
+            for (int ix = 0; ix < size; ++ix) {
+                const Vec3d c{zero.x + ix * off.x, zero.y + iy * off.y, zero.z + iz * off.z};
+                Vec3d col{0.01 + frac((ix * 3 + iy * 2 + iz + 1) * 5.0 / 7.0), 0.01 + frac((iy * 3 + iz * 2 + ix + 1) * 3.0 / 7.0),
+                          0.01 + frac((iz * 3 + ix * 2 + iy + 1) * 2.0 / 7.0)};
+                const double m = std::max(std::max(col.x, col.y), col.z);
+                col = {col.x / m, col.y / m, col.z / m};
+                if ((ix * 4 + iy * 2 + iz) % 5 == 0) material(w, col, 0.2, 0.0, 0.0, 0.8, 1.1);
+                else material(w, col, 1.0, 0.0, 0.0, 0.0, 0.0);
+                const double angle = kPi * static_cast<double>((ix + iy + iz) % 2) / kTeeth;
+                const double thickness = std::min(0.1, 1.0 / (2.0 * size));
+                gear(w, c, angle, 0.995 * outer_r, (1.0 - edge_diff) * outer_r, thickness);
+            }
+}
 
 void gen_balls(NffWriter& w, int size) {
     check_size(size, 1, 6, "balls");

@@ -41,5 +41,6 @@ void gen_mount(NffWriter& w, int size);
 void gen_rings(NffWriter& w, int size);
 void gen_tetra(NffWriter& w, int size);
 void gen_tree(NffWriter& w, int size);
+void gen_gears(NffWriter& w, int size);
 
 } // namespace nesshi::rt

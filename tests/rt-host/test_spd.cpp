@@ -64,7 +64,7 @@ TEST_CASE("SPD generators equal the reference files", "[spd]") {
                           {"mount", 0, "mount.nff"},    {"rings", 1, "rings-s1.nff"}, {"rings", 2, "rings-s2.nff"},
                           {"rings", 0, "rings.nff"},    {"tetra", 2, "tetra-s2.nff"}, {"tetra", 3, "tetra-s3.nff"},
                           {"tetra", 0, "tetra.nff"},    {"tree", 3, "tree-s3.nff"},   {"tree", 5, "tree-s5.nff"},
-                          {"tree", 0, "tree.nff"}};
+                          {"tree", 0, "tree.nff"},      {"gears", 1, "gears-s1.nff"}, {"gears", 0, "gears.nff"}};
     for (const Case& c : cases) {
         INFO(c.file);
         std::string text = generate_spd(c.name, c.size);

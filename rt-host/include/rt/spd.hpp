@@ -8,11 +8,11 @@
 namespace nesshi::rt {
 
 struct SpdName {
-    std::string name; // balls, mount, rings, tetra, tree
+    std::string name; // balls, mount, rings, tetra, tree, gears
     int size = 0;     // size factor (0 = the generator's default)
 };
 
-// The built-in generator names, in the paper's order.
+// The paper's five scenes, in its order (gears is built in too: parse_spd_name and generate_spd accept it).
 const std::vector<std::string>& spd_names();
 int spd_default_size(std::string_view name);
 // "balls" -> {balls, default}; "balls:2" -> {balls, 2}; anything else (a path) -> nullopt.
