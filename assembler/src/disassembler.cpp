@@ -53,10 +53,13 @@ void print_data(std::string& out, const isa::DataSection& d, const std::multimap
 } // namespace
 
 std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const DisOptions& opts) {
-    if (obj.machine_fingerprint != m.fingerprint())
-        throw isa::ObjectError(fmt::format("object was assembled for machine '{}' (fingerprint {:016x}); "
-                                           "machine '{}' has fingerprint {:016x}",
-                                           obj.machine, obj.machine_fingerprint, m.name, m.fingerprint()));
+    if (obj.machine_fingerprint != m.fingerprint()) {
+        if (obj.machine != m.name)
+            throw isa::ObjectError(fmt::format("object was assembled for machine '{}', not '{}'", obj.machine, m.name));
+        throw isa::ObjectError(fmt::format("object was assembled for a different description of machine '{}' "
+                                           "(fingerprint {:016x}; this one has {:016x})",
+                                           obj.machine, obj.machine_fingerprint, m.fingerprint()));
+    }
     auto bundles = isa::decode_bundles(obj);
     for (size_t b = 0; b < bundles.size(); ++b) {
         auto v = isa::check_bundle(m, bundles[b]);

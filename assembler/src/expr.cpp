@@ -81,6 +81,7 @@ struct Parser {
     }
 
     int64_t apply(const Token& op, int64_t a, int64_t b) {
+        if (!resolve) return 0; // syntax check only: values are not known yet
         uint64_t ua = static_cast<uint64_t>(a), ub = static_cast<uint64_t>(b);
         const std::string& s = op.text;
         if (s == "+") return wrap(ua + ub);

@@ -27,9 +27,9 @@ void Layout::define(const std::string& name, SymbolDef def) {
 std::optional<int64_t> Layout::lookup(const Token& name, std::string& err, size_t limit) {
     auto it = symbols.find(name.text);
     if (it == symbols.end() || (limit != kAll && it->second.order > limit)) {
-        err = limit != kAll && it != symbols.end()
-                  ? fmt::format("'{}' must be defined before it is used here", name.text)
-                  : fmt::format("undefined symbol '{}'", name.text);
+        err = limit != kAll ? fmt::format("'{}' is undefined here (.data, .space, .align and .loc need "
+                                          "values known where they stand)", name.text)
+                            : fmt::format("undefined symbol '{}'", name.text);
         return std::nullopt;
     }
     SymbolDef& s = it->second;

@@ -47,13 +47,18 @@ std::string make_listing(const Layout& layout, const isa::ObjectFile& obj, const
         out += fmt::format("{}:\n", it->second);
     for (const auto& d : obj.data) {
         out += fmt::format("# data at 0x{:08x}, {} bytes\n", d.address, d.bytes.size());
-        for (size_t i = 0; i < d.bytes.size(); i += 16) {
+        // Rows of up to 16 bytes; a label starts a new row.
+        size_t i = 0;
+        while (i < d.bytes.size()) {
             uint32_t addr = d.address + uint32_t(i);
             auto range = data_labels.equal_range(addr);
             for (auto it = range.first; it != range.second; ++it) out += fmt::format("{}:\n", it->second);
             std::string hex;
-            for (size_t j = i; j < std::min(d.bytes.size(), i + 16); ++j) hex += fmt::format(" {:02x}", d.bytes[j]);
+            size_t j = i;
+            do hex += fmt::format(" {:02x}", d.bytes[j++]);
+            while (j < d.bytes.size() && j - i < 16 && !data_labels.count(d.address + uint32_t(j)));
             out += fmt::format("{:08x} {}\n", addr, hex);
+            i = j;
         }
     }
     return out;

@@ -1,0 +1,55 @@
+// The latency-hazard analysis: straight line, loops, branches, jr, late writes.
+#include "support.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace nesshi;
+using test::assemble;
+
+TEST_CASE("latency-1 results are readable by the next bundle; reads in a bundle see old values", "[hazard]") {
+    CHECK(assemble("li r1, 1\naddi r2, r1, 1\nhalt\n").ok);
+    CHECK(assemble("{ mov r0, r1 ; mov r1, r0 }\nhalt\n").ok);
+    CHECK(assemble("{ add r1, r1, r1 ; fadd f1, f1, f1 }\n{ add r1, r1, r1 ; fadd f1, f1, f1 }\nhalt\n").ok);
+}
+
+TEST_CASE("multi-cycle results: straight line, loop back edge, taken branch", "[hazard]") {
+    auto straight = assemble("fdiv f1, f2, f3\nfadd f4, f1, f1\nhalt\n");
+    CHECK_FALSE(straight.ok);
+    CHECK(straight.diagnostics.find("f1 is read before its new value lands: 'fdiv' was issued 1 cycle earlier") !=
+          std::string::npos);
+    CHECK(straight.diagnostics.find("test.s:1:1: note: f1 is written here") != std::string::npos);
+    CHECK(assemble("fdiv f1, f2, f3\nnop\nnop\nnop\nfadd f4, f1, f1\nhalt\n").ok);
+    // Back edge: the read at the loop top is 2 cycles after the fdiv at the bottom.
+    auto loop = assemble("top: fadd f4, f1, f1\n{ fdiv f1, f2, f3 ; bnez r1, top }\nhalt\n");
+    CHECK_FALSE(loop.ok);
+    CHECK(loop.diagnostics.find("test.s:1:6: error: f1 is read") != std::string::npos);
+    // Taken path skips the padding; fall-through is fine.
+    auto br = assemble("{ fdiv f1, f2, f3 ; beqz r1, t }\nnop\nnop\nnop\nt: fadd f4, f1, f1\nhalt\n");
+    CHECK_FALSE(br.ok);
+    // A halt ends the path; unconditional jumps have no fall-through.
+    CHECK(assemble("{ fdiv f1, f2, f3 ; halt }\nfadd f4, f1, f1\nhalt\n").ok);
+    CHECK(assemble("{ fdiv f1, f2, f3 ; jmp t }\nfadd f4, f1, f1\nt: nop\nnop\nnop\nhalt\n").ok);
+}
+
+TEST_CASE("jr is followed conservatively to return points and labels", "[hazard]") {
+    auto r = assemble("jal r31, f\nfadd f4, f1, f1\nhalt\nf: { fdiv f1, f2, f3 ; jr r31 }\n");
+    CHECK_FALSE(r.ok);
+    CHECK(r.diagnostics.find("test.s:2:1: error: f1 is read") != std::string::npos);
+}
+
+TEST_CASE("late writes: same register and write ports across bundles", "[hazard]") {
+    auto dup = assemble("fdiv f1, f2, f3\nnop\nnop\nfadd f1, f4, f5\nhalt\n");
+    CHECK_FALSE(dup.ok);
+    CHECK(dup.diagnostics.find("f1 is written twice in one cycle") != std::string::npos);
+    auto ports = assemble("{ fdiv f1, f2, f3 ; fdiv f4, f5, f6 }\nnop\nnop\nfadd f7, f8, f9\nhalt\n");
+    CHECK_FALSE(ports.ok);
+    CHECK(ports.diagnostics.find("3 writes land in one cycle: os has 2 FPRF write ports") != std::string::npos);
+    CHECK(assemble("{ fdiv f1, f2, f3 ; fdiv f4, f5, f6 }\nnop\nnop\nfadd f7, f8, f9\nhalt\n", "ic").ok);
+}
+
+TEST_CASE("long-latency presets expose pipelined units", "[hazard]") {
+    auto r = assemble("fadd f1, f2, f3\nfmul f4, f1, f1\nhalt\n", "os-real");
+    isa::Machine m = isa::load_machine("os-real");
+    if (m.latency[int(isa::OpClass::FAdd)] > 1) CHECK_FALSE(r.ok);
+    else CHECK(r.ok);
+}
