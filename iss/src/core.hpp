@@ -40,6 +40,12 @@ struct Core {
     uint32_t pending = 0;   // writes in the ring
     std::vector<RingSlot> ring;
     uint64_t mask = 0;
+    // Latency-1 writes of the bundle being issued: committed at its end (they land next cycle).
+    uint32_t nwb = 0;
+    std::array<uint16_t, isa::kMaxSlots> wb_reg;
+    std::array<uint32_t, isa::kMaxSlots> wb_val;
+    std::array<uint32_t, isa::kMaxSlots> wb_op;
+    std::array<uint32_t, 2> lat1_landed{}; // per file: latency-1 writes that landed this cycle
     MemorySystem* mem = nullptr;
     Channel* const* channels = nullptr;
     uint64_t* words_received = nullptr;
@@ -56,6 +62,13 @@ struct Core {
     }
 
     void push(const DecodedOp& d, uint32_t v) {
+        if (d.latency == 1) {
+            uint32_t i = nwb++;
+            wb_reg[i] = d.dst;
+            wb_val[i] = v;
+            wb_op[i] = d.index;
+            return;
+        }
         RingSlot& s = ring[(cycle + d.latency) & mask];
         s.w[s.n++] = RingWrite{d.dst, v, d.index};
         ++pending;

@@ -48,42 +48,58 @@ template <bool Checked, bool Traced> struct EngineLoop {
     Core& c;
     const Program& prog;
     Counters& k;
-    std::vector<PendingWrite> landed; // Traced: writes landed this cycle
     CycleEvent::What gap_kind = CycleEvent::Bubble;
 
     explicit EngineLoop(Processor& proc)
         : p(proc), c(*proc.core_), prog(*proc.prog_), k(proc.counters_) {}
 
     Status fault(FaultKind kind, std::string msg, std::vector<std::string> notes = {}) {
+        c.nwb = 0; // a faulting bundle's results are dropped
         p.fault_ = Fault{kind, c.cycle, c.pc, std::move(msg), std::move(notes)};
         return Status::Faulted;
     }
 
     void emit(CycleEvent::What what, uint64_t cycle) {
-        CycleEvent ev{what, cycle, c.pc, &landed};
+        CycleEvent ev{what, cycle, c.pc, &p.landed_};
         p.tracer_->on_cycle(prog, ev);
-        landed.clear();
+        p.landed_.clear();
     }
 
-    // Land every write due up to and including the current cycle.
-    void land() {
+    // Land every write due up to and including the current cycle. Latency-1 writes were
+    // committed at the end of their bundle; here they only count towards the port histogram.
+    [[gnu::always_inline]] void land() {
+        if (!Traced && c.pending == 0 && c.land_next == c.cycle) { // the common case: nothing in the ring
+            ++k.write_hist[0][c.lat1_landed[0]];
+            ++k.write_hist[1][c.lat1_landed[1]];
+            c.lat1_landed = {0, 0};
+            c.land_next = c.cycle + 1;
+            return;
+        }
+        land_slow();
+    }
+
+    void land_slow() {
         while (c.land_next <= c.cycle) {
+            uint32_t n[2] = {c.lat1_landed[0], c.lat1_landed[1]};
+            c.lat1_landed = {0, 0};
             if (!Traced && c.pending == 0) {
-                uint64_t gap = c.cycle + 1 - c.land_next;
+                ++k.write_hist[0][n[0]];
+                ++k.write_hist[1][n[1]];
+                uint64_t gap = c.cycle - c.land_next;
                 k.write_hist[0][0] += gap;
                 k.write_hist[1][0] += gap;
                 c.land_next = c.cycle + 1;
                 return;
             }
             RingSlot& s = c.ring[c.land_next & c.mask];
-            uint32_t n[2] = {0, 0};
-            for (uint32_t i = 0; i < s.n; ++i) {
-                const RingWrite& w = s.w[i];
+            const uint32_t count = s.n;
+            for (uint32_t i = 0; i < count; ++i) {
+                const RingWrite w = s.w[i];
                 c.r[w.reg] = w.value;
                 ++n[(w.reg >> 7) & 1];
-                if constexpr (Traced) landed.push_back({w.reg, w.value, c.land_next, w.op});
+                if constexpr (Traced) p.landed_.push_back({w.reg, w.value, c.land_next, w.op});
             }
-            c.pending -= s.n;
+            c.pending -= count;
             s.n = 0;
             ++k.write_hist[0][n[0]];
             ++k.write_hist[1][n[1]];
@@ -91,6 +107,17 @@ template <bool Checked, bool Traced> struct EngineLoop {
                 if (c.land_next < c.cycle) emit(gap_kind, c.land_next);
             ++c.land_next;
         }
+    }
+
+    // The bundle's latency-1 writes land at the start of the next cycle.
+    void commit(const DecodedBundle& b) {
+        const uint32_t count = c.nwb;
+        for (uint32_t i = 0; i < count; ++i) {
+            c.r[c.wb_reg[i]] = c.wb_val[i];
+            if constexpr (Traced) p.landed_.push_back({c.wb_reg[i], c.wb_val[i], c.cycle + 1, c.wb_op[i]});
+        }
+        c.lat1_landed = b.lat1_writes;
+        c.nwb = 0;
     }
 
     // Writes still in flight at a halt land at once (they are not counted as port use).
@@ -194,18 +221,20 @@ template <bool Checked, bool Traced> struct EngineLoop {
             const DecodedOp& d = ops[i];
             if (d.dst == kNoReg) continue;
             uint64_t t = c.cycle + d.latency;
-            const RingSlot& s = c.ring[t & c.mask];
+            // Everything landing in cycle t: the ring slot, plus this bundle's latency-1 writes.
+            std::vector<RingWrite> all(c.ring[t & c.mask].w.begin(), c.ring[t & c.mask].w.begin() + c.ring[t & c.mask].n);
+            if (d.latency == 1)
+                for (uint32_t j = 0; j < c.nwb; ++j) all.push_back({c.wb_reg[j], c.wb_val[j], c.wb_op[j]});
             int file = d.dst / isa::kMaxRegs;
             uint32_t same_file = 0, same_reg = 0;
-            for (uint32_t j = 0; j < s.n; ++j) {
-                same_file += s.w[j].reg / isa::kMaxRegs == uint32_t(file);
-                same_reg += s.w[j].reg == d.dst;
+            for (const RingWrite& w : all) {
+                same_file += w.reg / isa::kMaxRegs == uint32_t(file);
+                same_reg += w.reg == d.dst;
             }
             uint32_t ports = m.regs[file].write_ports;
             if (same_file > ports || same_reg > 1) {
                 std::vector<std::string> notes;
-                for (uint32_t j = 0; j < s.n; ++j) {
-                    const RingWrite& w = s.w[j];
+                for (const RingWrite& w : all) {
                     if (w.reg / isa::kMaxRegs != uint32_t(file)) continue;
                     if (same_file <= ports && w.reg != d.dst) continue;
                     const DecodedOp& o = prog.ops()[w.op];
@@ -242,6 +271,14 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     Status run(uint64_t limit, uint64_t budget, bool wait_blocked) {
+        Status st = loop(limit, budget, wait_blocked);
+        // Stop at a cycle boundary with that cycle's writes landed, so registers and inflight()
+        // show the state the next bundle will read.
+        if (st == Status::Running || st == Status::Blocked) land();
+        return st;
+    }
+
+    Status loop(uint64_t limit, uint64_t budget, bool wait_blocked) {
         const DecodedBundle* bundles = prog.bundles().data();
         const DecodedOp* ops = prog.ops().data();
         const uint32_t nb = prog.size();
@@ -264,11 +301,13 @@ template <bool Checked, bool Traced> struct EngineLoop {
                 if (c.event & kFault) {
                     c.event = 0;
                     c.stall = 0;
+                    c.nwb = 0;
                     return memory_fault();
                 }
             }
             if constexpr (Checked)
                 if (!check_writes(b, st)) return st;
+            commit(b);
             ++exec[c.pc];
             if constexpr (Traced) emit(CycleEvent::Issue, c.cycle);
             ++c.cycle;

@@ -100,6 +100,8 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
                 // Not an error at load (the branch may never be taken); the engine traps it.
             }
         }
+        for (uint32_t i = b.first; i < b.first + b.count; ++i)
+            if (ops_[i].dst != kNoReg && ops_[i].latency == 1) ++b.lat1_writes[ops_[i].dst / isa::kMaxRegs];
         bundles_.push_back(b);
     }
     original_ = std::move(decoded);

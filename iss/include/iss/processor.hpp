@@ -134,6 +134,7 @@ class Processor {
     Status status_ = Status::Running;
     std::optional<Fault> fault_;
     uint32_t blocked_channel_ = 0;
+    std::vector<PendingWrite> landed_; // tracing: writes landed in the cycle not yet reported
 };
 
 } // namespace nesshi::iss

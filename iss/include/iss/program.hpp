@@ -46,6 +46,7 @@ struct DecodedBundle {
     bool slow = false;                 // needs the engine's slow path (FIFO gate)
     std::array<uint32_t, isa::kNumRegFiles> reads{};
     std::array<uint32_t, isa::kNumRegFiles> writes{};
+    std::array<uint32_t, isa::kNumRegFiles> lat1_writes{}; // writes that land in the next cycle
     uint32_t slot_mask = 0;            // bit s: slot s issues a non-nop operation
 };
 
