@@ -1,0 +1,233 @@
+// Differential test of the IC intersection kernel (kernels/ic/intersect.s) against the native
+// twins (rt/twins/triangle.hpp, quadric.hpp) and the closest-hit / any-hit rules of rt/trace.cpp:
+// same HIT or RETURN, same shape, bit-identical t, u, v and front, on random primitives and rays.
+#include "support.hpp"
+
+#include "rt/twins/quadric.hpp"
+#include "rt/twins/triangle.hpp"
+
+#include <algorithm>
+#include <limits>
+
+using namespace nesshi;
+using namespace nesshi::kernels;
+using nesshi::rt::Vec3d;
+using nesshi::rt::Vec3f;
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+rt::Shape triangle(Vec3d v0, Vec3d v1, Vec3d v2, bool two_sided) {
+    const Vec3d e1 = v1 - v0, e2 = v2 - v0, n = rt::cross(e1, e2);
+    const double det = rt::dot(n, n);
+    const Vec3d r0 = rt::cross(e2, n) * (1.0 / det), r1 = rt::cross(n, e1) * (1.0 / det), r2 = n * (1.0 / det);
+    rt::Shape s;
+    s.kind_flags = rt::kShapeTriangle | (two_sided ? rt::kShapeTwoSided : 0u);
+    const Vec3d rows[3] = {r2, r0, r1};
+    for (int i = 0; i < 3; ++i) {
+        s.w[static_cast<std::size_t>(4 * i)] = static_cast<float>(rows[i].x);
+        s.w[static_cast<std::size_t>(4 * i + 1)] = static_cast<float>(rows[i].y);
+        s.w[static_cast<std::size_t>(4 * i + 2)] = static_cast<float>(rows[i].z);
+        s.w[static_cast<std::size_t>(4 * i + 3)] = static_cast<float>(-rt::dot(rows[i], v0));
+    }
+    return s;
+}
+
+rt::Shape quadric(std::mt19937& rng, bool two_sided) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0), pos(-4.0, 4.0), rad(0.2, 1.5);
+    rt::Shape s;
+    s.kind_flags = rt::kShapeQuadric | (two_sided ? rt::kShapeTwoSided : 0u);
+    const int kind = static_cast<int>(rng() % 4);
+    const Vec3d c{pos(rng), pos(rng), pos(rng)};
+    const double r = rad(rng);
+    double m[10] = {1, 1, 1, 0, 0, 0, 0, 0, 0, -r * r};
+    Vec3d a{0, 0, 0};
+    double len = 0;
+    if (kind == 1 || kind == 2) { // cylinder / cone along a random axis
+        a = rt::normalize(Vec3d{u(rng), u(rng), u(rng)});
+        len = rad(rng) * 3.0;
+        if (kind == 1) {
+            m[0] = 1 - a.x * a.x, m[1] = 1 - a.y * a.y, m[2] = 1 - a.z * a.z;
+            m[3] = -a.x * a.y, m[4] = -a.y * a.z, m[5] = -a.z * a.x;
+        } else { // cone with apex at c, opening k: |p|^2 - (1 + k^2)(a.p)^2 = 0 (shifted radius)
+            const double k2 = 1.0 + 0.25;
+            m[0] = 1 - k2 * a.x * a.x, m[1] = 1 - k2 * a.y * a.y, m[2] = 1 - k2 * a.z * a.z;
+            m[3] = -k2 * a.x * a.y, m[4] = -k2 * a.y * a.z, m[5] = -k2 * a.z * a.x;
+            m[9] = -0.01;
+        }
+    } else if (kind == 3) { // arbitrary coefficients
+        for (double& x : m) x = u(rng);
+    }
+    if (rng() % 5 == 0)
+        for (double& x : m) x = -x; // inside-visible: Q negated
+    s.w[0] = static_cast<float>(c.x), s.w[1] = static_cast<float>(c.y), s.w[2] = static_cast<float>(c.z);
+    for (int i = 0; i < 10; ++i) s.w[static_cast<std::size_t>(3 + i)] = static_cast<float>(m[i]);
+    s.w[13] = static_cast<float>(a.x), s.w[14] = static_cast<float>(a.y), s.w[15] = static_cast<float>(a.z);
+    s.w[16] = static_cast<float>(len);
+    return s;
+}
+
+struct Expect {
+    bool hit = false;
+    std::uint32_t shape = 0;
+    float t = 0, u = 0, v = 0;
+    std::uint32_t front = 0;
+};
+
+struct Ray {
+    Vec3f o, d;
+    float tmin, tmax, t_out;
+    bool shadow;
+};
+
+// The native rules: rt/trace.cpp's nearest_hit inner loop (eye and secondary rays) and any_hit.
+Expect reference(const std::vector<rt::Shape>& shapes, const std::vector<std::uint32_t>& list, const Ray& r) {
+    Expect best;
+    float best_t = kInf;
+    for (std::uint32_t si : list) {
+        const rt::Shape& s = shapes[si];
+        bool hit;
+        float t, u = 0, v = 0;
+        bool front = true;
+        if (s.kind() == rt::kShapeTriangle) {
+            const auto h = rt::twins::intersect_triangle(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
+            hit = h.hit, t = h.t, u = h.a, v = h.b;
+        } else {
+            const auto h = rt::twins::intersect_quadric(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
+            hit = h.hit, t = h.t, front = h.front;
+        }
+        if (r.shadow) {
+            if (hit && t < r.tmax) return {true, si, t, u, v, front ? 1u : 0u};
+            continue;
+        }
+        if (!hit || !(t <= r.t_out) || !(t < r.tmax)) continue;
+        if (t < best_t) {
+            best_t = t;
+            best = {true, si, t, u, v, front ? 1u : 0u};
+        }
+    }
+    return best;
+}
+
+void run_ic(const std::string& file, const std::string& machine, iss::Engine engine, int scenes, int rays,
+            std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(-4.0, 4.0), u01(0.0, 1.0);
+    std::uniform_real_distribution<float> uf(0.0f, 1.0f);
+    long tests = 0, hits = 0, tri_tests = 0, quad_tests = 0;
+    for (int sc = 0; sc < scenes; ++sc) {
+        std::vector<rt::Shape> shapes;
+        std::vector<std::array<Vec3d, 3>> verts;
+        const int nshapes = 30;
+        const double quad_share = sc % 3 == 0 ? 0.0 : (sc % 3 == 1 ? 1.0 : 0.4);
+        for (int i = 0; i < nshapes; ++i) {
+            if (i > 0 && rng() % 12 == 0) { // an exact duplicate: a t tie, the lower index must win
+                shapes.push_back(shapes.back());
+                verts.push_back(verts.back());
+                continue;
+            }
+            if (u01(rng) < quad_share) {
+                shapes.push_back(quadric(rng, rng() % 2 == 0));
+                verts.push_back({});
+            } else {
+                std::array<Vec3d, 3> v{Vec3d{pos(rng), pos(rng), pos(rng)}, Vec3d{pos(rng), pos(rng), pos(rng)},
+                                       Vec3d{pos(rng), pos(rng), pos(rng)}};
+                shapes.push_back(triangle(v[0], v[1], v[2], rng() % 3 == 0));
+                verts.push_back(v);
+            }
+            shapes.back().entity = i;
+        }
+        std::vector<std::vector<std::uint32_t>> lists(6);
+        for (std::size_t v = 0; v < lists.size(); ++v) {
+            for (std::uint32_t i = 0; i < shapes.size(); ++i)
+                if (u01(rng) < (v == 0 ? 0.0 : 0.35)) lists[v].push_back(i);
+        }
+        lists[5].resize(std::min<std::size_t>(lists[5].size(), 1));
+        const IcImage im = ic_image_lists(lists, shapes);
+        test::Rig rig(file, machine, engine);
+        rig.load(im.resident);
+        rig.load(im.global);
+        rig.run();
+        for (int ri = 0; ri < rays; ++ri) {
+            Ray r;
+            r.o = rt::to_float(Vec3d{pos(rng) * 2, pos(rng) * 2, pos(rng) * 2});
+            const std::uint32_t target_shape = static_cast<std::uint32_t>(rng() % shapes.size());
+            Vec3d target{pos(rng), pos(rng), pos(rng)};
+            if (shapes[target_shape].kind() == rt::kShapeTriangle) { // aim at the triangle, its edges, its vertices
+                const auto& v = verts[target_shape];
+                double a = u01(rng), b = u01(rng) * (1 - a);
+                if (ri % 5 == 0) b = 1 - a;     // on an edge: grazing
+                if (ri % 7 == 0) a = 0, b = 0;  // at a vertex
+                target = v[0] + (v[1] - v[0]) * a + (v[2] - v[0]) * b;
+            } else {
+                const rt::Shape& q = shapes[target_shape];
+                target = Vec3d{q.w[0] + pos(rng) * 0.3, q.w[1] + pos(rng) * 0.3, q.w[2] + pos(rng) * 0.3};
+            }
+            Vec3d d = target - rt::to_double(r.o);
+            if (ri % 11 == 0) d = Vec3d{0, 0, d.z}; // axis-parallel
+            if (!(rt::dot(d, d) > 0)) d = {0, 0, 1};
+            r.d = test::flush(rt::to_float(rt::normalize(d)));
+            r.tmin = ri % 2 ? 0.0f : uf(rng) * 0.01f;
+            r.tmax = ri % 3 == 0 ? kInf : uf(rng) * 30.0f;
+            r.t_out = ri % 4 == 0 ? r.tmax : uf(rng) * 30.0f;
+            if (!(r.t_out < kInf)) r.t_out = 1e30f;
+            r.shadow = ri % 5 == 3;
+            const std::uint32_t voxel = static_cast<std::uint32_t>(ri % static_cast<int>(lists.size()));
+            const Expect e = reference(shapes, lists[voxel], r);
+            for (std::uint32_t si : lists[voxel]) (shapes[si].kind() == rt::kShapeTriangle ? tri_tests : quad_tests)++;
+            abi::Tag tag{static_cast<std::uint32_t>(ri), r.shadow ? abi::Kind::shadow : abi::Kind::eye, 1};
+            abi::Visit vis;
+            vis.tag = tag.word() | abi::kTagReturn;
+            vis.voxel = voxel;
+            vis.t_in = r.tmin;
+            vis.t_out = r.t_out;
+            for (int k = 0; k < 3; ++k) vis.o[k] = r.o[k], vis.d[k] = r.d[k];
+            vis.tmin = r.tmin;
+            vis.tmax = r.tmax;
+            rig.feed(vis.words());
+            rig.run();
+            INFO("scene " << sc << " ray " << ri << " voxel " << voxel << " shadow " << r.shadow << " expect hit "
+                          << e.hit << " shape " << e.shape << " t " << e.t);
+            if (!e.hit) {
+                REQUIRE(rig.out2.size() == 0);
+                const auto w = rig.out1.drain_all();
+                REQUIRE(w.size() == 1);
+                CHECK(w[0] == vis.tag);
+            } else {
+                ++hits;
+                REQUIRE(rig.out1.size() == 0);
+                const auto w = rig.out2.drain_all();
+                REQUIRE(w.size() == 6);
+                const abi::HitMsg h = abi::HitMsg::from(w.data());
+                CHECK(h.tag == tag.word());
+                CHECK(h.shape == e.shape);
+                CHECK(test::fbits(h.t) == test::fbits(e.t));
+                CHECK(test::fbits(h.u) == test::fbits(e.u));
+                CHECK(test::fbits(h.v) == test::fbits(e.v));
+                CHECK(h.front == e.front);
+            }
+            ++tests;
+        }
+    }
+    WARN(machine << ": " << tests << " rays, " << hits << " hits, " << tri_tests << " triangle and " << quad_tests
+                 << " quadric tests compared");
+}
+
+} // namespace
+
+TEST_CASE("ic intersection kernel matches the twins (fast engine)", "[unit][kernels][intersect]") {
+    run_ic("ic/intersect.s", "ic", iss::Engine::Fast, 60, 400, 11);
+}
+
+TEST_CASE("ic intersection kernel matches the twins (checked engine)", "[unit][kernels][intersect]") {
+    run_ic("ic/intersect.s", "ic", iss::Engine::Checked, 12, 200, 12);
+}
+
+TEST_CASE("seq intersection kernel matches the twins (fast engine)", "[unit][kernels][intersect]") {
+    run_ic("seq/intersect.s", "seq", iss::Engine::Fast, 30, 400, 13);
+}
+
+TEST_CASE("seq intersection kernel matches the twins (checked engine)", "[unit][kernels][intersect]") {
+    run_ic("seq/intersect.s", "seq", iss::Engine::Checked, 8, 200, 14);
+}

@@ -1,0 +1,83 @@
+// Test support for the kernels: assemble a kernel file, run it on the ISS, random inputs.
+#pragma once
+
+#include "abi.hpp"
+#include "image.hpp"
+
+#include "assembler/assembler.hpp"
+#include "isa/machine.hpp"
+#include "iss/channel.hpp"
+#include "iss/processor.hpp"
+#include "iss/program.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace nesshi::kernels::test {
+
+inline std::string kernel_path(const std::string& rel) { return std::string(NESSHI_KERNELS_DIR) + "/" + rel; }
+
+// Assembles kernels/<rel> for `machine` once per process and shares the program.
+inline std::shared_ptr<const iss::Program> kernel_program(const std::string& rel, const std::string& machine) {
+    static std::map<std::string, std::shared_ptr<const iss::Program>> cache;
+    const std::string key = rel + "@" + machine;
+    auto it = cache.find(key);
+    if (it != cache.end()) return it->second;
+    const isa::Machine m = isa::load_machine(machine);
+    assembler::AsmResult r = assembler::assemble_file(kernel_path(rel), m, {});
+    INFO(r.diagnostics);
+    REQUIRE(r.ok);
+    auto prog = iss::load_program(r.object, m);
+    cache.emplace(key, prog);
+    return prog;
+}
+
+// One processor running a kernel, with its input channel 0 and output channels 1 and 2.
+struct Rig {
+    std::unique_ptr<iss::Processor> proc;
+    iss::QueueChannel in, out1, out2;
+
+    Rig(const std::string& rel, const std::string& machine, iss::Engine engine) {
+        proc = std::make_unique<iss::Processor>(kernel_program(rel, machine), engine);
+        proc->attach_channel(0, &in);
+        proc->attach_channel(1, &out1);
+        proc->attach_channel(2, &out2);
+    }
+    void load(const MemImage& m) {
+        if (!m.bytes.empty()) proc->memory().load_data(m.base, m.bytes);
+    }
+    template <class Words>
+    void feed(const Words& w) {
+        for (std::uint32_t x : w) in.feed(x, proc->cycle());
+    }
+    // Runs until the kernel waits for input; fails the test on a fault or halt.
+    void run() {
+        iss::Status s = proc->run(50'000'000);
+        INFO(proc->fault_report());
+        REQUIRE(s == iss::Status::Blocked);
+        REQUIRE(proc->blocked_channel() == 0);
+    }
+    std::uint32_t peek32(std::uint32_t addr) const {
+        std::uint32_t v = 0;
+        REQUIRE(proc->memory().peek(addr, 4, v));
+        return v;
+    }
+};
+
+inline std::uint32_t fbits(float f) { return abi::bits(f); }
+
+// Directions: components below 2^-60 are flushed to zero (the ABI's rule).
+inline rt::Vec3f flush(rt::Vec3f d) {
+    for (int k = 0; k < 3; ++k)
+        if (std::fabs(d[k]) < 0x1p-60f) d[k] = 0.0f;
+    return d;
+}
+
+} // namespace nesshi::kernels::test
