@@ -49,7 +49,11 @@ AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine
     r.warnings = diags.warnings();
     r.ok = r.errors == 0;
     r.diagnostics = diags.render();
-    if (r.errors) r.diagnostics += fmt::format("{} error{} generated.\n", r.errors, r.errors == 1 ? "" : "s");
+    std::string counts;
+    if (r.warnings) counts = fmt::format("{} warning{}", r.warnings, r.warnings == 1 ? "" : "s");
+    if (r.warnings && r.errors) counts += " and ";
+    if (r.errors) counts += fmt::format("{} error{}", r.errors, r.errors == 1 ? "" : "s");
+    if (!counts.empty()) r.diagnostics += counts + " generated.\n";
     if (r.ok) {
         r.object = build_object(layout, m);
         if (opts.listing) r.listing = make_listing(layout, r.object, m);

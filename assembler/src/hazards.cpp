@@ -122,12 +122,15 @@ class Analysis {
                 }
             }
             if (!ends && b + 1 < n) edges_[b].push_back({b + 1, 1});
+            if (!ends && b + 1 == n) falls_off_end = true;
         }
         for (size_t b : jr_)
             for (size_t t : indirect) edges_[b].push_back({t, 1 + penalty});
     }
 
 public:
+    bool falls_off_end = false;
+
     void add_indirect_targets(const std::vector<size_t>& targets) {
         for (size_t b : jr_)
             for (size_t t : targets)
@@ -253,6 +256,9 @@ void check_hazards(const std::vector<PlacedBundle>& bundles, const isa::Machine&
     Analysis a(bundles, m, diags);
     a.add_indirect_targets(code_labels);
     a.run();
+    if (a.falls_off_end)
+        diags.warning(bundles.back().rec->loc, "execution can run past the last bundle (end the code with "
+                                               "'halt' or a jump)");
 }
 
 } // namespace nesshi::assembler

@@ -10,6 +10,7 @@
 //   - a write landing in the same cycle as an in-flight write of the same register;
 //   - more writes landing in one cycle than the register file has write ports, counting
 //     in-flight writes from earlier bundles (same-bundle rules are isa::check_bundle's).
+// Also warns when the last bundle can fall through past the end of the code.
 #pragma once
 
 #include "layout.hpp"
