@@ -1,9 +1,84 @@
-// `nesshi debug`: placeholder until its issue lands.
+// `nesshi debug`: single-step a program (interactive with line editing, or from a script).
 #include "commands.hpp"
+#include "sim_load.hpp"
+
+#include "iss/channel.hpp"
+#include "iss/debugger.hpp"
+#include "iss/processor.hpp"
+
+#include <fmt/core.h>
+
+#include <map>
+#include <memory>
 
 namespace nesshi::cli {
-void add_debug(CLI::App& app) {
-    auto* cmd = app.add_subcommand("debug", "(not yet built)");
-    cmd->callback([] { throw CLI::RuntimeError("nesshi debug: not built yet", 2); });
+
+namespace {
+struct DebugOpts {
+    std::string input, machine, script, engine = "checked";
+    std::vector<std::string> fifo_in;
+};
+
+void run_debug(const DebugOpts& o) {
+    auto prog = load_sim_input(o.input, o.machine);
+    iss::Processor p(prog, o.engine == "fast" ? iss::Engine::Fast : iss::Engine::Checked);
+    // Channels: inputs from word files ([CH=]FILE, default channel 0); every other channel the
+    // program uses gets an unbounded queue, so sends never block.
+    std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> chans;
+    for (const auto& spec : o.fifo_in) {
+        auto eq = spec.find('=');
+        uint32_t ch = 0;
+        std::string file = spec;
+        if (eq != std::string::npos && eq > 0 && spec.find_first_not_of("0123456789") == eq) {
+            ch = uint32_t(std::stoul(spec.substr(0, eq)));
+            file = spec.substr(eq + 1);
+        }
+        auto q = std::make_unique<iss::QueueChannel>();
+        try {
+            for (uint32_t w : iss::read_word_file(file)) q->feed(w);
+        } catch (const std::exception& e) {
+            throw CLI::RuntimeError(e.what(), 1);
+        }
+        q->close();
+        chans[ch] = std::move(q);
+    }
+    for (const auto& d : prog->ops()) {
+        auto k = d.instr.info().kind;
+        if ((k == isa::Kind::Recv || k == isa::Kind::Send) && !chans.count(d.imm) && d.imm < 4096) {
+            auto q = std::make_unique<iss::QueueChannel>();
+            if (k == isa::Kind::Recv) q->close();
+            chans[d.imm] = std::move(q);
+        }
+    }
+    for (auto& [ch, q] : chans) p.attach_channel(ch, q.get());
+
+    iss::Debugger dbg(p, stdout);
+    fmt::print("nesshi debug: {} on {} ({} bundles, {} engine); 'help' lists commands\n", o.input,
+               prog->machine().name, prog->size(), o.engine);
+    dbg.execute("disas");
+    if (!o.script.empty()) {
+        try {
+            iss::debug_script(dbg, o.script, stdout);
+        } catch (const std::exception& e) {
+            throw CLI::RuntimeError(e.what(), 1);
+        }
+    } else {
+        iss::debug_interactive(dbg);
+    }
+    std::fflush(stdout);
 }
+} // namespace
+
+void add_debug(CLI::App& app) {
+    auto* cmd = app.add_subcommand("debug", "Single-step a program: breakpoints, watches, registers, in-flight writes");
+    auto o = std::make_shared<DebugOpts>();
+    cmd->add_option("input", o->input, "Object file (.o), or assembly source (.s) assembled first")->required();
+    cmd->add_option("-m,--machine", o->machine, "Machine (default: the one the object names)");
+    cmd->add_option("--script", o->script, "Run debugger commands from FILE instead of the terminal");
+    cmd->add_option("--fifo-in", o->fifo_in, "[CH=]FILE: words fed to channel CH (default 0)");
+    cmd->add_option("--engine", o->engine, "checked (default: reports dynamic rule breaks) or fast")
+        ->check(CLI::IsMember({"fast", "checked"}))->capture_default_str();
+    cmd->callback([o] { run_debug(*o); });
+}
+
 } // namespace nesshi::cli
