@@ -14,4 +14,5 @@ void add_scene(CLI::App& app);
 void add_render(CLI::App& app);
 void add_demo(CLI::App& app);
 void add_isa(CLI::App& app);
+void add_kernels(CLI::App& app);
 } // namespace nesshi::cli

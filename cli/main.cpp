@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_render(app);
     nesshi::cli::add_demo(app);
     nesshi::cli::add_isa(app);
+    nesshi::cli::add_kernels(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::RuntimeError& e) {
