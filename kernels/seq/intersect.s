@@ -77,7 +77,6 @@ next_ray:
         { fsel f10, r23, f8, f27 }
         { fmov f16, f21 }
         { fmov f12, f23 }
-        { fmov f11, f21 }
         { jr r13 }
 
 tri1_A:
@@ -107,30 +106,26 @@ tri1_A:
         { fmul f91, f35, f87 }
         { fmul f95, f38, f85 }
         { fmul f96, f39, f87 }
-        { fsel f68, r34, f67, f10 }
         { fmul f92, f36, f89 }
         { fadd f93, f90, f91 }
         { fmul f97, f40, f89 }
         { fadd f98, f95, f96 }
-        { feq r35, f68, f10 }
         { fadd f94, f93, f92 }
         { fadd f99, f98, f97 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
         { lw r14, REC_CODE(r11) }
         { fadd f17, f94, f37 }
         { fadd f18, f99, f41 }
         { flt r30, f75, f23 }
-        { fsel f69, r23, f22, f68 }
         { lw r13, IC_JUMPS_B(r14) }
         { fadd f100, f17, f18 }
         { fsel f101, r30, f83, f21 }
         { flt r31, f7, f83 }
         { fmin f102, f17, f18 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f15, r34, f19, f15 }
         { flw f50, REC_W+0(r11) }
         { flw f51, REC_W+4(r11) }
         { flw f52, REC_W+8(r11) }
@@ -146,7 +141,6 @@ tri1_A:
         { fsel f16, r31, f101, f21 }
         { fle r32, f23, f102 }
         { fle r33, f100, f24 }
-        { fmov f19, f24 }
         { movif f20, r10 }
         { lw r10, 0(r1) }
         { addi r1, r1, 4 }
@@ -179,30 +173,26 @@ tri2_A:
         { fmul f91, f35, f87 }
         { fmul f95, f38, f85 }
         { fmul f96, f39, f87 }
-        { fsel f68, r34, f67, f10 }
         { fmul f92, f36, f89 }
         { fadd f93, f90, f91 }
         { fmul f97, f40, f89 }
         { fadd f98, f95, f96 }
-        { feq r35, f68, f10 }
         { fadd f94, f93, f92 }
         { fadd f99, f98, f97 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
         { lw r14, REC_CODE(r11) }
         { fadd f17, f94, f37 }
         { fadd f18, f99, f41 }
         { feq r30, f75, f23 }
-        { fsel f69, r23, f22, f68 }
         { lw r13, IC_JUMPS_B(r14) }
         { fadd f100, f17, f18 }
         { fsel f101, r30, f21, f83 }
         { flt r31, f7, f83 }
         { fmin f102, f17, f18 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f15, r34, f19, f15 }
         { flw f50, REC_W+0(r11) }
         { flw f51, REC_W+4(r11) }
         { flw f52, REC_W+8(r11) }
@@ -218,7 +208,6 @@ tri2_A:
         { fsel f16, r31, f101, f21 }
         { fle r32, f23, f102 }
         { fle r33, f100, f24 }
-        { fmov f19, f24 }
         { movif f20, r10 }
         { lw r10, 0(r1) }
         { addi r1, r1, 4 }
@@ -268,73 +257,69 @@ quad1_A:
         { fmul f96, f38, f4 }
         { fmul f97, f37, f5 }
         { fadd f118, f117, f41 }
-        { fmul f75, f81, f106 }
+        { fmul f74, f81, f106 }
         { fmul f77, f83, f112 }
-        { fmul f80, f39, f81 }
+        { fmul f71, f39, f81 }
         { fmul f72, f40, f83 }
         { fadd f90, f89, f88 }
         { fadd f95, f94, f93 }
         { fmul f98, f35, f6 }
         { fadd f99, f96, f97 }
         { fmul f76, f85, f118 }
-        { fadd f78, f75, f77 }
+        { fadd f78, f74, f77 }
         { fmul f82, f41, f85 }
-        { fadd f84, f80, f72 }
+        { fadd f73, f71, f72 }
         { fadd f100, f99, f98 }
         { fmul f119, f4, f90 }
         { fmul f120, f5, f95 }
         { fmul f124, f4, f106 }
         { fmul f125, f5, f112 }
-        { fadd f71, f78, f76 }
-        { fadd f73, f84, f82 }
+        { fadd f80, f78, f76 }
+        { fadd f84, f73, f82 }
         { flw f42, REC_W+48(r10) }
         { fmul f121, f6, f100 }
         { fadd f122, f119, f120 }
         { fmul f126, f6, f118 }
         { fadd f127, f124, f125 }
-        { fadd f86, f71, f73 }
+        { fadd f87, f80, f84 }
         { fadd f123, f122, f121 }
-        { fadd f74, f127, f126 }
-        { fadd f87, f86, f42 }
-        { fmul f89, f74, f74 }
-        { fmul f88, f123, f87 }
-        { fsub f92, f89, f88 }
-        { fsqrt f91, f92 }
-        { fneg f93, f74 }
+        { fadd f75, f127, f126 }
+        { fadd f86, f87, f42 }
+        { fmul f88, f75, f75 }
+        { fmul f89, f123, f86 }
+        { fsub f91, f88, f89 }
+        { fsqrt f92, f91 }
+        { fneg f93, f75 }
         { flw f43, REC_W+52(r10) }
         { lw r14, REC_CODE(r11) }
-        { fsub f94, f93, f91 }
+        { fsub f94, f93, f92 }
         { flw f44, REC_W+56(r10) }
         { fdiv f96, f94, f123 }
-        { fsel f67, r32, f16, f21 }
         { flw f45, REC_W+60(r10) }
-        { lw r13, IC_JUMPS_B(r14) }
         { fmul f103, f43, f4 }
+        { lw r13, IC_JUMPS_B(r14) }
         { fmul f105, f44, f5 }
-        { fsel f67, r33, f67, f21 }
-        { fmul f99, f43, f81 }
-        { fmul f98, f44, f83 }
+        { fmul f98, f43, f81 }
+        { fmul f99, f44, f83 }
         { fmul f108, f45, f6 }
         { fadd f107, f103, f105 }
-        { flt r34, f67, f10 }
-        { fmul f102, f45, f85 }
-        { fadd f101, f99, f98 }
+        { fsel f67, r32, f16, f21 }
+        { fmul f101, f45, f85 }
+        { fadd f102, f98, f99 }
         { fadd f109, f107, f108 }
-        { fsel f68, r34, f67, f10 }
+        { fsel f67, r33, f67, f21 }
         { fadd f97, f79, f96 }
-        { fadd f104, f101, f102 }
+        { fadd f104, f102, f101 }
         { fmul f110, f96, f109 }
-        { feq r35, f68, f10 }
-        { fsel f69, r23, f22, f68 }
+        { flt r34, f67, f10 }
         { flw f46, REC_W+64(r10) }
         { fadd f111, f104, f110 }
         { flt r30, f7, f97 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
+        { fsel f15, r34, f19, f15 }
         { flw f50, REC_W+0(r11) }
         { flw f51, REC_W+4(r11) }
         { flw f52, REC_W+8(r11) }
@@ -352,8 +337,6 @@ quad1_A:
         { fle r32, f23, f111 }
         { fle r33, f111, f46 }
         { fmov f19, f24 }
-        { fmov f17, f23 }
-        { fmov f18, f23 }
         { lw r10, 0(r1) }
         { addi r1, r1, 4 }
         { jr r13 }
@@ -402,91 +385,87 @@ quad2_A:
         { fmul f96, f38, f4 }
         { fmul f97, f37, f5 }
         { fadd f118, f117, f41 }
-        { fmul f75, f81, f106 }
+        { fmul f74, f81, f106 }
         { fmul f77, f83, f112 }
-        { fmul f80, f39, f81 }
+        { fmul f71, f39, f81 }
         { fmul f72, f40, f83 }
         { fadd f90, f89, f88 }
         { fadd f95, f94, f93 }
         { fmul f98, f35, f6 }
         { fadd f99, f96, f97 }
         { fmul f76, f85, f118 }
-        { fadd f78, f75, f77 }
+        { fadd f78, f74, f77 }
         { fmul f82, f41, f85 }
-        { fadd f84, f80, f72 }
+        { fadd f73, f71, f72 }
         { fadd f100, f99, f98 }
         { fmul f119, f4, f90 }
         { fmul f120, f5, f95 }
         { fmul f124, f4, f106 }
         { fmul f125, f5, f112 }
-        { fadd f71, f78, f76 }
-        { fadd f73, f84, f82 }
+        { fadd f80, f78, f76 }
+        { fadd f84, f73, f82 }
         { flw f42, REC_W+48(r10) }
         { fmul f121, f6, f100 }
         { fadd f122, f119, f120 }
         { fmul f126, f6, f118 }
         { fadd f127, f124, f125 }
-        { fadd f86, f71, f73 }
+        { fadd f87, f80, f84 }
         { fadd f123, f122, f121 }
-        { fadd f74, f127, f126 }
-        { fadd f87, f86, f42 }
-        { fmul f89, f74, f74 }
-        { fmul f88, f123, f87 }
-        { fsub f92, f89, f88 }
-        { fsqrt f91, f92 }
-        { fneg f93, f74 }
+        { fadd f75, f127, f126 }
+        { fadd f86, f87, f42 }
+        { fmul f88, f75, f75 }
+        { fmul f89, f123, f86 }
+        { fsub f91, f88, f89 }
+        { fsqrt f92, f91 }
+        { fneg f93, f75 }
         { flw f43, REC_W+52(r10) }
         { lw r14, REC_CODE(r11) }
-        { fsub f94, f93, f91 }
-        { fadd f99, f93, f91 }
+        { fsub f94, f93, f92 }
+        { fadd f98, f93, f92 }
         { flw f44, REC_W+56(r10) }
         { fdiv f96, f94, f123 }
-        { fdiv f98, f99, f123 }
+        { fdiv f99, f98, f123 }
         { flw f45, REC_W+60(r10) }
         { lw r13, IC_JUMPS_B(r14) }
         nop
         { fmul f107, f43, f4 }
         { fmul f109, f44, f5 }
-        { fmul f101, f43, f81 }
+        { fmul f102, f43, f81 }
         { fmul f104, f44, f83 }
         { fmul f110, f45, f6 }
         { fadd f111, f107, f109 }
         { fmul f103, f45, f85 }
-        { fadd f105, f101, f104 }
+        { fadd f105, f102, f104 }
         { fadd f114, f111, f110 }
         { fadd f97, f79, f96 }
-        { fadd f102, f79, f98 }
+        { fadd f101, f79, f99 }
         { fadd f108, f105, f103 }
         { fmul f113, f96, f114 }
-        { fmul f115, f98, f114 }
-        { fsel f67, r32, f16, f21 }
+        { fmul f115, f99, f114 }
         { fadd f116, f108, f113 }
         { fadd f117, f108, f115 }
         { flt r30, f7, f97 }
-        { flt r37, f7, f102 }
-        { fsel f67, r33, f67, f21 }
+        { flt r37, f7, f101 }
         { flw f46, REC_W+64(r10) }
         { fsel f90, r30, f97, f21 }
         { fle r31, f23, f116 }
-        { fsel f119, r37, f102, f21 }
+        { fsel f119, r37, f101, f21 }
         { fle r38, f23, f117 }
-        { flt r34, f67, f10 }
+        { fsel f67, r32, f16, f21 }
         { fsel f95, r31, f90, f21 }
         { fle r36, f116, f46 }
         { fsel f120, r38, f119, f21 }
         { fle r39, f117, f46 }
-        { fsel f68, r34, f67, f10 }
+        { fsel f67, r33, f67, f21 }
         { fsel f100, r36, f95, f21 }
-        { fsel f121, r39, f120, f21 }
-        { feq r35, f68, f10 }
-        { fsel f69, r23, f22, f68 }
-        { fle r40, f100, f121 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f122, r39, f120, f21 }
+        { flt r34, f67, f10 }
+        { fle r40, f100, f122 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
+        { fsel f15, r34, f19, f15 }
         { flw f50, REC_W+0(r11) }
         { flw f51, REC_W+4(r11) }
         { flw f52, REC_W+8(r11) }
@@ -500,12 +479,10 @@ quad2_A:
         { flw f60, REC_W+40(r11) }
         { flw f61, REC_W+44(r11) }
         { movif f20, r10 }
-        { fmin f16, f121, f100 }
+        { fmin f16, f122, f100 }
         { fsel f19, r40, f24, f23 }
         { fle r32, f23, f24 }
         { fle r33, f23, f24 }
-        { fmov f17, f23 }
-        { fmov f18, f23 }
         { lw r10, 0(r1) }
         { addi r1, r1, 4 }
         { jr r13 }
@@ -537,30 +514,26 @@ tri1_B:
         { fmul f91, f55, f87 }
         { fmul f95, f58, f85 }
         { fmul f96, f59, f87 }
-        { fsel f68, r34, f67, f10 }
         { fmul f92, f56, f89 }
         { fadd f93, f90, f91 }
         { fmul f97, f60, f89 }
         { fadd f98, f95, f96 }
-        { feq r35, f68, f10 }
         { fadd f94, f93, f92 }
         { fadd f99, f98, f97 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
         { lw r14, REC_CODE(r10) }
         { fadd f17, f94, f57 }
         { fadd f18, f99, f61 }
         { flt r30, f75, f23 }
-        { fsel f69, r23, f22, f68 }
         { lw r13, IC_JUMPS_A(r14) }
         { fadd f100, f17, f18 }
         { fsel f101, r30, f83, f21 }
         { flt r31, f7, f83 }
         { fmin f102, f17, f18 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f15, r34, f19, f15 }
         { flw f30, REC_W+0(r10) }
         { flw f31, REC_W+4(r10) }
         { flw f32, REC_W+8(r10) }
@@ -576,7 +549,6 @@ tri1_B:
         { fsel f16, r31, f101, f21 }
         { fle r32, f23, f102 }
         { fle r33, f100, f24 }
-        { fmov f19, f24 }
         { movif f20, r11 }
         { lw r11, 0(r1) }
         { addi r1, r1, 4 }
@@ -609,30 +581,26 @@ tri2_B:
         { fmul f91, f55, f87 }
         { fmul f95, f58, f85 }
         { fmul f96, f59, f87 }
-        { fsel f68, r34, f67, f10 }
         { fmul f92, f56, f89 }
         { fadd f93, f90, f91 }
         { fmul f97, f60, f89 }
         { fadd f98, f95, f96 }
-        { feq r35, f68, f10 }
         { fadd f94, f93, f92 }
         { fadd f99, f98, f97 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
         { lw r14, REC_CODE(r10) }
         { fadd f17, f94, f57 }
         { fadd f18, f99, f61 }
         { feq r30, f75, f23 }
-        { fsel f69, r23, f22, f68 }
         { lw r13, IC_JUMPS_A(r14) }
         { fadd f100, f17, f18 }
         { fsel f101, r30, f21, f83 }
         { flt r31, f7, f83 }
         { fmin f102, f17, f18 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f15, r34, f19, f15 }
         { flw f30, REC_W+0(r10) }
         { flw f31, REC_W+4(r10) }
         { flw f32, REC_W+8(r10) }
@@ -648,7 +616,6 @@ tri2_B:
         { fsel f16, r31, f101, f21 }
         { fle r32, f23, f102 }
         { fle r33, f100, f24 }
-        { fmov f19, f24 }
         { movif f20, r11 }
         { lw r11, 0(r1) }
         { addi r1, r1, 4 }
@@ -698,73 +665,69 @@ quad1_B:
         { fmul f96, f58, f4 }
         { fmul f97, f57, f5 }
         { fadd f118, f117, f61 }
-        { fmul f75, f81, f106 }
+        { fmul f74, f81, f106 }
         { fmul f77, f83, f112 }
-        { fmul f80, f59, f81 }
+        { fmul f71, f59, f81 }
         { fmul f72, f60, f83 }
         { fadd f90, f89, f88 }
         { fadd f95, f94, f93 }
         { fmul f98, f55, f6 }
         { fadd f99, f96, f97 }
         { fmul f76, f85, f118 }
-        { fadd f78, f75, f77 }
+        { fadd f78, f74, f77 }
         { fmul f82, f61, f85 }
-        { fadd f84, f80, f72 }
+        { fadd f73, f71, f72 }
         { fadd f100, f99, f98 }
         { fmul f119, f4, f90 }
         { fmul f120, f5, f95 }
         { fmul f124, f4, f106 }
         { fmul f125, f5, f112 }
-        { fadd f71, f78, f76 }
-        { fadd f73, f84, f82 }
+        { fadd f80, f78, f76 }
+        { fadd f84, f73, f82 }
         { flw f62, REC_W+48(r11) }
         { fmul f121, f6, f100 }
         { fadd f122, f119, f120 }
         { fmul f126, f6, f118 }
         { fadd f127, f124, f125 }
-        { fadd f86, f71, f73 }
+        { fadd f87, f80, f84 }
         { fadd f123, f122, f121 }
-        { fadd f74, f127, f126 }
-        { fadd f87, f86, f62 }
-        { fmul f89, f74, f74 }
-        { fmul f88, f123, f87 }
-        { fsub f92, f89, f88 }
-        { fsqrt f91, f92 }
-        { fneg f93, f74 }
+        { fadd f75, f127, f126 }
+        { fadd f86, f87, f62 }
+        { fmul f88, f75, f75 }
+        { fmul f89, f123, f86 }
+        { fsub f91, f88, f89 }
+        { fsqrt f92, f91 }
+        { fneg f93, f75 }
         { flw f63, REC_W+52(r11) }
         { lw r14, REC_CODE(r10) }
-        { fsub f94, f93, f91 }
+        { fsub f94, f93, f92 }
         { flw f64, REC_W+56(r11) }
         { fdiv f96, f94, f123 }
-        { fsel f67, r32, f16, f21 }
         { flw f65, REC_W+60(r11) }
-        { lw r13, IC_JUMPS_A(r14) }
         { fmul f103, f63, f4 }
+        { lw r13, IC_JUMPS_A(r14) }
         { fmul f105, f64, f5 }
-        { fsel f67, r33, f67, f21 }
-        { fmul f99, f63, f81 }
-        { fmul f98, f64, f83 }
+        { fmul f98, f63, f81 }
+        { fmul f99, f64, f83 }
         { fmul f108, f65, f6 }
         { fadd f107, f103, f105 }
-        { flt r34, f67, f10 }
-        { fmul f102, f65, f85 }
-        { fadd f101, f99, f98 }
+        { fsel f67, r32, f16, f21 }
+        { fmul f101, f65, f85 }
+        { fadd f102, f98, f99 }
         { fadd f109, f107, f108 }
-        { fsel f68, r34, f67, f10 }
+        { fsel f67, r33, f67, f21 }
         { fadd f97, f79, f96 }
-        { fadd f104, f101, f102 }
+        { fadd f104, f102, f101 }
         { fmul f110, f96, f109 }
-        { feq r35, f68, f10 }
-        { fsel f69, r23, f22, f68 }
+        { flt r34, f67, f10 }
         { flw f66, REC_W+64(r11) }
         { fadd f111, f104, f110 }
         { flt r30, f7, f97 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
+        { fsel f15, r34, f19, f15 }
         { flw f30, REC_W+0(r10) }
         { flw f31, REC_W+4(r10) }
         { flw f32, REC_W+8(r10) }
@@ -782,8 +745,6 @@ quad1_B:
         { fle r32, f23, f111 }
         { fle r33, f111, f66 }
         { fmov f19, f24 }
-        { fmov f17, f23 }
-        { fmov f18, f23 }
         { lw r11, 0(r1) }
         { addi r1, r1, 4 }
         { jr r13 }
@@ -832,91 +793,87 @@ quad2_B:
         { fmul f96, f58, f4 }
         { fmul f97, f57, f5 }
         { fadd f118, f117, f61 }
-        { fmul f75, f81, f106 }
+        { fmul f74, f81, f106 }
         { fmul f77, f83, f112 }
-        { fmul f80, f59, f81 }
+        { fmul f71, f59, f81 }
         { fmul f72, f60, f83 }
         { fadd f90, f89, f88 }
         { fadd f95, f94, f93 }
         { fmul f98, f55, f6 }
         { fadd f99, f96, f97 }
         { fmul f76, f85, f118 }
-        { fadd f78, f75, f77 }
+        { fadd f78, f74, f77 }
         { fmul f82, f61, f85 }
-        { fadd f84, f80, f72 }
+        { fadd f73, f71, f72 }
         { fadd f100, f99, f98 }
         { fmul f119, f4, f90 }
         { fmul f120, f5, f95 }
         { fmul f124, f4, f106 }
         { fmul f125, f5, f112 }
-        { fadd f71, f78, f76 }
-        { fadd f73, f84, f82 }
+        { fadd f80, f78, f76 }
+        { fadd f84, f73, f82 }
         { flw f62, REC_W+48(r11) }
         { fmul f121, f6, f100 }
         { fadd f122, f119, f120 }
         { fmul f126, f6, f118 }
         { fadd f127, f124, f125 }
-        { fadd f86, f71, f73 }
+        { fadd f87, f80, f84 }
         { fadd f123, f122, f121 }
-        { fadd f74, f127, f126 }
-        { fadd f87, f86, f62 }
-        { fmul f89, f74, f74 }
-        { fmul f88, f123, f87 }
-        { fsub f92, f89, f88 }
-        { fsqrt f91, f92 }
-        { fneg f93, f74 }
+        { fadd f75, f127, f126 }
+        { fadd f86, f87, f62 }
+        { fmul f88, f75, f75 }
+        { fmul f89, f123, f86 }
+        { fsub f91, f88, f89 }
+        { fsqrt f92, f91 }
+        { fneg f93, f75 }
         { flw f63, REC_W+52(r11) }
         { lw r14, REC_CODE(r10) }
-        { fsub f94, f93, f91 }
-        { fadd f99, f93, f91 }
+        { fsub f94, f93, f92 }
+        { fadd f98, f93, f92 }
         { flw f64, REC_W+56(r11) }
         { fdiv f96, f94, f123 }
-        { fdiv f98, f99, f123 }
+        { fdiv f99, f98, f123 }
         { flw f65, REC_W+60(r11) }
         { lw r13, IC_JUMPS_A(r14) }
         nop
         { fmul f107, f63, f4 }
         { fmul f109, f64, f5 }
-        { fmul f101, f63, f81 }
+        { fmul f102, f63, f81 }
         { fmul f104, f64, f83 }
         { fmul f110, f65, f6 }
         { fadd f111, f107, f109 }
         { fmul f103, f65, f85 }
-        { fadd f105, f101, f104 }
+        { fadd f105, f102, f104 }
         { fadd f114, f111, f110 }
         { fadd f97, f79, f96 }
-        { fadd f102, f79, f98 }
+        { fadd f101, f79, f99 }
         { fadd f108, f105, f103 }
         { fmul f113, f96, f114 }
-        { fmul f115, f98, f114 }
-        { fsel f67, r32, f16, f21 }
+        { fmul f115, f99, f114 }
         { fadd f116, f108, f113 }
         { fadd f117, f108, f115 }
         { flt r30, f7, f97 }
-        { flt r37, f7, f102 }
-        { fsel f67, r33, f67, f21 }
+        { flt r37, f7, f101 }
         { flw f66, REC_W+64(r11) }
         { fsel f90, r30, f97, f21 }
         { fle r31, f23, f116 }
-        { fsel f119, r37, f102, f21 }
+        { fsel f119, r37, f101, f21 }
         { fle r38, f23, f117 }
-        { flt r34, f67, f10 }
+        { fsel f67, r32, f16, f21 }
         { fsel f95, r31, f90, f21 }
         { fle r36, f116, f66 }
         { fsel f120, r38, f119, f21 }
         { fle r39, f117, f66 }
-        { fsel f68, r34, f67, f10 }
+        { fsel f67, r33, f67, f21 }
         { fsel f100, r36, f95, f21 }
-        { fsel f121, r39, f120, f21 }
-        { feq r35, f68, f10 }
-        { fsel f69, r23, f22, f68 }
-        { fle r40, f100, f121 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f122, r39, f120, f21 }
+        { flt r34, f67, f10 }
+        { fle r40, f100, f122 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f12, r34, f20, f12 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
+        { fsel f15, r34, f19, f15 }
         { flw f30, REC_W+0(r10) }
         { flw f31, REC_W+4(r10) }
         { flw f32, REC_W+8(r10) }
@@ -930,12 +887,10 @@ quad2_B:
         { flw f40, REC_W+40(r10) }
         { flw f41, REC_W+44(r10) }
         { movif f20, r11 }
-        { fmin f16, f121, f100 }
+        { fmin f16, f122, f100 }
         { fsel f19, r40, f24, f23 }
         { fle r32, f23, f24 }
         { fle r33, f23, f24 }
-        { fmov f17, f23 }
-        { fmov f18, f23 }
         { lw r11, 0(r1) }
         { addi r1, r1, 4 }
         { jr r13 }
@@ -945,29 +900,31 @@ done:
         { fsel f67, r32, f16, f21 }
         { fsel f67, r33, f67, f21 }
         { flt r34, f67, f10 }
-        { fsel f68, r34, f67, f10 }
-        { feq r35, f68, f10 }
-        { fsel f12, r35, f12, f20 }
-        { fsel f69, r23, f22, f68 }
+        { fsel f12, r34, f20, f12 }
         { movfi r7, f12 }
-        { fsel f11, r35, f11, f67 }
-        { fsel f13, r35, f13, f17 }
-        { fsel f14, r35, f14, f18 }
-        { fsel f15, r35, f15, f19 }
-        { fsel f10, r35, f10, f69 }
+        { fsel f10, r34, f67, f10 }
+        { fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 }
+        { fsel f15, r34, f19, f15 }
         { bnez r7, hit }
 return:
         { send CH_IC_OS, r2 }
         { jmp next_ray }
 
 hit:
+        { lw r15, REC_CODE(r7) }
         { li r8, 0x7fffffff }
+        { ftoi r12, f15 }
+        { slti r16, r15, CODE_QUAD1 }
+        { li r17, 1 }
         { and r8, r2, r8 }
         { lw r9, REC_INDEX(r7) }
-        { ftoi r12, f15 }
+        { sel r12, r16, r17, r12 }
+        { fsel f13, r16, f13, f23 }
+        { fsel f14, r16, f14, f23 }
         { send CH_IC_SC, r8 }
         { send CH_IC_SC, r9 }
-        { fsend CH_IC_SC, f11 }
+        { fsend CH_IC_SC, f10 }
         { fsend CH_IC_SC, f13 }
         { fsend CH_IC_SC, f14 }
         { send CH_IC_SC, r12 }

@@ -75,21 +75,18 @@ def assign(ops):
 
 
 def tail():
-    """Accept the candidate of the previous primitive (kind-independent)."""
+    """Accept the candidate of the previous primitive (kind-independent): mask it with the
+    head's two deferred flags, compare it with the bound, and keep it when it is nearer."""
     return [
         '# accept tail of the previous primitive',
         'fsel f67, %s, %s, %s' % (CP, CAND_T, INF),
         'fsel f67, %s, f67, %s' % (CQ, INF),
         'flt r34, f67, %s' % BOUND,
-        'fsel f68, r34, f67, %s' % BOUND,
-        'feq r35, f68, %s' % BOUND,
-        'fsel %s, r35, %s, f67' % (BEST_T, BEST_T),
-        'fsel %s, r35, %s, %s' % (BEST_REC, BEST_REC, CAND_REC),
-        'fsel %s, r35, %s, %s' % (BEST_U, BEST_U, CAND_U),
-        'fsel %s, r35, %s, %s' % (BEST_V, BEST_V, CAND_V),
-        'fsel %s, r35, %s, %s' % (BEST_FRONT, BEST_FRONT, CAND_FRONT),
-        'fsel f69, %s, %s, f68' % (SHADOW, NINF),
-        'fsel %s, r35, %s, f69' % (BOUND, BOUND),
+        'fsel %s, r34, f67, %s' % (BOUND, BOUND),
+        'fsel %s, r34, %s, %s' % (BEST_REC, CAND_REC, BEST_REC),
+        'fsel %s, r34, %s, %s' % (BEST_U, CAND_U, BEST_U),
+        'fsel %s, r34, %s, %s' % (BEST_V, CAND_V, BEST_V),
+        'fsel %s, r34, %s, %s' % (BEST_FRONT, CAND_FRONT, BEST_FRONT),
     ]
 
 
@@ -149,7 +146,6 @@ def tri(x, two):
     o += ['flt r31, %s, %s' % (TMIN, tt), 'fsel %s, r31, %s, %s' % (CAND_T, tm, INF),
           'fmin %s, %s, %s' % (mab, CAND_U, CAND_V),
           'fle %s, %s, %s' % (CP, ZERO, mab), 'fle %s, %s, %s' % (CQ, s, ONE),
-          'fmov %s, %s' % (CAND_FRONT, ONE),
           'movif %s, %s' % (CAND_REC, BASE[x])]
     return o
 
@@ -243,7 +239,6 @@ def quad(x, two):
               'fmin %s, %s, %s' % (CAND_T, eb3, ef3),
               'fsel %s, r40, %s, %s' % (CAND_FRONT, ONE, ZERO),
               'fle %s, %s, %s' % (CP, ZERO, ONE), 'fle %s, %s, %s' % (CQ, ZERO, ONE)]
-    o += ['fmov %s, %s' % (CAND_U, ZERO), 'fmov %s, %s' % (CAND_V, ZERO)]
     return o
 
 
@@ -282,7 +277,7 @@ def main():
             'seq %s, r6, r0' % SHADOW,
             'movfi r7, %s' % TOUT, 'addi r7, r7, 1', 'movif f26, r7', 'fmin f27, f26, %s' % TMAX,
             'fsel %s, %s, %s, f27' % (BOUND, SHADOW, TMAX),
-            'fmov %s, %s' % (CAND_T, INF), 'fmov %s, %s' % (BEST_REC, ZERO), 'fmov %s, %s' % (BEST_T, INF),
+            'fmov %s, %s' % (CAND_T, INF), 'fmov %s, %s' % (BEST_REC, ZERO),
             'jr r13', '#pack end', '']
     for x in 'AB':
         out += body('tri1_' + x, x, tri(x, False))
@@ -295,7 +290,10 @@ def main():
             'return:', '#pack begin', 'send CH_IC_OS, r2', 'jmp next_ray', '#pack end', '',
             'hit:', '#pack begin',
             'li r8, 0x7fffffff', 'and r8, r2, r8', 'lw r9, REC_INDEX(r7)', 'ftoi r12, %s' % BEST_FRONT,
-            'send CH_IC_SC, r8', 'send CH_IC_SC, r9', 'fsend CH_IC_SC, %s' % BEST_T,
+            '# triangles: front = 1; quadrics: u = v = 0 (the bodies do not write what the kind does not use)',
+            'lw r15, REC_CODE(r7)', 'slti r16, r15, CODE_QUAD1', 'li r17, 1', 'sel r12, r16, r17, r12',
+            'fsel %s, r16, %s, %s' % (BEST_U, BEST_U, ZERO), 'fsel %s, r16, %s, %s' % (BEST_V, BEST_V, ZERO),
+            'send CH_IC_SC, r8', 'send CH_IC_SC, r9', 'fsend CH_IC_SC, %s' % BOUND,
             'fsend CH_IC_SC, %s' % BEST_U, 'fsend CH_IC_SC, %s' % BEST_V, 'send CH_IC_SC, r12',
             'jmp next_ray', '#pack end']
     print('\n'.join(('        ' + l) if l and not l.endswith(':') and not l.startswith('#') else l for l in out))

@@ -97,11 +97,9 @@ Expect reference(const std::vector<rt::Shape>& shapes, const std::vector<std::ui
             const auto h = rt::twins::intersect_quadric(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
             hit = h.hit, t = h.t, front = h.front;
         }
-        if (r.shadow) {
-            if (hit && t < r.tmax) return {true, si, t, u, v, front ? 1u : 0u};
-            continue;
-        }
-        if (!hit || !(t <= r.t_out) || !(t < r.tmax)) continue;
+        // shadow rays: any hit before tmax kills the ray (rt::any_hit, no voxel bound); the
+        // kernel reports the nearest such hit of the voxel
+        if (!hit || !(r.shadow || t <= r.t_out) || !(t < r.tmax)) continue;
         if (t < best_t) {
             best_t = t;
             best = {true, si, t, u, v, front ? 1u : 0u};
