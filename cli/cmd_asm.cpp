@@ -11,15 +11,30 @@
 #include <memory>
 
 namespace nesshi::cli {
+namespace {
+// The machine named by a `# machine: NAME` first line of the source, else "os".
+std::string header_machine(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    const std::string key = "# machine:";
+    if (!std::getline(in, line) || line.rfind(key, 0) != 0) return "os";
+    line.erase(0, key.size());
+    line.erase(0, line.find_first_not_of(" \t"));
+    line.erase(line.find_last_not_of(" \t\r") + 1);
+    return line.empty() ? "os" : line;
+}
+} // namespace
+
 void add_asm(CLI::App& app) {
     auto* cmd = app.add_subcommand("asm", "Assemble a VLIW source file into an object file");
     struct Opts {
-        std::string machine = "os", input, output, listing;
+        std::string machine, input, output, listing;
         std::vector<std::string> includes;
     };
     auto o = std::make_shared<Opts>();
-    cmd->add_option("-m,--machine", o->machine, "Machine preset (os, ic, seq, os-real, ...) or TOML file")
-        ->capture_default_str();
+    cmd->add_option("-m,--machine", o->machine,
+                    "Machine preset (os, ic, seq, os-real, ...) or TOML file; default: the source's "
+                    "'# machine: NAME' first line, else os");
     cmd->add_option("input", o->input, "Assembly source (.s)")->required();
     cmd->add_option("-o,--output", o->output, "Object file (default: input with .o)");
     cmd->add_option("--listing", o->listing, "Write a listing (encodings, slots, port usage)");
@@ -27,7 +42,7 @@ void add_asm(CLI::App& app) {
     cmd->callback([o] {
         isa::Machine m;
         try {
-            m = isa::load_machine(o->machine);
+            m = isa::load_machine(o->machine.empty() ? header_machine(o->input) : o->machine);
         } catch (const std::exception& e) {
             fmt::print(stderr, "{}\n", e.what());
             throw CLI::RuntimeError(1);

@@ -76,7 +76,7 @@ AsmResult assemble_file(const std::string& path, const isa::Machine& m, const As
     if (!std::filesystem::is_regular_file(path, ec) || !in) {
         AsmResult r;
         r.errors = 1;
-        r.diagnostics = fmt::format("error: cannot open '{}'\n", path);
+        r.diagnostics = fmt::format("{}: error: cannot open file\n", path);
         return r;
     }
     std::ostringstream ss;

@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <tuple>
+
 namespace nesshi::assembler {
 
 int SourceSet::add(std::string name, std::string_view text) {
@@ -66,8 +69,15 @@ std::string Diagnostics::render_one(const Diagnostic& d) const {
 }
 
 std::string Diagnostics::render() const {
+    // In source order (the passes find problems in different orders); ties keep discovery order.
+    std::vector<const Diagnostic*> sorted;
+    for (const auto& d : list_) sorted.push_back(&d);
+    std::stable_sort(sorted.begin(), sorted.end(), [](const Diagnostic* a, const Diagnostic* b) {
+        return std::tie(a->loc.file, a->loc.line, a->loc.col) < std::tie(b->loc.file, b->loc.line, b->loc.col);
+    });
     std::string out;
-    for (const auto& d : list_) {
+    for (const Diagnostic* p : sorted) {
+        const Diagnostic& d = *p;
         out += render_one(d);
         for (const auto& n : d.notes) out += render_one(n);
     }
