@@ -118,7 +118,7 @@ struct Tracer {
 };
 
 std::uint8_t to_byte(float v) {
-    v = std::clamp(v, 0.0f, 1.0f);
+    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; // NaN -> 0
     return static_cast<std::uint8_t>(static_cast<int>(v * 255.0f + 0.5f));
 }
 
