@@ -398,22 +398,40 @@ std::vector<Row> collect(const std::string& dir) {
         }
     }
     for (const std::string machine : {"ic", "seq"}) {
-        const std::string file = machine == "ic" ? "ic/intersect.s" : "seq/intersect.s";
+        const bool ic = machine == "ic";
+        const std::string file = ic ? "ic/intersect.s" : "seq/intersect.s";
+        // ic: one straight-line body per primitive (dispatch included), A/B variants;
+        // seq: the shared dispatch (next_prim) plus the kind's code with its early exits.
+        const std::vector<std::string> tri = ic ? std::vector<std::string>{"tri1_A", "tri1_B"}
+                                                : std::vector<std::string>{"next_prim", "tri1", "tri_common"};
+        const std::vector<std::string> q1 = ic ? std::vector<std::string>{"quad1_A", "quad1_B"}
+                                               : std::vector<std::string>{"next_prim", "quad1", "quad_common"};
+        const std::vector<std::string> q2 = ic ? std::vector<std::string>{"quad2_A", "quad2_B"}
+                                               : std::vector<std::string>{"next_prim", "quad2", "quad_common", "quad_two"};
+        auto tests = [&](const Run& run, const std::vector<std::string>& first) {
+            return measure(run, first).entries;
+        };
         {
             Run run = run_ic(dir, file, machine, 0, 40, 200, false);
-            rows.push_back(make_row("triangle", machine, run, {"tri1_A", "tri1_B"}, 0, 50.0, 2.0, true));
-            rows.back().note = "one-sided; paper 40 + 10 shape load";
+            const double n = tests(run, ic ? tri : std::vector<std::string>{"tri1"});
+            rows.push_back(make_row("triangle", machine, run, tri, n, 50.0, 2.0, ic));
+            rows.back().note = ic ? "one-sided; paper 40 + 10 shape load" : "one-sided, rays at the triangles: mean with early exits";
             rows.push_back(make_row("recv_ray", machine, run, {"next_ray"}, 0, 25.0, 1.0, false));
             rows.push_back(make_row("send_ray", machine, run, {"done", "hit", "return"}, 0, 25.0, 1.0, false));
         }
         {
             Run run = run_ic(dir, file, machine, 1, 40, 200, false);
-            rows.push_back(make_row("quadric_hit", machine, run, {"quad1_A", "quad1_B"}, 0, 61.0, 2.0, true));
-            rows.back().note = "branch-free: hit and miss cost the same; paper 50 + 11 shape load";
+            const double n = tests(run, ic ? q1 : std::vector<std::string>{"quad1"});
+            rows.push_back(make_row("quadric_hit", machine, run, q1, n, 61.0, 2.0, ic));
+            rows.back().note = ic ? "one-sided sphere; branch-free: hit = miss; paper 50 + 11 load"
+                                  : "one-sided sphere, two real roots; paper 50 + 11 load";
             Run run2 = run_ic(dir, file, machine, 1, 40, 200, true);
-            rows.push_back(make_row("quadric_miss", machine, run2, {"quad1_A", "quad1_B"}, 0, std::nullopt, 2.0, true));
+            const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"quad1"});
+            rows.push_back(make_row("quadric_miss", machine, run2, q1, n2, std::nullopt, 2.0, ic));
+            rows.back().note = "discriminant < 0";
             Run run3 = run_ic(dir, file, machine, 2, 40, 200, false);
-            rows.push_back(make_row("quadric2_hit", machine, run3, {"quad2_A", "quad2_B"}, 0, 61.0, 2.0, true));
+            const double n3 = tests(run3, ic ? q2 : std::vector<std::string>{"quad2"});
+            rows.push_back(make_row("quadric2_hit", machine, run3, q2, n3, 61.0, 2.0, ic));
             rows.back().note = "two-sided: both roots";
         }
     }

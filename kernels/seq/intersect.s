@@ -1,49 +1,43 @@
 # machine: seq
-# @HEADER@
-                .include "../abi.inc"
-                .text
+# kernels/seq/intersect.s: the IC intersection kernel for the one-unit `seq` machine (models S
+# and M), written as a careful sequential programmer would: one primitive at a time, with early
+# exits as soon as a test fails (back face, t outside (tmin, bound), a < 0, b < 0, a + b > 1;
+# quadrics: negative discriminant, root out of range). Same float operations, in the twins'
+# order, as kernels/ic/intersect.s, so the results are bit-identical; only the control differs.
+# The straight-line pieces between branches are ordered by kernels/tools/pack.py (it fills the
+# divide and square-root latencies with independent work).
+# Protocol, memory layout and dispatch codes: kernels/abi.hpp.
+# Registers: f1-f3 o, f4-f6 d, f7 tmin, f8 tmax, f9 t_out, f10 bound (= best t so far),
+#   f13 f14 best u, v, f21 +inf, f23 0, f24 1; r1 list pointer, r2 tag, r10 record, r24 best
+#   record (0: none), r25 best front, r20 voxel table.
+        .include "../abi.inc"
+        .text
 start:
         { li r0, 0 }
-        { li r62, tri1_A }
+        { li r62, tri1 }
         { lw r20, IC_HEADER+ICH_VOXTAB(r0) }
-        { sw r62, IC_JUMPS_A+0(r0) }
-        { li r62, tri2_A }
-        { sw r62, IC_JUMPS_A+4(r0) }
-        { li r62, quad1_A }
-        { sw r62, IC_JUMPS_A+8(r0) }
-        { li r62, quad2_A }
-        { sw r62, IC_JUMPS_A+12(r0) }
-        { li r62, done }
-        { sw r62, IC_JUMPS_A+16(r0) }
-        { li r62, tri1_B }
-        { sw r62, IC_JUMPS_B+0(r0) }
-        { li r62, tri2_B }
-        { sw r62, IC_JUMPS_B+4(r0) }
-        { li r62, quad1_B }
-        { sw r62, IC_JUMPS_B+8(r0) }
-        { li r62, quad2_B }
+        { sw r62, IC_JUMPS_A+CODE_TRI1(r0) }
+        { li r62, tri2 }
+        { sw r62, IC_JUMPS_A+CODE_TRI2(r0) }
+        { li r62, quad1 }
+        { sw r62, IC_JUMPS_A+CODE_QUAD1(r0) }
+        { li r62, quad2 }
         { li r60, 0x7f800000 }
-        { li r61, 0xff800000 }
-        { sw r62, IC_JUMPS_B+12(r0) }
+        { sw r62, IC_JUMPS_A+CODE_QUAD2(r0) }
         { li r62, done }
         { movif f21, r60 }
-        { movif f22, r61 }
         { fli f23, 0.0 }
         { fli f24, 1.0 }
-        { sw r62, IC_JUMPS_B+16(r0) }
+        { sw r62, IC_JUMPS_A+CODE_END(r0) }
 
-# ---- receive a VISIT: tag, voxel, t_in, t_out, o, d, tmin, tmax ----
+# ---- receive a VISIT ----------------------------------------------------------------------------
 next_ray:
         { recv r2, CH_IN }
         { recv r3, CH_IN }
-        { slli r5, r3, 2 }
         { frecv f25, CH_IN }
         { frecv f9, CH_IN }
-        { add r5, r5, r20 }
-        { lw r1, 0(r5) }
         { srli r6, r2, TAG_KIND_SHIFT }
         { movfi r7, f9 }
-        { lw r10, 0(r1) }
         { andi r6, r6, TAG_KIND_MASK }
         { addi r7, r7, 1 }
         { frecv f1, CH_IN }
@@ -54,115 +48,66 @@ next_ray:
         { frecv f6, CH_IN }
         { frecv f7, CH_IN }
         { frecv f8, CH_IN }
-        { lw r14, REC_CODE(r10) }
+        { slli r5, r3, 2 }
         { addi r6, r6, -KIND_SHADOW }
         { movif f26, r7 }
-        { lw r13, IC_JUMPS_A(r14) }
+        { add r5, r5, r20 }
         { seq r23, r6, r0 }
         { fmin f27, f26, f8 }
-        { lw r11, 4(r1) }
-        { addi r1, r1, 8 }
-        { flw f30, REC_W+0(r10) }
-        { flw f31, REC_W+4(r10) }
-        { flw f32, REC_W+8(r10) }
-        { flw f33, REC_W+12(r10) }
-        { flw f34, REC_W+16(r10) }
-        { flw f35, REC_W+20(r10) }
-        { flw f36, REC_W+24(r10) }
-        { flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) }
-        { flw f39, REC_W+36(r10) }
-        { flw f40, REC_W+40(r10) }
-        { flw f41, REC_W+44(r10) }
+        { lw r1, 0(r5) }
         { fsel f10, r23, f8, f27 }
-        { fmov f16, f21 }
-        { fmov f12, f23 }
+        { li r24, 0 }
+
+# ---- next primitive: dispatch on the record's code -----------------------------------------------
+next_prim:
+        { lw r10, 0(r1) }
+        { lw r14, REC_CODE(r10) }
+        { lw r13, IC_JUMPS_A(r14) }
+        { addi r1, r1, 4 }
         { jr r13 }
 
-tri1_A:
-        { fmul f76, f30, f1 }
-        { fmul f77, f31, f2 }
-        { fmul f78, f32, f3 }
-        { fadd f79, f76, f77 }
+# ---- triangle, one-sided / two-sided ---------------------------------------------------------------
+tri1:
+        { flw f30, REC_W+0(r10) }
+        { flw f31, REC_W+4(r10) }
+        { flw f32, REC_W+8(r10) }
         { fmul f71, f30, f4 }
         { fmul f72, f31, f5 }
-        { fadd f80, f79, f78 }
         { fmul f73, f32, f6 }
         { fadd f74, f71, f72 }
-        { fadd f81, f80, f33 }
         { fadd f75, f74, f73 }
-        { fneg f82, f81 }
-        { fdiv f83, f82, f75 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f67, r33, f67, f21 }
-        { flt r34, f67, f10 }
-        { fmul f84, f83, f4 }
-        { fmul f86, f83, f5 }
-        { fadd f85, f1, f84 }
-        { fadd f87, f2, f86 }
-        { fmul f88, f83, f6 }
-        { fadd f89, f3, f88 }
-        { fmul f90, f34, f85 }
-        { fmul f91, f35, f87 }
-        { fmul f95, f38, f85 }
-        { fmul f96, f39, f87 }
-        { fmul f92, f36, f89 }
-        { fadd f93, f90, f91 }
-        { fmul f97, f40, f89 }
-        { fadd f98, f95, f96 }
-        { fadd f94, f93, f92 }
-        { fadd f99, f98, f97 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { lw r14, REC_CODE(r11) }
-        { fadd f17, f94, f37 }
-        { fadd f18, f99, f41 }
         { flt r30, f75, f23 }
-        { lw r13, IC_JUMPS_B(r14) }
-        { fadd f100, f17, f18 }
-        { fsel f101, r30, f83, f21 }
-        { flt r31, f7, f83 }
-        { fmin f102, f17, f18 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f15, r34, f19, f15 }
-        { flw f50, REC_W+0(r11) }
-        { flw f51, REC_W+4(r11) }
-        { flw f52, REC_W+8(r11) }
-        { flw f53, REC_W+12(r11) }
-        { flw f54, REC_W+16(r11) }
-        { flw f55, REC_W+20(r11) }
-        { flw f56, REC_W+24(r11) }
-        { flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) }
-        { flw f59, REC_W+36(r11) }
-        { flw f60, REC_W+40(r11) }
-        { flw f61, REC_W+44(r11) }
-        { fsel f16, r31, f101, f21 }
-        { fle r32, f23, f102 }
-        { fle r33, f100, f24 }
-        { movif f20, r10 }
-        { lw r10, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
-
-tri2_A:
+        { beqz r30, next_prim }
+        jmp tri_common
+tri2:
+        { flw f30, REC_W+0(r10) }
+        { flw f31, REC_W+4(r10) }
+        { flw f32, REC_W+8(r10) }
+        { fmul f71, f30, f4 }
+        { fmul f72, f31, f5 }
+        { fmul f73, f32, f6 }
+        { fadd f74, f71, f72 }
+        { fadd f75, f74, f73 }
+        { feq r30, f75, f23 }
+        { bnez r30, next_prim }
+tri_common:
         { fmul f76, f30, f1 }
         { fmul f77, f31, f2 }
         { fmul f78, f32, f3 }
         { fadd f79, f76, f77 }
-        { fmul f71, f30, f4 }
-        { fmul f72, f31, f5 }
+        { flw f33, REC_W+12(r10) }
         { fadd f80, f79, f78 }
-        { fmul f73, f32, f6 }
-        { fadd f74, f71, f72 }
         { fadd f81, f80, f33 }
-        { fadd f75, f74, f73 }
         { fneg f82, f81 }
         { fdiv f83, f82, f75 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f67, r33, f67, f21 }
-        { flt r34, f67, f10 }
+        { flw f34, REC_W+16(r10) }
+        { flw f35, REC_W+20(r10) }
+        nop
+        { flt r31, f7, f83 }
+        { flw f36, REC_W+24(r10) }
+        { beqz r31, next_prim }
+        { flt r31, f83, f10 }
+        { beqz r31, next_prim }
         { fmul f84, f83, f4 }
         { fmul f86, f83, f5 }
         { fadd f85, f1, f84 }
@@ -171,49 +116,45 @@ tri2_A:
         { fadd f89, f3, f88 }
         { fmul f90, f34, f85 }
         { fmul f91, f35, f87 }
+        { fadd f93, f90, f91 }
+        { fmul f92, f36, f89 }
+        { flw f37, REC_W+28(r10) }
+        { fadd f94, f93, f92 }
+        { fadd f17, f94, f37 }
+        { fle r32, f23, f17 }
+        { beqz r32, next_prim }
+        { flw f38, REC_W+32(r10) }
+        { flw f39, REC_W+36(r10) }
+        { flw f40, REC_W+40(r10) }
         { fmul f95, f38, f85 }
         { fmul f96, f39, f87 }
-        { fmul f92, f36, f89 }
-        { fadd f93, f90, f91 }
-        { fmul f97, f40, f89 }
         { fadd f98, f95, f96 }
-        { fadd f94, f93, f92 }
+        { fmul f97, f40, f89 }
+        { flw f41, REC_W+44(r10) }
         { fadd f99, f98, f97 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { lw r14, REC_CODE(r11) }
-        { fadd f17, f94, f37 }
         { fadd f18, f99, f41 }
-        { feq r30, f75, f23 }
-        { lw r13, IC_JUMPS_B(r14) }
+        { fle r32, f23, f18 }
+        { beqz r32, next_prim }
         { fadd f100, f17, f18 }
-        { fsel f101, r30, f21, f83 }
-        { flt r31, f7, f83 }
-        { fmin f102, f17, f18 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f15, r34, f19, f15 }
-        { flw f50, REC_W+0(r11) }
-        { flw f51, REC_W+4(r11) }
-        { flw f52, REC_W+8(r11) }
-        { flw f53, REC_W+12(r11) }
-        { flw f54, REC_W+16(r11) }
-        { flw f55, REC_W+20(r11) }
-        { flw f56, REC_W+24(r11) }
-        { flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) }
-        { flw f59, REC_W+36(r11) }
-        { flw f60, REC_W+40(r11) }
-        { flw f61, REC_W+44(r11) }
-        { fsel f16, r31, f101, f21 }
-        { fle r32, f23, f102 }
         { fle r33, f100, f24 }
-        { movif f20, r10 }
-        { lw r10, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
+        { beqz r33, next_prim }
+        { fmov f10, f83 }
+        { mov r24, r10 }
+        { fmov f13, f17 }
+        { fmov f14, f18 }
+        { li r25, 1 }
+        { jmp next_prim }
 
-quad1_A:
+# ---- quadric, one-sided / two-sided: common part up to the discriminant -----------------------------
+quad1:
+        { li r26, 0 }
+        { jmp quad_common }
+quad2:
+        li r26, 1
+quad_common:
+        { flw f30, REC_W+0(r10) }
+        { flw f31, REC_W+4(r10) }
+        { flw f32, REC_W+8(r10) }
         { fsub f71, f1, f30 }
         { fsub f72, f2, f31 }
         { fsub f73, f3, f32 }
@@ -228,698 +169,154 @@ quad1_A:
         { fadd f81, f71, f80 }
         { fadd f83, f72, f82 }
         { fmul f84, f79, f6 }
+        { flw f33, REC_W+12(r10) }
+        { flw f34, REC_W+16(r10) }
+        { flw f36, REC_W+24(r10) }
         { fadd f85, f73, f84 }
+        { flw f37, REC_W+28(r10) }
+        { flw f38, REC_W+32(r10) }
         { fmul f101, f33, f81 }
         { fmul f102, f36, f83 }
         { fmul f107, f36, f81 }
         { fmul f108, f34, f83 }
-        { fmul f103, f38, f85 }
-        { fadd f104, f101, f102 }
-        { fmul f109, f37, f85 }
-        { fadd f110, f107, f108 }
+        { flw f35, REC_W+20(r10) }
+        { fadd f103, f101, f102 }
+        { fmul f104, f38, f85 }
+        { fadd f109, f107, f108 }
+        { fmul f110, f37, f85 }
         { fmul f113, f38, f81 }
         { fmul f114, f37, f83 }
-        { fadd f105, f104, f103 }
-        { fadd f111, f110, f109 }
-        { fmul f115, f35, f85 }
-        { fadd f116, f113, f114 }
+        { flw f39, REC_W+36(r10) }
+        { flw f40, REC_W+40(r10) }
+        { fadd f105, f103, f104 }
+        { fadd f111, f109, f110 }
+        { fadd f115, f113, f114 }
+        { fmul f116, f35, f85 }
+        { flw f41, REC_W+44(r10) }
         { fmul f86, f33, f4 }
         { fmul f87, f36, f5 }
         { fmul f91, f36, f4 }
         { fmul f92, f34, f5 }
         { fadd f106, f105, f39 }
         { fadd f112, f111, f40 }
-        { fadd f117, f116, f115 }
-        { fmul f88, f38, f6 }
-        { fadd f89, f86, f87 }
-        { fmul f93, f37, f6 }
-        { fadd f94, f91, f92 }
+        { fadd f117, f115, f116 }
+        { fadd f88, f86, f87 }
+        { fmul f89, f38, f6 }
+        { fadd f93, f91, f92 }
+        { fmul f94, f37, f6 }
         { fmul f96, f38, f4 }
         { fmul f97, f37, f5 }
         { fadd f118, f117, f41 }
-        { fmul f74, f81, f106 }
-        { fmul f77, f83, f112 }
-        { fmul f71, f39, f81 }
-        { fmul f72, f40, f83 }
-        { fadd f90, f89, f88 }
-        { fadd f95, f94, f93 }
-        { fmul f98, f35, f6 }
-        { fadd f99, f96, f97 }
-        { fmul f76, f85, f118 }
-        { fadd f78, f74, f77 }
-        { fmul f82, f41, f85 }
-        { fadd f73, f71, f72 }
-        { fadd f100, f99, f98 }
-        { fmul f119, f4, f90 }
-        { fmul f120, f5, f95 }
-        { fmul f124, f4, f106 }
-        { fmul f125, f5, f112 }
-        { fadd f80, f78, f76 }
-        { fadd f84, f73, f82 }
+        { fmul f60, f81, f106 }
+        { fmul f61, f83, f112 }
+        { fmul f65, f39, f81 }
+        { fmul f66, f40, f83 }
+        { fadd f90, f88, f89 }
+        { fadd f95, f93, f94 }
+        { fadd f98, f96, f97 }
+        { fmul f99, f35, f6 }
+        { fadd f62, f60, f61 }
+        { fmul f63, f85, f118 }
+        { fadd f67, f65, f66 }
+        { fmul f68, f41, f85 }
+        { fadd f100, f98, f99 }
+        { fmul f50, f4, f90 }
+        { fmul f51, f5, f95 }
+        { fmul f55, f4, f106 }
+        { fmul f56, f5, f112 }
+        { fadd f64, f62, f63 }
+        { fadd f69, f67, f68 }
         { flw f42, REC_W+48(r10) }
-        { fmul f121, f6, f100 }
-        { fadd f122, f119, f120 }
-        { fmul f126, f6, f118 }
-        { fadd f127, f124, f125 }
-        { fadd f87, f80, f84 }
-        { fadd f123, f122, f121 }
-        { fadd f75, f127, f126 }
-        { fadd f86, f87, f42 }
-        { fmul f88, f75, f75 }
-        { fmul f89, f123, f86 }
-        { fsub f91, f88, f89 }
-        { fsqrt f92, f91 }
-        { fneg f93, f75 }
+        { fadd f52, f50, f51 }
+        { fmul f53, f6, f100 }
+        { fadd f57, f55, f56 }
+        { fmul f58, f6, f118 }
+        { fadd f70, f64, f69 }
+        { fadd f54, f52, f53 }
+        { fadd f59, f57, f58 }
+        { fadd f119, f70, f42 }
+        { fmul f120, f59, f59 }
+        { fmul f121, f54, f119 }
+        { fsub f122, f120, f121 }
+        { fle r30, f23, f122 }
+        { beqz r30, next_prim }
+        { fsqrt f123, f122 }
+        { fneg f124, f59 }
         { flw f43, REC_W+52(r10) }
-        { lw r14, REC_CODE(r11) }
-        { fsub f94, f93, f92 }
-        { flw f44, REC_W+56(r10) }
-        { fdiv f96, f94, f123 }
-        { flw f45, REC_W+60(r10) }
-        { fmul f103, f43, f4 }
-        { lw r13, IC_JUMPS_B(r14) }
-        { fmul f105, f44, f5 }
-        { fmul f98, f43, f81 }
-        { fmul f99, f44, f83 }
-        { fmul f108, f45, f6 }
-        { fadd f107, f103, f105 }
-        { fsel f67, r32, f16, f21 }
-        { fmul f101, f45, f85 }
-        { fadd f102, f98, f99 }
-        { fadd f109, f107, f108 }
-        { fsel f67, r33, f67, f21 }
-        { fadd f97, f79, f96 }
-        { fadd f104, f102, f101 }
-        { fmul f110, f96, f109 }
-        { flt r34, f67, f10 }
-        { flw f46, REC_W+64(r10) }
-        { fadd f111, f104, f110 }
-        { flt r30, f7, f97 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { fsel f15, r34, f19, f15 }
-        { flw f50, REC_W+0(r11) }
-        { flw f51, REC_W+4(r11) }
-        { flw f52, REC_W+8(r11) }
-        { flw f53, REC_W+12(r11) }
-        { flw f54, REC_W+16(r11) }
-        { flw f55, REC_W+20(r11) }
-        { flw f56, REC_W+24(r11) }
-        { flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) }
-        { flw f59, REC_W+36(r11) }
-        { flw f60, REC_W+40(r11) }
-        { flw f61, REC_W+44(r11) }
-        { movif f20, r10 }
-        { fsel f16, r30, f97, f21 }
-        { fle r32, f23, f111 }
-        { fle r33, f111, f46 }
-        { fmov f19, f24 }
-        { lw r10, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
-
-quad2_A:
-        { fsub f71, f1, f30 }
-        { fsub f72, f2, f31 }
-        { fsub f73, f3, f32 }
-        { fmul f74, f71, f4 }
-        { fmul f75, f72, f5 }
-        { fmul f76, f73, f6 }
-        { fadd f77, f74, f75 }
-        { fadd f78, f77, f76 }
-        { fneg f79, f78 }
-        { fmul f80, f79, f4 }
-        { fmul f82, f79, f5 }
-        { fadd f81, f71, f80 }
-        { fadd f83, f72, f82 }
-        { fmul f84, f79, f6 }
-        { fadd f85, f73, f84 }
-        { fmul f101, f33, f81 }
-        { fmul f102, f36, f83 }
-        { fmul f107, f36, f81 }
-        { fmul f108, f34, f83 }
-        { fmul f103, f38, f85 }
-        { fadd f104, f101, f102 }
-        { fmul f109, f37, f85 }
-        { fadd f110, f107, f108 }
-        { fmul f113, f38, f81 }
-        { fmul f114, f37, f83 }
-        { fadd f105, f104, f103 }
-        { fadd f111, f110, f109 }
-        { fmul f115, f35, f85 }
-        { fadd f116, f113, f114 }
-        { fmul f86, f33, f4 }
-        { fmul f87, f36, f5 }
-        { fmul f91, f36, f4 }
-        { fmul f92, f34, f5 }
-        { fadd f106, f105, f39 }
-        { fadd f112, f111, f40 }
-        { fadd f117, f116, f115 }
-        { fmul f88, f38, f6 }
-        { fadd f89, f86, f87 }
-        { fmul f93, f37, f6 }
-        { fadd f94, f91, f92 }
-        { fmul f96, f38, f4 }
-        { fmul f97, f37, f5 }
-        { fadd f118, f117, f41 }
-        { fmul f74, f81, f106 }
-        { fmul f77, f83, f112 }
-        { fmul f71, f39, f81 }
-        { fmul f72, f40, f83 }
-        { fadd f90, f89, f88 }
-        { fadd f95, f94, f93 }
-        { fmul f98, f35, f6 }
-        { fadd f99, f96, f97 }
-        { fmul f76, f85, f118 }
-        { fadd f78, f74, f77 }
-        { fmul f82, f41, f85 }
-        { fadd f73, f71, f72 }
-        { fadd f100, f99, f98 }
-        { fmul f119, f4, f90 }
-        { fmul f120, f5, f95 }
-        { fmul f124, f4, f106 }
-        { fmul f125, f5, f112 }
-        { fadd f80, f78, f76 }
-        { fadd f84, f73, f82 }
-        { flw f42, REC_W+48(r10) }
-        { fmul f121, f6, f100 }
-        { fadd f122, f119, f120 }
-        { fmul f126, f6, f118 }
-        { fadd f127, f124, f125 }
-        { fadd f87, f80, f84 }
-        { fadd f123, f122, f121 }
-        { fadd f75, f127, f126 }
-        { fadd f86, f87, f42 }
-        { fmul f88, f75, f75 }
-        { fmul f89, f123, f86 }
-        { fsub f91, f88, f89 }
-        { fsqrt f92, f91 }
-        { fneg f93, f75 }
-        { flw f43, REC_W+52(r10) }
-        { lw r14, REC_CODE(r11) }
-        { fsub f94, f93, f92 }
-        { fadd f98, f93, f92 }
-        { flw f44, REC_W+56(r10) }
-        { fdiv f96, f94, f123 }
-        { fdiv f99, f98, f123 }
-        { flw f45, REC_W+60(r10) }
-        { lw r13, IC_JUMPS_B(r14) }
         nop
-        { fmul f107, f43, f4 }
-        { fmul f109, f44, f5 }
-        { fmul f102, f43, f81 }
-        { fmul f104, f44, f83 }
-        { fmul f110, f45, f6 }
-        { fadd f111, f107, f109 }
-        { fmul f103, f45, f85 }
-        { fadd f105, f102, f104 }
-        { fadd f114, f111, f110 }
-        { fadd f97, f79, f96 }
-        { fadd f101, f79, f99 }
-        { fadd f108, f105, f103 }
-        { fmul f113, f96, f114 }
-        { fmul f115, f99, f114 }
-        { fadd f116, f108, f113 }
-        { fadd f117, f108, f115 }
-        { flt r30, f7, f97 }
-        { flt r37, f7, f101 }
-        { flw f46, REC_W+64(r10) }
-        { fsel f90, r30, f97, f21 }
-        { fle r31, f23, f116 }
-        { fsel f119, r37, f101, f21 }
-        { fle r38, f23, f117 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f95, r31, f90, f21 }
-        { fle r36, f116, f46 }
-        { fsel f120, r38, f119, f21 }
-        { fle r39, f117, f46 }
-        { fsel f67, r33, f67, f21 }
-        { fsel f100, r36, f95, f21 }
-        { fsel f122, r39, f120, f21 }
-        { flt r34, f67, f10 }
-        { fle r40, f100, f122 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { fsel f15, r34, f19, f15 }
-        { flw f50, REC_W+0(r11) }
-        { flw f51, REC_W+4(r11) }
-        { flw f52, REC_W+8(r11) }
-        { flw f53, REC_W+12(r11) }
-        { flw f54, REC_W+16(r11) }
-        { flw f55, REC_W+20(r11) }
-        { flw f56, REC_W+24(r11) }
-        { flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) }
-        { flw f59, REC_W+36(r11) }
-        { flw f60, REC_W+40(r11) }
-        { flw f61, REC_W+44(r11) }
-        { movif f20, r10 }
-        { fmin f16, f122, f100 }
-        { fsel f19, r40, f24, f23 }
-        { fle r32, f23, f24 }
-        { fle r33, f23, f24 }
-        { lw r10, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
-
-tri1_B:
-        { fmul f76, f50, f1 }
-        { fmul f77, f51, f2 }
-        { fmul f78, f52, f3 }
-        { fadd f79, f76, f77 }
-        { fmul f71, f50, f4 }
-        { fmul f72, f51, f5 }
-        { fadd f80, f79, f78 }
-        { fmul f73, f52, f6 }
-        { fadd f74, f71, f72 }
-        { fadd f81, f80, f53 }
-        { fadd f75, f74, f73 }
-        { fneg f82, f81 }
-        { fdiv f83, f82, f75 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f67, r33, f67, f21 }
-        { flt r34, f67, f10 }
-        { fmul f84, f83, f4 }
-        { fmul f86, f83, f5 }
-        { fadd f85, f1, f84 }
-        { fadd f87, f2, f86 }
-        { fmul f88, f83, f6 }
-        { fadd f89, f3, f88 }
-        { fmul f90, f54, f85 }
-        { fmul f91, f55, f87 }
-        { fmul f95, f58, f85 }
-        { fmul f96, f59, f87 }
-        { fmul f92, f56, f89 }
-        { fadd f93, f90, f91 }
-        { fmul f97, f60, f89 }
-        { fadd f98, f95, f96 }
-        { fadd f94, f93, f92 }
-        { fadd f99, f98, f97 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { lw r14, REC_CODE(r10) }
-        { fadd f17, f94, f57 }
-        { fadd f18, f99, f61 }
-        { flt r30, f75, f23 }
-        { lw r13, IC_JUMPS_A(r14) }
-        { fadd f100, f17, f18 }
-        { fsel f101, r30, f83, f21 }
-        { flt r31, f7, f83 }
-        { fmin f102, f17, f18 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f15, r34, f19, f15 }
-        { flw f30, REC_W+0(r10) }
-        { flw f31, REC_W+4(r10) }
-        { flw f32, REC_W+8(r10) }
-        { flw f33, REC_W+12(r10) }
-        { flw f34, REC_W+16(r10) }
-        { flw f35, REC_W+20(r10) }
-        { flw f36, REC_W+24(r10) }
-        { flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) }
-        { flw f39, REC_W+36(r10) }
-        { flw f40, REC_W+40(r10) }
-        { flw f41, REC_W+44(r10) }
-        { fsel f16, r31, f101, f21 }
-        { fle r32, f23, f102 }
-        { fle r33, f100, f24 }
-        { movif f20, r11 }
-        { lw r11, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
-
-tri2_B:
-        { fmul f76, f50, f1 }
-        { fmul f77, f51, f2 }
-        { fmul f78, f52, f3 }
-        { fadd f79, f76, f77 }
-        { fmul f71, f50, f4 }
-        { fmul f72, f51, f5 }
-        { fadd f80, f79, f78 }
-        { fmul f73, f52, f6 }
-        { fadd f74, f71, f72 }
-        { fadd f81, f80, f53 }
-        { fadd f75, f74, f73 }
-        { fneg f82, f81 }
-        { fdiv f83, f82, f75 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f67, r33, f67, f21 }
-        { flt r34, f67, f10 }
-        { fmul f84, f83, f4 }
-        { fmul f86, f83, f5 }
-        { fadd f85, f1, f84 }
-        { fadd f87, f2, f86 }
-        { fmul f88, f83, f6 }
-        { fadd f89, f3, f88 }
-        { fmul f90, f54, f85 }
-        { fmul f91, f55, f87 }
-        { fmul f95, f58, f85 }
-        { fmul f96, f59, f87 }
-        { fmul f92, f56, f89 }
-        { fadd f93, f90, f91 }
-        { fmul f97, f60, f89 }
-        { fadd f98, f95, f96 }
-        { fadd f94, f93, f92 }
-        { fadd f99, f98, f97 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { lw r14, REC_CODE(r10) }
-        { fadd f17, f94, f57 }
-        { fadd f18, f99, f61 }
-        { feq r30, f75, f23 }
-        { lw r13, IC_JUMPS_A(r14) }
-        { fadd f100, f17, f18 }
-        { fsel f101, r30, f21, f83 }
-        { flt r31, f7, f83 }
-        { fmin f102, f17, f18 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f15, r34, f19, f15 }
-        { flw f30, REC_W+0(r10) }
-        { flw f31, REC_W+4(r10) }
-        { flw f32, REC_W+8(r10) }
-        { flw f33, REC_W+12(r10) }
-        { flw f34, REC_W+16(r10) }
-        { flw f35, REC_W+20(r10) }
-        { flw f36, REC_W+24(r10) }
-        { flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) }
-        { flw f39, REC_W+36(r10) }
-        { flw f40, REC_W+40(r10) }
-        { flw f41, REC_W+44(r10) }
-        { fsel f16, r31, f101, f21 }
-        { fle r32, f23, f102 }
-        { fle r33, f100, f24 }
-        { movif f20, r11 }
-        { lw r11, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
-
-quad1_B:
-        { fsub f71, f1, f50 }
-        { fsub f72, f2, f51 }
-        { fsub f73, f3, f52 }
-        { fmul f74, f71, f4 }
-        { fmul f75, f72, f5 }
-        { fmul f76, f73, f6 }
-        { fadd f77, f74, f75 }
-        { fadd f78, f77, f76 }
-        { fneg f79, f78 }
-        { fmul f80, f79, f4 }
-        { fmul f82, f79, f5 }
-        { fadd f81, f71, f80 }
-        { fadd f83, f72, f82 }
-        { fmul f84, f79, f6 }
-        { fadd f85, f73, f84 }
-        { fmul f101, f53, f81 }
-        { fmul f102, f56, f83 }
-        { fmul f107, f56, f81 }
-        { fmul f108, f54, f83 }
-        { fmul f103, f58, f85 }
-        { fadd f104, f101, f102 }
-        { fmul f109, f57, f85 }
-        { fadd f110, f107, f108 }
-        { fmul f113, f58, f81 }
-        { fmul f114, f57, f83 }
-        { fadd f105, f104, f103 }
-        { fadd f111, f110, f109 }
-        { fmul f115, f55, f85 }
-        { fadd f116, f113, f114 }
-        { fmul f86, f53, f4 }
-        { fmul f87, f56, f5 }
-        { fmul f91, f56, f4 }
-        { fmul f92, f54, f5 }
-        { fadd f106, f105, f59 }
-        { fadd f112, f111, f60 }
-        { fadd f117, f116, f115 }
-        { fmul f88, f58, f6 }
-        { fadd f89, f86, f87 }
-        { fmul f93, f57, f6 }
-        { fadd f94, f91, f92 }
-        { fmul f96, f58, f4 }
-        { fmul f97, f57, f5 }
-        { fadd f118, f117, f61 }
-        { fmul f74, f81, f106 }
-        { fmul f77, f83, f112 }
-        { fmul f71, f59, f81 }
-        { fmul f72, f60, f83 }
-        { fadd f90, f89, f88 }
-        { fadd f95, f94, f93 }
-        { fmul f98, f55, f6 }
-        { fadd f99, f96, f97 }
-        { fmul f76, f85, f118 }
-        { fadd f78, f74, f77 }
-        { fmul f82, f61, f85 }
-        { fadd f73, f71, f72 }
-        { fadd f100, f99, f98 }
-        { fmul f119, f4, f90 }
-        { fmul f120, f5, f95 }
-        { fmul f124, f4, f106 }
-        { fmul f125, f5, f112 }
-        { fadd f80, f78, f76 }
-        { fadd f84, f73, f82 }
-        { flw f62, REC_W+48(r11) }
-        { fmul f121, f6, f100 }
-        { fadd f122, f119, f120 }
-        { fmul f126, f6, f118 }
-        { fadd f127, f124, f125 }
-        { fadd f87, f80, f84 }
-        { fadd f123, f122, f121 }
-        { fadd f75, f127, f126 }
-        { fadd f86, f87, f62 }
-        { fmul f88, f75, f75 }
-        { fmul f89, f123, f86 }
-        { fsub f91, f88, f89 }
-        { fsqrt f92, f91 }
-        { fneg f93, f75 }
-        { flw f63, REC_W+52(r11) }
-        { lw r14, REC_CODE(r10) }
-        { fsub f94, f93, f92 }
-        { flw f64, REC_W+56(r11) }
-        { fdiv f96, f94, f123 }
-        { flw f65, REC_W+60(r11) }
-        { fmul f103, f63, f4 }
-        { lw r13, IC_JUMPS_A(r14) }
-        { fmul f105, f64, f5 }
-        { fmul f98, f63, f81 }
-        { fmul f99, f64, f83 }
-        { fmul f108, f65, f6 }
-        { fadd f107, f103, f105 }
-        { fsel f67, r32, f16, f21 }
-        { fmul f101, f65, f85 }
-        { fadd f102, f98, f99 }
-        { fadd f109, f107, f108 }
-        { fsel f67, r33, f67, f21 }
-        { fadd f97, f79, f96 }
-        { fadd f104, f102, f101 }
-        { fmul f110, f96, f109 }
-        { flt r34, f67, f10 }
-        { flw f66, REC_W+64(r11) }
-        { fadd f111, f104, f110 }
-        { flt r30, f7, f97 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { fsel f15, r34, f19, f15 }
-        { flw f30, REC_W+0(r10) }
-        { flw f31, REC_W+4(r10) }
-        { flw f32, REC_W+8(r10) }
-        { flw f33, REC_W+12(r10) }
-        { flw f34, REC_W+16(r10) }
-        { flw f35, REC_W+20(r10) }
-        { flw f36, REC_W+24(r10) }
-        { flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) }
-        { flw f39, REC_W+36(r10) }
-        { flw f40, REC_W+40(r10) }
-        { flw f41, REC_W+44(r10) }
-        { movif f20, r11 }
-        { fsel f16, r30, f97, f21 }
-        { fle r32, f23, f111 }
-        { fle r33, f111, f66 }
-        { fmov f19, f24 }
-        { lw r11, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
-
-quad2_B:
-        { fsub f71, f1, f50 }
-        { fsub f72, f2, f51 }
-        { fsub f73, f3, f52 }
-        { fmul f74, f71, f4 }
-        { fmul f75, f72, f5 }
-        { fmul f76, f73, f6 }
-        { fadd f77, f74, f75 }
-        { fadd f78, f77, f76 }
-        { fneg f79, f78 }
-        { fmul f80, f79, f4 }
-        { fmul f82, f79, f5 }
-        { fadd f81, f71, f80 }
-        { fadd f83, f72, f82 }
-        { fmul f84, f79, f6 }
-        { fadd f85, f73, f84 }
-        { fmul f101, f53, f81 }
-        { fmul f102, f56, f83 }
-        { fmul f107, f56, f81 }
-        { fmul f108, f54, f83 }
-        { fmul f103, f58, f85 }
-        { fadd f104, f101, f102 }
-        { fmul f109, f57, f85 }
-        { fadd f110, f107, f108 }
-        { fmul f113, f58, f81 }
-        { fmul f114, f57, f83 }
-        { fadd f105, f104, f103 }
-        { fadd f111, f110, f109 }
-        { fmul f115, f55, f85 }
-        { fadd f116, f113, f114 }
-        { fmul f86, f53, f4 }
-        { fmul f87, f56, f5 }
-        { fmul f91, f56, f4 }
-        { fmul f92, f54, f5 }
-        { fadd f106, f105, f59 }
-        { fadd f112, f111, f60 }
-        { fadd f117, f116, f115 }
-        { fmul f88, f58, f6 }
-        { fadd f89, f86, f87 }
-        { fmul f93, f57, f6 }
-        { fadd f94, f91, f92 }
-        { fmul f96, f58, f4 }
-        { fmul f97, f57, f5 }
-        { fadd f118, f117, f61 }
-        { fmul f74, f81, f106 }
-        { fmul f77, f83, f112 }
-        { fmul f71, f59, f81 }
-        { fmul f72, f60, f83 }
-        { fadd f90, f89, f88 }
-        { fadd f95, f94, f93 }
-        { fmul f98, f55, f6 }
-        { fadd f99, f96, f97 }
-        { fmul f76, f85, f118 }
-        { fadd f78, f74, f77 }
-        { fmul f82, f61, f85 }
-        { fadd f73, f71, f72 }
-        { fadd f100, f99, f98 }
-        { fmul f119, f4, f90 }
-        { fmul f120, f5, f95 }
-        { fmul f124, f4, f106 }
-        { fmul f125, f5, f112 }
-        { fadd f80, f78, f76 }
-        { fadd f84, f73, f82 }
-        { flw f62, REC_W+48(r11) }
-        { fmul f121, f6, f100 }
-        { fadd f122, f119, f120 }
-        { fmul f126, f6, f118 }
-        { fadd f127, f124, f125 }
-        { fadd f87, f80, f84 }
-        { fadd f123, f122, f121 }
-        { fadd f75, f127, f126 }
-        { fadd f86, f87, f62 }
-        { fmul f88, f75, f75 }
-        { fmul f89, f123, f86 }
-        { fsub f91, f88, f89 }
-        { fsqrt f92, f91 }
-        { fneg f93, f75 }
-        { flw f63, REC_W+52(r11) }
-        { lw r14, REC_CODE(r10) }
-        { fsub f94, f93, f92 }
-        { fadd f98, f93, f92 }
-        { flw f64, REC_W+56(r11) }
-        { fdiv f96, f94, f123 }
-        { fdiv f99, f98, f123 }
-        { flw f65, REC_W+60(r11) }
-        { lw r13, IC_JUMPS_A(r14) }
+        { fsub f125, f124, f123 }
+        { fdiv f126, f125, f54 }
+        { flw f44, REC_W+56(r10) }
+        { flw f45, REC_W+60(r10) }
         nop
-        { fmul f107, f63, f4 }
-        { fmul f109, f64, f5 }
-        { fmul f102, f63, f81 }
-        { fmul f104, f64, f83 }
-        { fmul f110, f65, f6 }
-        { fadd f111, f107, f109 }
-        { fmul f103, f65, f85 }
-        { fadd f105, f102, f104 }
-        { fadd f114, f111, f110 }
-        { fadd f97, f79, f96 }
-        { fadd f101, f79, f99 }
-        { fadd f108, f105, f103 }
-        { fmul f113, f96, f114 }
-        { fmul f115, f99, f114 }
-        { fadd f116, f108, f113 }
-        { fadd f117, f108, f115 }
-        { flt r30, f7, f97 }
-        { flt r37, f7, f101 }
-        { flw f66, REC_W+64(r11) }
-        { fsel f90, r30, f97, f21 }
-        { fle r31, f23, f116 }
-        { fsel f119, r37, f101, f21 }
-        { fle r38, f23, f117 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f95, r31, f90, f21 }
-        { fle r36, f116, f66 }
-        { fsel f120, r38, f119, f21 }
-        { fle r39, f117, f66 }
-        { fsel f67, r33, f67, f21 }
-        { fsel f100, r36, f95, f21 }
-        { fsel f122, r39, f120, f21 }
-        { flt r34, f67, f10 }
-        { fle r40, f100, f122 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { fsel f15, r34, f19, f15 }
-        { flw f30, REC_W+0(r10) }
-        { flw f31, REC_W+4(r10) }
-        { flw f32, REC_W+8(r10) }
-        { flw f33, REC_W+12(r10) }
-        { flw f34, REC_W+16(r10) }
-        { flw f35, REC_W+20(r10) }
-        { flw f36, REC_W+24(r10) }
-        { flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) }
-        { flw f39, REC_W+36(r10) }
-        { flw f40, REC_W+40(r10) }
-        { flw f41, REC_W+44(r10) }
-        { movif f20, r11 }
-        { fmin f16, f122, f100 }
-        { fsel f19, r40, f24, f23 }
-        { fle r32, f23, f24 }
-        { fle r33, f23, f24 }
-        { lw r11, 0(r1) }
-        { addi r1, r1, 4 }
-        { jr r13 }
+        { fmul f56, f43, f4 }
+        { fmul f57, f44, f5 }
+        { fmul f50, f43, f81 }
+        { fmul f51, f44, f83 }
+        { fadd f58, f56, f57 }
+        { fmul f60, f45, f6 }
+        { fadd f52, f50, f51 }
+        { fmul f53, f45, f85 }
+        { fadd f61, f58, f60 }
+        { fadd f55, f52, f53 }
+        { fmul f62, f126, f61 }
+        { fadd f127, f79, f126 }
+        { flw f46, REC_W+64(r10) }
+        { fadd f63, f55, f62 }
+        { bnez r26, quad_two }
+# one-sided: only the front root
+        { flt r31, f7, f127 }
+        { beqz r31, next_prim }
+        { flt r31, f127, f10 }
+        { beqz r31, next_prim }
+        { fle r32, f23, f63 }
+        { beqz r32, next_prim }
+        { fle r32, f63, f46 }
+        { beqz r32, next_prim }
+        { fmov f10, f127 }
+        { mov r24, r10 }
+        { li r25, 1 }
+        { jmp next_prim }
+# two-sided: the nearer valid root
+quad_two:
+        { fadd f65, f124, f123 }
+        { fdiv f66, f65, f54 }
+        { flt r31, f7, f127 }
+        { fsel f70, r31, f127, f21 }
+        { fle r32, f23, f63 }
+        { fadd f67, f79, f66 }
+        { fmul f68, f66, f61 }
+        { fadd f69, f55, f68 }
+        { flt r34, f7, f67 }
+        { fsel f71, r34, f67, f21 }
+        { fle r35, f23, f69 }
+        { fsel f70, r32, f70, f21 }
+        { fle r33, f63, f46 }
+        { fsel f71, r35, f71, f21 }
+        { fle r36, f69, f46 }
+        { fsel f70, r33, f70, f21 }
+        { fsel f71, r36, f71, f21 }
+        { fmin f72, f71, f70 }
+        { flt r38, f72, f10 }
+        { fle r37, f70, f71 }
+        { beqz r38, next_prim }
+        { fmov f10, f72 }
+        { mov r24, r10 }
+        { mov r25, r37 }
+        { jmp next_prim }
 
-# ---- end of the list: accept the last candidate, then HIT or RETURN ----
+# ---- end of the list: HIT or RETURN ---------------------------------------------------------------
 done:
-        { fsel f67, r32, f16, f21 }
-        { fsel f67, r33, f67, f21 }
-        { flt r34, f67, f10 }
-        { fsel f12, r34, f20, f12 }
-        { movfi r7, f12 }
-        { fsel f10, r34, f67, f10 }
-        { fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 }
-        { fsel f15, r34, f19, f15 }
-        { bnez r7, hit }
+        bnez r24, hit
 return:
         { send CH_IC_OS, r2 }
         { jmp next_ray }
-
 hit:
-        { lw r15, REC_CODE(r7) }
+        { lw r15, REC_CODE(r24) }
         { li r8, 0x7fffffff }
-        { ftoi r12, f15 }
         { slti r16, r15, CODE_QUAD1 }
-        { li r17, 1 }
         { and r8, r2, r8 }
-        { lw r9, REC_INDEX(r7) }
-        { sel r12, r16, r17, r12 }
+        { lw r9, REC_INDEX(r24) }
         { fsel f13, r16, f13, f23 }
         { fsel f14, r16, f14, f23 }
         { send CH_IC_SC, r8 }
@@ -927,5 +324,5 @@ hit:
         { fsend CH_IC_SC, f10 }
         { fsend CH_IC_SC, f13 }
         { fsend CH_IC_SC, f14 }
-        { send CH_IC_SC, r12 }
+        { send CH_IC_SC, r25 }
         { jmp next_ray }
