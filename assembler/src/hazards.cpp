@@ -180,8 +180,9 @@ private:
                     uint32_t lat = m_.latency_of(pin.info());
                     Diagnostic& d = diags_.error(
                         o.loc, fmt::format("{}{} is read before its new value lands: '{}' was issued {} "
-                                           "cycle{} earlier and has latency {}", prefix(a.file), a.reg,
-                                           pin.info().mnemonic, lat - p.k, lat - p.k == 1 ? "" : "s", lat));
+                                           "cycle{} earlier{} and has latency {}", prefix(a.file), a.reg,
+                                           pin.info().mnemonic, lat - p.k, lat - p.k == 1 ? "" : "s",
+                                           ops_[p.op].first >= b ? " (around a back edge)" : "", lat));
                     Diagnostics::note(d, op_rec(p.op).loc,
                                       fmt::format("{}{} is written here; the result lands in cycle +{}",
                                                   prefix(a.file), a.reg, lat));
