@@ -23,7 +23,8 @@ TMIN, TMAX, TOUT = 'f7', 'f8', 'f9'
 BOUND, BEST_T, BEST_REC, BEST_U, BEST_V, BEST_FRONT = 'f10', 'f11', 'f12', 'f13', 'f14', 'f15'
 CAND_T, CAND_U, CAND_V, CAND_FRONT, CAND_REC = 'f16', 'f17', 'f18', 'f19', 'f20'
 INF, NINF, ZERO, ONE = 'f21', 'f22', 'f23', 'f24'
-CP, CQ = 'r32', 'r33'   # candidate flags of the head, applied by the tail
+CP, CQ = 'r32', 'r33'   # candidate flags, computed and applied by the tail
+CPV, CQA, CQB = 'f47', 'f48', 'f49'  # the head's values for them: 0 <= CPV, CQA <= CQB
 SHADOW = 'r23'
 
 
@@ -79,6 +80,8 @@ def tail():
     head's two deferred flags, compare it with the bound, and keep it when it is nearer."""
     return [
         '# accept tail of the previous primitive',
+        'fle %s, %s, %s' % (CP, ZERO, CPV),
+        'fle %s, %s, %s' % (CQ, CQA, CQB),
         'fsel f67, %s, %s, %s' % (CP, CAND_T, INF),
         'fsel f67, %s, f67, %s' % (CQ, INF),
         'flt r34, f67, %s' % BOUND,
@@ -137,15 +140,14 @@ def tri(x, two):
               'fmul %s, %s, %s' % (c2, X(r + 2), p[2]),
               'fadd %s, %s, %s' % (u1, c0, c1), 'fadd %s, %s, %s' % (u2, u1, c2),
               'fadd %s, %s, %s' % (dst, u2, X(r + 3))]
-    s, mab, tm = m(), m(), m()
-    o += ['fadd %s, %s, %s' % (s, CAND_U, CAND_V)]
+    tm = m()
+    o += ['fadd %s, %s, %s' % (CQA, CAND_U, CAND_V)]
     if two:
         o += ['feq r30, %s, %s' % (dn, ZERO), 'fsel %s, r30, %s, %s' % (tm, INF, tt)]
     else:
         o += ['flt r30, %s, %s' % (dn, ZERO), 'fsel %s, r30, %s, %s' % (tm, tt, INF)]
     o += ['flt r31, %s, %s' % (TMIN, tt), 'fsel %s, r31, %s, %s' % (CAND_T, tm, INF),
-          'fmin %s, %s, %s' % (mab, CAND_U, CAND_V),
-          'fle %s, %s, %s' % (CP, ZERO, mab), 'fle %s, %s, %s' % (CQ, s, ONE),
+          'fmin %s, %s, %s' % (CPV, CAND_U, CAND_V), 'fmov %s, %s' % (CQB, ONE),
           'movif %s, %s' % (CAND_REC, BASE[x])]
     return o
 
@@ -157,7 +159,7 @@ def quad(x, two):
     X = lambda i: w(x, i)
     o.append('# quadric (%s-sided): general quadric form, twin operation order' % ('two' if two else 'one'))
     for i in range(12, 17):
-        o.append('flw %s, REC_W+%d(%s)' % (X(i), 4 * i, BASE[x]))
+        o.append('flw %s, REC_W+%d(%s)' % (X(i) if i < 16 or two else CQB, 4 * i, BASE[x]))
     o.append('movif %s, %s' % (CAND_REC, BASE[x]))
     P = []
     for k in range(3):
@@ -218,12 +220,13 @@ def quad(x, two):
     o += r
     r, ad = dot3((X(13), X(14), X(15)), D)
     o += r
-    L = X(16)
-    mf, hf = m(), m()
+    L = X(16) if two else CQB
+    mf = m()
+    hf = m() if two else CPV
     o += ['fmul %s, %s, %s' % (mf, sf, ad), 'fadd %s, %s, %s' % (hf, aq, mf)]
     if not two:
         o += ['flt r30, %s, %s' % (TMIN, tf), 'fsel %s, r30, %s, %s' % (CAND_T, tf, INF),
-              'fle %s, %s, %s' % (CP, ZERO, hf), 'fle %s, %s, %s' % (CQ, hf, L),
+              'fmov %s, %s' % (CQA, CPV),
               'fmov %s, %s' % (CAND_FRONT, ONE)]
     else:
         mb, hb = m(), m()
@@ -238,7 +241,7 @@ def quad(x, two):
               'fle r40, %s, %s' % (ef3, eb3),
               'fmin %s, %s, %s' % (CAND_T, eb3, ef3),
               'fsel %s, r40, %s, %s' % (CAND_FRONT, ONE, ZERO),
-              'fle %s, %s, %s' % (CP, ZERO, ONE), 'fle %s, %s, %s' % (CQ, ZERO, ONE)]
+              'fmov %s, %s' % (CPV, ZERO), 'fmov %s, %s' % (CQA, ZERO), 'fmov %s, %s' % (CQB, ONE)]
     return o
 
 
