@@ -1,5 +1,20 @@
 # machine: seq
-# @HEADER@
+# kernels/seq/dda.s: the 3DDDA traversal for the one-unit `seq` machine (models S and M), as a
+# careful sequential programmer writes it: branch on the axis, update only that axis. Same
+# protocol, state table, padded occupancy map and deferred t_exit test as kernels/os/dda.s (read
+# its header for the why); the same float operations in the twin's order, so every VISIT, state
+# word and MISS is bit-identical to rt/twins/dda.hpp.
+#
+# One voxel step is 9 operations, 9 cycles (paper, sequential: 23):
+#   fle c1 = nx <= ny ; beqz c1 -> not_x ; fle c2 = nx <= nz ; beqz c2 -> step_z   (x path)
+#   not_x: fle c3 = ny <= nz ; beqz c3 -> step_z                                    (y path)
+#   step_k: fmov t_in = n_k ; fadd n_k += delta_k ; add addr += step_k ; lbu occ ; beqz occ -> loop
+# (with x <= y and z < x, z < y follows, so "c1 && !c2" goes straight to step_z, exactly the
+# twin's choice). No interlocks are needed: every result is used one bundle later at the earliest.
+# The straight-line blocks (setup, VISIT, resume) are ordered by kernels/tools/pack.py, which
+# fills the 4-cycle divide latency of the setup with independent work.
+# Registers: as kernels/os/dda.s (f10-f12 the three nexts, f16-f18 deltas, r4 voxel address,
+# r5-r7 address steps, f9 t_exit, f40 t_in, f41 t_out).
         .include "../abi.inc"
         .text
 start:

@@ -255,11 +255,11 @@ def body(name, x, head):
     return lines
 
 
-HEADER_TEXT = open(__file__.replace('gen_ic.py', 'ic_header.txt')).read() if False else ''
+HEADER_TEXT = open(__file__.replace('gen_ic.py', 'ic_header.txt')).read().rstrip('\n')
 
 
 def main():
-    out = ['# machine: ic', '# @HEADER@', '        .include "../abi.inc"', '        .text', 'start:', '#pack begin']
+    out = ['# machine: ic', HEADER_TEXT, '        .include "../abi.inc"', '        .text', 'start:', '#pack begin']
     out += ['li r0, 0', 'li r60, 0x7f800000', 'li r61, 0xff800000', 'movif %s, r60' % INF, 'movif %s, r61' % NINF,
             'fli %s, 0.0' % ZERO, 'fli %s, 1.0' % ONE, 'lw r20, IC_HEADER+ICH_VOXTAB(r0)']
     for x in 'AB':
