@@ -11,7 +11,8 @@
 namespace nesshi::assembler {
 
 void fill_data(Layout& layout, Diagnostics& diags) {
-    for (DataSec& s : layout.data) s.bytes.assign(size_t(s.size), 0);
+    for (DataSec& s : layout.data)
+        if (s.size <= kMaxSection && s.address + s.size <= (uint64_t{1} << 32)) s.bytes.assign(size_t(s.size), 0);
     Resolver resolve = layout.resolver();
     for (const DataFill& f : layout.fills) {
         const DirectiveRec& d = *f.dir;

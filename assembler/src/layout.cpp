@@ -219,6 +219,9 @@ void Layout::run(std::vector<Item>& items) {
         const DataSec& s = data[order[k]];
         if (s.address + s.size > (uint64_t{1} << 32))
             diags_.error(s.loc, "data section runs past the end of the 32-bit address space");
+        else if (s.size > kMaxSection)
+            diags_.error(s.loc, fmt::format("data section of {} bytes is larger than the {} MB the "
+                                            "assembler accepts", s.size, kMaxSection >> 20));
         if (k == 0 || s.size == 0) continue;
         for (size_t j = 0; j < k; ++j) {
             const DataSec& p = data[order[j]];

@@ -26,6 +26,9 @@ struct SymbolDef {
     bool global = false;
 };
 
+// Largest data section the assembler builds (bigger than any preset memory).
+inline constexpr uint64_t kMaxSection = uint64_t{1} << 28;
+
 struct DataSec {
     uint32_t address = 0;
     uint64_t size = 0;

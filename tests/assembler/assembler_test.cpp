@@ -167,6 +167,8 @@ TEST_CASE("ranges and misuse are diagnosed", "[diag]") {
         {".equ N, x\n.data 0x100\n.space N\nx:\n", "'x' is undefined here"},
         {"li r1, \"s\"\nhalt\n", "expects an immediate"},
         {"add r1, r2, r3 @\n", "unexpected character '@'"},
+        {".data 0xfffffff0\n.space 32\n.text\nhalt\n", "past the end of the 32-bit address space"},
+        {".data 0\n.space 0x4000000\n.space 0x4000000\n.space 0x4000000\n.space 0x4000000\n.space 1\n", "larger than"},
     };
     for (const auto& c : cases) {
         auto r = assemble(c.src);
