@@ -307,9 +307,9 @@ template <bool Checked, bool Traced> struct EngineLoop {
             }
             if constexpr (Checked)
                 if (!check_writes(b, st)) return st;
+            if constexpr (Traced) emit(CycleEvent::Issue, c.cycle);
             commit(b);
             ++exec[c.pc];
-            if constexpr (Traced) emit(CycleEvent::Issue, c.cycle);
             ++c.cycle;
             --budget;
             if (c.event) [[unlikely]] {

@@ -17,6 +17,18 @@
 
 namespace nesshi::iss::test {
 
+// Zeroes the fields an operation does not use (the decoder rejects anything else).
+inline isa::Instr clean(isa::Instr in) {
+    unsigned used = isa::used_fields(in.info());
+    auto has = [&](isa::Field f) { return (used >> static_cast<int>(f)) & 1u; };
+    if (!has(isa::Field::Rd)) in.rd = 0;
+    if (!has(isa::Field::Rs1)) in.rs1 = 0;
+    if (!has(isa::Field::Rs2)) in.rs2 = 0;
+    if (!has(isa::Field::Rs3)) in.rs3 = 0;
+    if (!has(isa::Field::Imm)) in.imm = 0;
+    return in;
+}
+
 // An operation by mnemonic; fields as in the encoding (rd, rs1, rs2, imm, rs3).
 inline isa::Instr op(std::string_view m, uint8_t rd = 0, uint8_t rs1 = 0, uint8_t rs2 = 0, uint32_t imm = 0,
                      uint8_t rs3 = 0) {
@@ -29,7 +41,7 @@ inline isa::Instr op(std::string_view m, uint8_t rd = 0, uint8_t rs1 = 0, uint8_
     in.rs2 = rs2;
     in.imm = imm;
     in.rs3 = rs3;
-    return in;
+    return clean(in);
 }
 
 using Bundle = std::vector<isa::Instr>;

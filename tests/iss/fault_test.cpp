@@ -1,0 +1,160 @@
+// Each fault class stops the run with its report; bad objects give clean load errors.
+#include "helpers.hpp"
+
+#include <cstdlib>
+#include <fstream>
+
+using namespace nesshi;
+using namespace nesshi::iss;
+using namespace nesshi::iss::test;
+
+namespace {
+// The dynamic port conflict on a taken path (tests/iss/programs/port_conflict_branch.s): the
+// fdiv issued in cycle 1 lands in cycle 5 with the two float writes of `target` (cycle 4).
+std::vector<Bundle> port_conflict_program() {
+    return {{op("fli", 2, 0, 0, 0x40c00000u), op("fli", 3, 0, 0, 0x40000000u), op("li", 5, 0, 0, 5)},
+            {op("fdiv", 9, 2, 3)},
+            {op("nop")},
+            {op("jr", 0, 5)},
+            {op("halt")},
+            {op("fadd", 1, 2, 3), op("fmul", 4, 2, 3)},
+            {op("halt")}};
+}
+
+const Fault& run_to_fault(Processor& p) {
+    REQUIRE(p.run(1000) == Status::Faulted);
+    REQUIRE(p.fault());
+    return *p.fault();
+}
+} // namespace
+
+TEST_CASE("dynamic write-port conflict on a taken path: checked engine reports, fast engine trusts") {
+    auto c = make_proc("os", port_conflict_program(), Engine::Checked, {{"target", 5}});
+    const Fault& f = run_to_fault(*c);
+    CHECK(f.kind == FaultKind::WritePorts);
+    CHECK(f.cycle == 4);
+    CHECK(f.pc == 5);
+    std::string report = c->fault_report();
+    CHECK(report == "fault: write-ports: 3 FPRF writes land in cycle 5; os has 2 FPRF write ports\n"
+                    "  at cycle 4, pc 5 (target), test.s:6\n"
+                    "  bundle 5: { fpu1: fadd f1, f2, f3 ; fpu0: fmul f4, f2, f3 }\n"
+                    "  note: fdiv f9, f2, f3 (bundle 1, issued in cycle 1, test.s:2) writes f9 in cycle 5\n"
+                    "  note: fadd f1, f2, f3 (bundle 5, issued in cycle 4, test.s:6) writes f1 in cycle 5\n"
+                    "  note: fmul f4, f2, f3 (bundle 5, issued in cycle 4, test.s:6) writes f4 in cycle 5\n");
+    auto fast = make_proc("os", port_conflict_program(), Engine::Fast);
+    CHECK(fast->run() == Status::Halted);
+}
+
+TEST_CASE("the committed object of the port-conflict program is what the builder makes") {
+    isa::Machine m = isa::load_machine("os");
+    isa::ObjectFile obj = make_object(m, port_conflict_program(), {{"target", 5}});
+    obj.files = {"tests/iss/programs/port_conflict_branch.s"};
+    obj.lines = {{0, 9}, {0, 10}, {0, 11}, {0, 12}, {0, 13}, {0, 14}, {0, 15}};
+    std::string path = std::string(NESSHI_SOURCE_DIR) + "/tests/iss/programs/port_conflict_branch.o";
+    const char* update = std::getenv("NESSHI_UPDATE_GOLDEN");
+    if (update && std::string(update) == "1") isa::write_object_file(obj, path);
+    CHECK(isa::read_object_file(path) == obj);
+}
+
+TEST_CASE("two writes of one register landing in the same cycle") {
+    // fdiv f1 (latency 4) in cycle 0 and fadd f1 (latency 1) in cycle 3 both land in cycle 4.
+    auto c = make_proc("os", {{op("fdiv", 1, 2, 3)}, {op("nop")}, {op("nop")}, {op("fadd", 1, 2, 3)}, {op("halt")}},
+                       Engine::Checked);
+    const Fault& f = run_to_fault(*c);
+    CHECK(f.kind == FaultKind::DupWrite);
+    CHECK(f.message == "f1 is written twice in cycle 4");
+    CHECK(f.notes.size() == 2);
+}
+
+TEST_CASE("reading a register whose write is in flight") {
+    auto c = make_proc("os", {{op("fdiv", 1, 2, 3)}, {op("fadd", 4, 1, 1)}, {op("halt")}}, Engine::Checked);
+    const Fault& f = run_to_fault(*c);
+    CHECK(f.kind == FaultKind::InflightRead);
+    CHECK(f.message == "fadd reads f1 in cycle 1, but its write lands in cycle 4");
+    REQUIRE(f.notes.size() == 2);
+    CHECK(f.notes[1] == "producer: fdiv f1, f2, f3 (bundle 0, issued in cycle 0, test.s:1) writes f1 in cycle 4");
+}
+
+TEST_CASE("memory faults: out of range and misaligned, on both engines") {
+    for (Engine e : {Engine::Fast, Engine::Checked}) {
+        auto a = make_proc("os", {{op("li", 1, 0, 0, 0x00200000)}, {op("lw", 2, 1, 0, 0)}, {op("halt")}}, e);
+        const Fault& f = run_to_fault(*a);
+        CHECK(f.kind == FaultKind::MemRange);
+        CHECK(f.message == "lw address 0x00200000 is outside every memory region for a 4-byte access");
+        auto b = make_proc("os", {{op("li", 1, 0, 0, 2)}, {op("li", 2, 0, 0, 9)}, {op("sw", 0, 1, 2, 0)}, {op("halt")}}, e);
+        const Fault& g = run_to_fault(*b);
+        CHECK(g.kind == FaultKind::MemAlign);
+        CHECK(g.pc == 2);
+        CHECK(g.message == "sw address 0x00000002 is not aligned to a 4-byte access");
+    }
+}
+
+TEST_CASE("control leaving the code") {
+    auto a = make_proc("os", {{op("jmp", 0, 0, 0, 7)}, {op("halt")}});
+    CHECK(run_to_fault(*a).kind == FaultKind::BadPc);
+    CHECK(a->fault()->message == "control transfer to pc 7, outside the code (bundles 0..1)");
+    auto b = make_proc("os", {{op("nop")}, {op("nop")}});
+    CHECK(run_to_fault(*b).message == "execution ran past the last bundle (1) without halt");
+    auto c = make_proc("os", {{op("li", 1, 0, 0, uint32_t(-1))}, {op("jr", 0, 1)}, {op("halt")}});
+    CHECK(run_to_fault(*c).message == "control transfer to pc 4294967295, outside the code (bundles 0..2)");
+}
+
+TEST_CASE("channels: missing, deadlock on a closed empty input, blocking on an open one") {
+    auto a = make_proc("os", {{op("recv", 1, 0, 0, 3)}, {op("halt")}});
+    CHECK(run_to_fault(*a).kind == FaultKind::NoChannel);
+
+    QueueChannel closed;
+    closed.close();
+    auto b = make_proc("os", {{op("recv", 1, 0, 0, 0)}, {op("halt")}});
+    b->attach_channel(0, &closed);
+    CHECK(run_to_fault(*b).kind == FaultKind::Deadlock);
+
+    QueueChannel open;
+    auto c = make_proc("os", {{op("recv", 1, 0, 0, 0)}, {op("halt")}});
+    c->attach_channel(0, &open);
+    CHECK(c->run() == Status::Blocked);       // returns at once
+    CHECK(c->cycle() == 0);
+    CHECK(c->run_until(10) == Status::Blocked); // waits to the cycle asked for
+    CHECK(c->cycle() == 10);
+    CHECK(c->counters().wait_cycles == 10);
+    open.feed(5, 14);                          // a word that arrives in cycle 14
+    CHECK(c->run() == Status::Halted);
+    CHECK(c->counters().wait_cycles == 14);
+    CHECK(c->reg(R(1)) == 5);
+    CHECK(c->cycle() == 16);
+}
+
+TEST_CASE("bad objects and programs give clean load errors") {
+    isa::Machine os = isa::load_machine("os");
+    SECTION("a bundle that breaks a static rule") {
+        auto obj = make_object(isa::load_machine("ic"), {{op("fadd", 1, 2, 3), op("fadd", 4, 5, 6), op("fadd", 7, 8, 9)}});
+        obj.machine = "os";
+        obj.machine_fingerprint = os.fingerprint();
+        REQUIRE_THROWS_WITH(load_program(obj, os), Catch::Contains("bundle 0 breaks a static rule of machine 'os'") &&
+                                                        Catch::Contains("write-ports"));
+    }
+    SECTION("an illegal encoding") {
+        auto obj = make_object(os, {{op("halt")}});
+        obj.code[0] |= uint64_t{0x7f} << 56; // opcode 127
+        REQUIRE_THROWS_WITH(load_program(obj, os), Catch::Contains("illegal encoding"));
+    }
+    SECTION("data outside memory") {
+        auto obj = make_object(os, {{op("halt")}});
+        obj.data.push_back({0x00300000, {1, 2, 3, 4}});
+        REQUIRE_THROWS_WITH(Processor(load_program(obj, os)), Catch::Contains("outside every memory region"));
+    }
+    SECTION("an object for another machine") {
+        auto obj = make_object(os, {{op("halt")}});
+        REQUIRE_THROWS_WITH(load_program(obj, isa::load_machine("ic")), Catch::Contains("assembled for machine 'os'"));
+    }
+    SECTION("truncated and foreign files") {
+        std::string path = "iss_test_bad.o";
+        { std::ofstream(path) << "not an object"; }
+        REQUIRE_THROWS_AS(load_program_file(path), LoadError);
+        auto bytes = isa::write_object(make_object(os, {{op("halt")}}));
+        bytes.resize(bytes.size() - 3);
+        { std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size())); }
+        REQUIRE_THROWS_AS(load_program_file(path), LoadError);
+        std::remove(path.c_str());
+    }
+}

@@ -1,0 +1,191 @@
+// Lock-step agreement of the two engines on every example and kernel, identical statistics
+// across repeated runs, FIFO timing and shared memory.
+#include "helpers.hpp"
+
+#include "assembler/assembler.hpp"
+#include "iss/lockstep.hpp"
+#include "iss/stats.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace nesshi;
+using namespace nesshi::iss;
+using namespace nesshi::iss::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::shared_ptr<const Program> assemble(const fs::path& path) {
+    std::string text = read_text(path);
+    std::string machine = "os";
+    if (text.rfind("# machine:", 0) == 0) {
+        std::string first = text.substr(10, text.find('\n') - 10);
+        machine = first.substr(first.find_first_not_of(' '));
+        while (!machine.empty() && (machine.back() == ' ' || machine.back() == '\r')) machine.pop_back();
+    }
+    isa::Machine m = isa::load_machine(machine);
+    assembler::AsmOptions opts;
+    auto r = assembler::assemble_file(path.string(), m, opts);
+    INFO(r.diagnostics);
+    REQUIRE(r.ok);
+    return load_program(r.object, m);
+}
+
+std::vector<fs::path> sources(const std::string& dir) {
+    std::vector<fs::path> out;
+    fs::path root = fs::path(NESSHI_SOURCE_DIR) / dir;
+    if (!fs::exists(root)) return out;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+        if (e.path().extension() == ".s") out.push_back(e.path());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// Both engines with identical channels: channel 0 gets `words` then closes, others collect.
+struct Pair {
+    Processor fast, checked;
+    std::vector<std::unique_ptr<QueueChannel>> chans;
+    Pair(std::shared_ptr<const Program> prog, const std::vector<uint32_t>& words)
+        : fast(prog, Engine::Fast), checked(prog, Engine::Checked) {
+        for (Processor* p : {&fast, &checked})
+            for (const auto& d : prog->ops()) {
+                auto k = d.instr.info().kind;
+                if (k != isa::Kind::Recv && k != isa::Kind::Send) continue;
+                if (p->channel(d.imm)) continue;
+                auto q = std::make_unique<QueueChannel>();
+                if (k == isa::Kind::Recv) {
+                    for (uint32_t w : words) q->feed(w);
+                    q->close();
+                }
+                p->attach_channel(d.imm, q.get());
+                chans.push_back(std::move(q));
+            }
+    }
+};
+
+} // namespace
+
+TEST_CASE("the fast and checked engines agree bundle by bundle on every example and kernel") {
+    auto files = sources("examples");
+    auto kernels = sources("kernels");
+    files.insert(files.end(), kernels.begin(), kernels.end());
+    REQUIRE(!files.empty());
+    for (const fs::path& f : files) {
+        INFO(f.string());
+        auto prog = assemble(f);
+        Pair pair(prog, {3, 10, 20, 30, 40, 50, 60, 70, 80, 90});
+        LockstepResult r = run_lockstep(pair.fast, pair.checked, 1'000'000);
+        // Kernels fed with arbitrary words stop when the input runs dry or a made-up address is
+        // out of range (the same fault in both engines); the point is that the engines never
+        // diverge and no dynamic scheduling rule is broken on the way.
+        if (r.fault) {
+            INFO(format_fault(*prog, *r.fault));
+            CHECK(r.fault->kind != FaultKind::Divergence);
+            CHECK(r.fault->kind != FaultKind::InflightRead);
+            CHECK(r.fault->kind != FaultKind::WritePorts);
+            CHECK(r.fault->kind != FaultKind::DupWrite);
+        } else {
+            CHECK(r.status == Status::Halted);
+        }
+    }
+}
+
+TEST_CASE("lock-step reports a divergence") {
+    auto prog = load_program(make_object(isa::load_machine("os"), {{op("li", 1, 0, 0, 1)}, {op("halt")}}),
+                             isa::load_machine("os"));
+    Processor a(prog, Engine::Fast), b(prog, Engine::Checked);
+    b.set_reg(R(7), 3); // different state from the start
+    LockstepResult r = run_lockstep(a, b, 100);
+    REQUIRE(r.fault);
+    CHECK(r.fault->kind == FaultKind::Divergence);
+    CHECK(r.fault->message == "fast and checked engines diverge after this bundle: r7: fast 0x00000000, checked 0x00000003");
+}
+
+TEST_CASE("repeated runs give identical statistics") {
+    for (const fs::path& f : sources("examples")) {
+        INFO(f.string());
+        auto prog = assemble(f);
+        std::string first;
+        for (int run = 0; run < 3; ++run) {
+            Pair pair(prog, {3, 1, 2, 3});
+            pair.fast.run(1'000'000);
+            std::string json = stats_json(compute_stats(pair.fast)).dump();
+            if (run == 0) first = json;
+            CHECK(json == first);
+        }
+        Pair again(prog, {3, 1, 2, 3});
+        again.checked.run(1'000'000);
+        CHECK(stats_json(compute_stats(again.checked)).dump() == first);
+    }
+}
+
+TEST_CASE("communication and wait cycles are counted apart from processing") {
+    // recv (comm), addi (processing), send (comm), halt (processing)
+    auto p = make_proc("os", {{op("recv", 1, 0, 0, 0)}, {op("addi", 1, 1, 0, 1)}, {op("send", 0, 1, 0, 1)}, {op("halt")}});
+    QueueChannel in, out;
+    in.feed(7, 5); // arrives in cycle 5
+    p->attach_channel(0, &in);
+    p->attach_channel(1, &out);
+    REQUIRE(p->run() == Status::Halted);
+    Stats s = compute_stats(*p);
+    CHECK(s.wait_cycles == 5);
+    CHECK(s.communication_cycles == 2);
+    CHECK(s.processing_cycles == 2);
+    CHECK(s.cycles == 9);
+    CHECK(s.ilp == 1.0);
+    CHECK(s.units[0].ops + s.units[1].ops == 2);
+    CHECK(s.words_received == 1);
+    CHECK(s.words_sent == 1);
+}
+
+TEST_CASE("write-port histogram counts writes in the cycle they land") {
+    // fdiv (latency 4) in cycle 0 lands in cycle 4 with the two latency-1 writes of cycle 3.
+    auto p = make_proc("ic", {{op("fdiv", 1, 2, 3)}, {op("nop")}, {op("nop")}, {op("fadd", 4, 2, 3), op("fadd", 5, 2, 3)},
+                              {op("halt")}});
+    REQUIRE(p->run() == Status::Halted);
+    Stats s = compute_stats(*p);
+    const PortStats& fp = s.ports[1];
+    CHECK(fp.writes == 3);
+    REQUIRE(fp.write_hist.size() == 4);
+    CHECK(fp.write_hist[3] == 1);
+    CHECK(fp.write_hist[0] == 4);
+}
+
+TEST_CASE("processors share a host-provided global memory") {
+    isa::Machine ic = isa::load_machine("ic");
+    auto global = std::make_shared<PagedMemory>(ic.memory_at(0x10000000, 4)->size);
+    global->write(0x40, 4, 1234);
+    auto prog = load_program(make_object(ic, {{op("li", 1, 0, 0, 0x10000040)}, {op("lw", 2, 1, 0, 0)},
+                                              {op("addi", 2, 2, 0, 1)}, {op("sw", 0, 1, 2, 4)}, {op("halt")}}),
+                             ic);
+    Processor a(prog), b(prog);
+    a.attach_memory("global", global);
+    b.attach_memory("global", global);
+    REQUIRE(a.run() == Status::Halted);
+    REQUIRE(b.run() == Status::Halted);
+    CHECK(a.reg(R(2)) == 1235);
+    CHECK(global->read(0x44, 4) == 1235);
+    CHECK(global->pages_in_use() == 1);
+    CHECK_THROWS(a.attach_memory("nowhere", global));
+}
+
+TEST_CASE("run_until stops at the cycle asked for and can continue") {
+    auto p = make_proc("os", {{op("li", 1, 0, 0, 100)}, {op("addi", 1, 1, 0, uint32_t(-1))}, {op("bnez", 0, 1, 0, 1)},
+                              {op("halt")}});
+    uint64_t stops = 0;
+    while (p->run_until(p->cycle() + 7) == Status::Running) ++stops;
+    CHECK(p->status() == Status::Halted);
+    CHECK(p->cycle() == 1 + 200 + 1);
+    CHECK(stops == 28);
+}
