@@ -39,6 +39,8 @@ struct DisOptions {
     bool lines = true; // print .file/.loc so the line table is reproduced
 };
 // Assembly text that re-assembles (on the same machine) to a byte-identical object.
+// Throws isa::ObjectError when the object's machine fingerprint differs from `m`'s, when a word
+// does not decode, or when a bundle breaks the machine's bundle rules.
 std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const DisOptions& opts = {});
 
 } // namespace nesshi::assembler
