@@ -37,7 +37,6 @@ int main(int argc, char** argv) {
             PreparedScene p = prepare(scene, g);
             RenderOptions o;
             o.width = o.height = size;
-            o.grid = g;
             o.threads = threads;
             RenderResult r = render_native(p, o);
             const RayStats& rs = r.stats.rays;

@@ -21,7 +21,6 @@ inline constexpr float kSecondaryEpsilon = 1e-4f; // secondary and shadow rays i
 
 struct RenderOptions {
     int width = 512, height = 512;
-    int grid = 50;           // voxels per axis; 0 = automatic (auto_grid_resolution)
     int threads = 0;         // 0 = all hardware threads
     int max_depth = 5;       // SPD rule 7
     float epsilon = kSecondaryEpsilon;
@@ -62,6 +61,7 @@ struct RenderResult {
     RenderStats stats;
 };
 
+// Builds shapes and grid (grid_n voxels per axis; 0 = automatic, auto_grid_resolution).
 PreparedScene prepare(Scene scene, int grid_n);
 RenderResult render_native(const PreparedScene& prep, const RenderOptions& opt);
 
