@@ -41,7 +41,7 @@ TEST_CASE("Camera: corner rays follow the SPD conventions", "[render]") {
     CHECK(std::sqrt(dot(tl.d, tl.d)) == Approx(1).epsilon(1e-6));
 }
 
-TEST_CASE("Ray counts on the small scenes equal the brute-force tracer's", "[render]") {
+TEST_CASE("Ray counts on the small scenes equal the brute-force tracer", "[render]") {
     NESSHI_REQUIRE_SHARED();
     const int size = scaled(100) < 20 ? 24 : 64;
     for (const char* f : {"balls-s1.nff", "balls-s2.nff", "mount-s2.nff", "rings-s1.nff", "tetra-s2.nff",

@@ -28,7 +28,7 @@ double quadric_value(const Shape& s, Vec3d p) {
 
 } // namespace
 
-TEST_CASE("Sphere twin: hits lie on the sphere; opaque spheres are one-sided", "[twins]") {
+TEST_CASE("Sphere twin: hits lie on the sphere, opaque spheres are one-sided", "[twins]") {
     Scene sc = one("s 0.5 -0.25 1 0.75\n");
     ShapeSet set = build_shapes(sc);
     REQUIRE(set.shapes.size() == 1);
@@ -112,7 +112,7 @@ TEST_CASE("Cylinder and cone twins: hits on the surface within the axial range, 
     }
 }
 
-TEST_CASE("Triangle twin: hits inside, on the plane; back faces pass unless two-sided", "[twins]") {
+TEST_CASE("Triangle twin: hits inside and on the plane, back faces pass unless two-sided", "[twins]") {
     ShapeSet one_sided = build_shapes(one("p 3\n0 0 0\n2 0 0\n0 1 1\n"));
     ShapeSet two_sided = build_shapes(one("p 3\n0 0 0\n2 0 0\n0 1 1\n", 0.5));
     const Shape& s = one_sided.shapes[0];
