@@ -320,13 +320,26 @@ rt::Shape sphere_shape(std::mt19937& rng, bool two) {
     return s;
 }
 
+// A cylinder of radius 1 along z through a point near the origin, length 4 (one-sided).
+rt::Shape cylinder_shape(std::mt19937& rng) {
+    rt::Shape s = sphere_shape(rng, false);
+    s.w[5] = 0.0f;  // C: no z term
+    s.w[2] = -2.0f; // from z = -2
+    s.w[15] = 1.0f; // axis z
+    s.w[16] = 4.0f; // length
+    return s;
+}
+
 // One voxel whose list holds `count` shapes of one kind; rays aimed at the origin.
 Run run_ic(const std::string& dir, const std::string& file, const std::string& machine, int kind, int count, int rays,
            bool miss) {
     std::mt19937 rng(7);
     std::vector<rt::Shape> shapes;
     for (int i = 0; i < count; ++i)
-        shapes.push_back(kind == 0 ? tri_shape(rng, false) : kind == 1 ? sphere_shape(rng, false) : sphere_shape(rng, true));
+        shapes.push_back(kind == 0   ? tri_shape(rng, false)
+                         : kind == 1 ? sphere_shape(rng, false)
+                         : kind == 2 ? sphere_shape(rng, true)
+                                     : cylinder_shape(rng));
     std::vector<std::vector<std::uint32_t>> lists(1);
     for (int i = 0; i < count; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
     Run run(dir, file, machine);
@@ -404,10 +417,12 @@ std::vector<Row> collect(const std::string& dir) {
         // seq: the shared dispatch (next_prim) plus the kind's code with its early exits.
         const std::vector<std::string> tri = ic ? std::vector<std::string>{"tri1_A", "tri1_B"}
                                                 : std::vector<std::string>{"next_prim", "tri1", "tri_common"};
-        const std::vector<std::string> q1 = ic ? std::vector<std::string>{"quad1_A", "quad1_B"}
+        const std::vector<std::string> q1 = ic ? std::vector<std::string>{"sph1_A", "sph1_B"}
+                                               : std::vector<std::string>{"next_prim", "sph1", "quad_common", "sph_root"};
+        const std::vector<std::string> q2 = ic ? std::vector<std::string>{"sph2_A", "sph2_B"}
+                                               : std::vector<std::string>{"next_prim", "sph2", "quad_common", "sph_root", "sph_two"};
+        const std::vector<std::string> qc = ic ? std::vector<std::string>{"quad1_A", "quad1_B"}
                                                : std::vector<std::string>{"next_prim", "quad1", "quad_common"};
-        const std::vector<std::string> q2 = ic ? std::vector<std::string>{"quad2_A", "quad2_B"}
-                                               : std::vector<std::string>{"next_prim", "quad2", "quad_common", "quad_two"};
         auto tests = [&](const Run& run, const std::vector<std::string>& first) {
             return measure(run, first).entries;
         };
@@ -421,18 +436,22 @@ std::vector<Row> collect(const std::string& dir) {
         }
         {
             Run run = run_ic(dir, file, machine, 1, 40, 200, false);
-            const double n = tests(run, ic ? q1 : std::vector<std::string>{"quad1"});
+            const double n = tests(run, ic ? q1 : std::vector<std::string>{"sph1"});
             rows.push_back(make_row("quadric_hit", machine, run, q1, n, 61.0, 2.0, ic));
             rows.back().note = ic ? "one-sided sphere; branch-free: hit = miss; paper 50 + 11 load"
                                   : "one-sided sphere, two real roots; paper 50 + 11 load";
             Run run2 = run_ic(dir, file, machine, 1, 40, 200, true);
-            const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"quad1"});
+            const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"sph1"});
             rows.push_back(make_row("quadric_miss", machine, run2, q1, n2, std::nullopt, 2.0, ic));
-            rows.back().note = "discriminant < 0";
+            rows.back().note = "sphere, discriminant < 0";
             Run run3 = run_ic(dir, file, machine, 2, 40, 200, false);
-            const double n3 = tests(run3, ic ? q2 : std::vector<std::string>{"quad2"});
+            const double n3 = tests(run3, ic ? q2 : std::vector<std::string>{"sph2"});
             rows.push_back(make_row("quadric2_hit", machine, run3, q2, n3, 61.0, 2.0, ic));
-            rows.back().note = "two-sided: both roots";
+            rows.back().note = "two-sided sphere: both roots";
+            Run run4 = run_ic(dir, file, machine, 3, 40, 200, false);
+            const double n4 = tests(run4, ic ? qc : std::vector<std::string>{"quad1"});
+            rows.push_back(make_row("cylinder_hit", machine, run4, qc, n4, 61.0, 2.0, ic));
+            rows.back().note = "one-sided quadric with axial clip (cylinder)";
         }
     }
     return rows;

@@ -124,6 +124,8 @@ inline constexpr std::array kConstants = {
     Constant{"CODE_QUAD1", 8, "one-sided quadric"},
     Constant{"CODE_QUAD2", 12, "two-sided quadric"},
     Constant{"CODE_END", 16, "end of a voxel list"},
+    Constant{"CODE_SPH1", 20, "one-sided quadric without axis clip (a = 0, L = 0: spheres)"},
+    Constant{"CODE_SPH2", 24, "two-sided quadric without axis clip"},
 };
 
 constexpr std::int64_t get(std::string_view name) {

@@ -88,8 +88,17 @@ struct IcImage {
     std::uint32_t end_record = 0;
 };
 
+// A quadric whose axis and length are zero (spheres) needs no axial clip: for any finite root
+// h = a.q + s (a.d) is +-0, inside [0, 0]; for an infinite or NaN root the twin rejects it and so
+// does the kernel (the root itself fails t > tmin or t < bound). Exact, and 16 operations fewer.
+inline bool unclipped_quadric(const rt::Shape& s) {
+    return s.kind() == rt::kShapeQuadric && s.w[13] == 0.0f && s.w[14] == 0.0f && s.w[15] == 0.0f && s.w[16] == 0.0f;
+}
+
 inline std::uint32_t shape_code(const rt::Shape& s) {
     const bool quad = s.kind() == rt::kShapeQuadric;
+    if (unclipped_quadric(s))
+        return static_cast<std::uint32_t>(s.two_sided() ? abi::get("CODE_SPH2") : abi::get("CODE_SPH1"));
     return static_cast<std::uint32_t>(quad ? (s.two_sided() ? abi::get("CODE_QUAD2") : abi::get("CODE_QUAD1"))
                                            : (s.two_sided() ? abi::get("CODE_TRI2") : abi::get("CODE_TRI1")));
 }

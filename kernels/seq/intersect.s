@@ -22,13 +22,17 @@ start:
         { li r62, quad1 }
         { sw r62, IC_JUMPS_A+CODE_QUAD1(r0) }
         { li r62, quad2 }
-        { li r60, 0x7f800000 }
         { sw r62, IC_JUMPS_A+CODE_QUAD2(r0) }
         { li r62, done }
+        { sw r62, IC_JUMPS_A+CODE_END(r0) }
+        { li r62, sph1 }
+        { li r60, 0x7f800000 }
+        { sw r62, IC_JUMPS_A+CODE_SPH1(r0) }
+        { li r62, sph2 }
         { movif f21, r60 }
         { fli f23, 0.0 }
         { fli f24, 1.0 }
-        { sw r62, IC_JUMPS_A+CODE_END(r0) }
+        { sw r62, IC_JUMPS_A+CODE_SPH2(r0) }
 
 # ---- receive a VISIT ----------------------------------------------------------------------------
 next_ray:
@@ -148,9 +152,20 @@ tri_common:
 # ---- quadric, one-sided / two-sided: common part up to the discriminant -----------------------------
 quad1:
         { li r26, 0 }
+        { li r27, 0 }
         { jmp quad_common }
 quad2:
-        li r26, 1
+        { li r26, 1 }
+        { li r27, 0 }
+        { jmp quad_common }
+sph1:
+        { li r26, 0 }
+        { li r27, 1 }
+        { jmp quad_common }
+sph2:
+        { li r26, 1 }
+        { li r27, 1 }
+        { jmp quad_common }
 quad_common:
         { flw f30, REC_W+0(r10) }
         { flw f31, REC_W+4(r10) }
@@ -242,13 +257,19 @@ quad_common:
         { beqz r30, next_prim }
         { fsqrt f123, f122 }
         { fneg f124, f59 }
-        { flw f43, REC_W+52(r10) }
+        nop
         nop
         { fsub f125, f124, f123 }
         { fdiv f126, f125, f54 }
+        nop
+        nop
+        nop
+        { fadd f127, f79, f126 }
+        { bnez r27, sph_root }
+# the axial clip (cylinders, cones)
+        { flw f43, REC_W+52(r10) }
         { flw f44, REC_W+56(r10) }
         { flw f45, REC_W+60(r10) }
-        nop
         { fmul f56, f43, f4 }
         { fmul f57, f44, f5 }
         { fmul f50, f43, f81 }
@@ -260,7 +281,6 @@ quad_common:
         { fadd f61, f58, f60 }
         { fadd f55, f52, f53 }
         { fmul f62, f126, f61 }
-        { fadd f127, f79, f126 }
         { flw f46, REC_W+64(r10) }
         { fadd f63, f55, f62 }
         { bnez r26, quad_two }
@@ -296,6 +316,35 @@ quad_two:
         { fle r36, f69, f46 }
         { fsel f70, r33, f70, f21 }
         { fsel f71, r36, f71, f21 }
+        { fmin f72, f71, f70 }
+        { flt r38, f72, f10 }
+        { fle r37, f70, f71 }
+        { beqz r38, next_prim }
+        { fmov f10, f72 }
+        { mov r24, r10 }
+        { mov r25, r37 }
+        { jmp next_prim }
+
+# spheres (no axial clip, see kernels/image.hpp): the root's range only
+sph_root:
+        bnez r26, sph_two
+        { flt r31, f7, f127 }
+        { beqz r31, next_prim }
+        { flt r31, f127, f10 }
+        { beqz r31, next_prim }
+        { fmov f10, f127 }
+        { mov r24, r10 }
+        { li r25, 1 }
+        { jmp next_prim }
+sph_two:
+        { fadd f65, f124, f123 }
+        { fdiv f66, f65, f54 }
+        { flt r31, f7, f127 }
+        { fsel f70, r31, f127, f21 }
+        nop
+        { fadd f67, f79, f66 }
+        { flt r34, f7, f67 }
+        { fsel f71, r34, f67, f21 }
         { fmin f72, f71, f70 }
         { flt r38, f72, f10 }
         { fle r37, f70, f71 }

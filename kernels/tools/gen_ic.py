@@ -152,13 +152,14 @@ def tri(x, two):
     return o
 
 
-def quad(x, two):
+def quad(x, two, sphere=False):
     t = Tmp()
     m = lambda: t.f()
     o = []
     X = lambda i: w(x, i)
-    o.append('# quadric (%s-sided): general quadric form, twin operation order' % ('two' if two else 'one'))
-    for i in range(12, 17):
+    o.append('# quadric (%s-sided%s): general quadric form, twin operation order'
+             % ('two' if two else 'one', ', no axial clip' if sphere else ''))
+    for i in range(12, 13 if sphere else 17):
         o.append('flw %s, REC_W+%d(%s)' % (X(i) if i < 16 or two else CQB, 4 * i, BASE[x]))
     o.append('movif %s, %s' % (CAND_REC, BASE[x]))
     P = []
@@ -216,6 +217,19 @@ def quad(x, two):
     if two:
         n2, sb, tb = m(), m(), m()
         o += ['fadd %s, %s, %s' % (n2, nb, rr), 'fdiv %s, %s, %s' % (sb, n2, qa), 'fadd %s, %s, %s' % (tb, t0, sb)]
+    if sphere:
+        if not two:
+            o += ['flt r30, %s, %s' % (TMIN, tf), 'fsel %s, r30, %s, %s' % (CAND_T, tf, INF),
+                  'fmov %s, %s' % (CPV, ZERO), 'fmov %s, %s' % (CQA, ZERO), 'fmov %s, %s' % (CQB, ONE),
+                  'fmov %s, %s' % (CAND_FRONT, ONE)]
+        else:
+            ef, eb = m(), m()
+            o += ['flt r30, %s, %s' % (TMIN, tf), 'fsel %s, r30, %s, %s' % (ef, tf, INF),
+                  'flt r37, %s, %s' % (TMIN, tb), 'fsel %s, r37, %s, %s' % (eb, tb, INF),
+                  'fle r40, %s, %s' % (ef, eb), 'fmin %s, %s, %s' % (CAND_T, eb, ef),
+                  'fsel %s, r40, %s, %s' % (CAND_FRONT, ONE, ZERO),
+                  'fmov %s, %s' % (CPV, ZERO), 'fmov %s, %s' % (CQA, ZERO), 'fmov %s, %s' % (CQB, ONE)]
+        return o
     r, aq = dot3((X(13), X(14), X(15)), Q)
     o += r
     r, ad = dot3((X(13), X(14), X(15)), D)
@@ -263,7 +277,7 @@ def main():
     out += ['li r0, 0', 'li r60, 0x7f800000', 'li r61, 0xff800000', 'movif %s, r60' % INF, 'movif %s, r61' % NINF,
             'fli %s, 0.0' % ZERO, 'fli %s, 1.0' % ONE, 'lw r20, IC_HEADER+ICH_VOXTAB(r0)']
     for x in 'AB':
-        for code, lab in ((0, 'tri1'), (4, 'tri2'), (8, 'quad1'), (12, 'quad2')):
+        for code, lab in ((0, 'tri1'), (4, 'tri2'), (8, 'quad1'), (12, 'quad2'), (20, 'sph1'), (24, 'sph2')):
             out += ['li r62, %s_%s' % (lab, x), 'sw r62, %s+%d(r0)' % (JT[x], code)]
         out += ['li r62, done', 'sw r62, %s+16(r0)' % JT[x]]
     out += ['#pack end', '']
@@ -287,6 +301,8 @@ def main():
         out += body('tri2_' + x, x, tri(x, True))
         out += body('quad1_' + x, x, quad(x, False))
         out += body('quad2_' + x, x, quad(x, True))
+        out += body('sph1_' + x, x, quad(x, False, True))
+        out += body('sph2_' + x, x, quad(x, True, True))
     out += ['# ---- end of the list: accept the last candidate, then HIT or RETURN ----', 'done:', '#pack begin']
     out += tail()
     out += ['movfi r7, %s' % BEST_REC, 'bnez r7, hit', '#pack end',
