@@ -64,7 +64,7 @@ def assign(ops):
         for v in srcs:
             assert v in phys, (v, op)
         mapped = {v: phys[v] for v in srcs}
-        for v in set(srcs):
+        for v in dict.fromkeys(srcs):
             if last[v] == i:
                 free.append(phys.pop(v))
         if dst:
