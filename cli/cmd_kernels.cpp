@@ -395,7 +395,7 @@ std::vector<Row> collect(const std::string& dir) {
                 r.res_mii = 9, r.rec_mii = 4;
                 r.note = "branchy: 9 ops per step";
             }
-            rows.push_back(make_row("dda_init", machine, run, {"new_ray", "setup2"}, 0, 60.0, 1.0, false));
+            rows.push_back(make_row("dda_init", machine, run, {"new_ray", "fast_setup", "slow_setup", "setup2"}, 0, 60.0, 1.0, false));
         }
         // sparse grid: VISITs and RETURNs
         {

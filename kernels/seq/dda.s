@@ -11,6 +11,8 @@
 #   step_k: fmov t_in = n_k ; fadd n_k += delta_k ; add addr += step_k ; lbu occ ; beqz occ -> loop
 # (with x <= y and z < x, z < y follows, so "c1 && !c2" goes straight to step_z, exactly the
 # twin's choice). No interlocks are needed: every result is used one bundle later at the earliest.
+# Setup branches once on "some direction component is zero": the common case (fast_setup) has
+# none of the twin's inside/outside selects, which only change results for zero components.
 # The straight-line blocks (setup, VISIT, resume) are ordered by kernels/tools/pack.py, which
 # fills the 4-cycle divide latency of the setup with independent work.
 # Registers: as kernels/os/dda.s (f10-f12 the three nexts, f16-f18 deltas, r4 voxel address,
@@ -66,64 +68,51 @@ new_ray:
         { frecv f3, CH_IN }
         { frecv f4, CH_IN }
         { frecv f5, CH_IN }
-        { fdiv f60, f38, f4 }
         { frecv f6, CH_IN }
+        { feq r33, f4, f35 }
+        { feq r34, f5, f35 }
+        { feq r35, f6, f35 }
+        { or r65, r33, r34 }
+        { slli r45, r45, OS_STATE_SHIFT }
+        { or r65, r65, r35 }
+        { add r1, r17, r45 }
+        { xor r64, r3, r19 }
+        { frecv f7, CH_IN }
+        { frecv f8, CH_IN }
+        { bnez r65, slow_setup }
+# the common case: no direction component is zero, so no selects are needed
+fast_setup:
+        { fdiv f60, f38, f4 }
         { fdiv f61, f38, f5 }
         { fdiv f62, f38, f6 }
-        { fle r50, f20, f1 }
-        { fle r53, f1, f23 }
-        { fle r51, f21, f2 }
+        nop
+        nop
+        nop
         { fsub f63, f20, f1 }
         { fsub f66, f23, f1 }
-        { fle r54, f2, f24 }
-        { and r56, r50, r53 }
         { fsub f64, f21, f2 }
         { fsub f67, f24, f2 }
-        { fle r52, f22, f3 }
-        { fle r55, f3, f25 }
-        { and r57, r51, r54 }
-        { fsel f81, r56, f37, f36 }
         { fmul f69, f63, f60 }
         { fmul f72, f66, f60 }
-        { feq r33, f4, f35 }
         { fsub f65, f22, f3 }
         { fsub f68, f25, f3 }
-        { and r58, r52, r55 }
-        { fsel f82, r57, f37, f36 }
-        { fneg f84, f81 }
         { fmul f70, f64, f61 }
         { fmul f73, f67, f61 }
         { fmin f75, f69, f72 }
         { fmax f78, f69, f72 }
-        { frecv f7, CH_IN }
-        { frecv f8, CH_IN }
-        { feq r34, f5, f35 }
-        { fsel f83, r58, f37, f36 }
-        { fneg f85, f82 }
         { fmul f71, f65, f62 }
         { fmul f74, f68, f62 }
         { fmin f76, f70, f73 }
         { fmax f79, f70, f73 }
-        { fsel f75, r33, f81, f75 }
-        { fsel f78, r33, f84, f78 }
-        { feq r35, f6, f35 }
-        { fneg f86, f83 }
-        { fmin f77, f71, f74 }
-        { fmax f80, f71, f74 }
-        { fsel f76, r34, f82, f76 }
-        { fsel f79, r34, f85, f79 }
         { fmax f40, f7, f75 }
         { fmin f9, f8, f78 }
-        { fsel f77, r35, f83, f77 }
-        { fsel f80, r35, f86, f80 }
+        { fmin f77, f71, f74 }
+        { fmax f80, f71, f74 }
         { fmax f40, f40, f76 }
         { fmin f9, f9, f79 }
         { fmax f40, f40, f77 }
         { fmin f9, f9, f80 }
-        { slli r45, r45, OS_STATE_SHIFT }
         { fle r59, f40, f9 }
-        { add r1, r17, r45 }
-        { xor r64, r3, r19 }
         { beqz r59, miss }
 
 # ---- dda_setup, part 2: entry voxel, per-axis next/delta/step, state table --------------------
@@ -304,3 +293,57 @@ resume:
         { flw f7, ST_TMIN(r1) }
         { flw f8, ST_TMAX(r1) }
         { jmp loop }
+
+# ---- a direction component is zero: the twin's selects (inside ? -inf : +inf) ----------------
+slow_setup:
+        { fdiv f60, f38, f4 }
+        { fdiv f61, f38, f5 }
+        { fdiv f62, f38, f6 }
+        { fle r50, f20, f1 }
+        { fle r53, f1, f23 }
+        { fle r51, f21, f2 }
+        { fsub f63, f20, f1 }
+        { fsub f66, f23, f1 }
+        { fle r54, f2, f24 }
+        { and r56, r50, r53 }
+        { fsub f64, f21, f2 }
+        { fsub f67, f24, f2 }
+        { fle r52, f22, f3 }
+        { fle r55, f3, f25 }
+        { and r57, r51, r54 }
+        { fsel f81, r56, f37, f36 }
+        { fmul f69, f63, f60 }
+        { fmul f72, f66, f60 }
+        { fsub f65, f22, f3 }
+        { fsub f68, f25, f3 }
+        { and r58, r52, r55 }
+        { fsel f82, r57, f37, f36 }
+        { fneg f84, f81 }
+        { fmul f70, f64, f61 }
+        { fmul f73, f67, f61 }
+        { fmin f75, f69, f72 }
+        { fmax f78, f69, f72 }
+        { fsel f83, r58, f37, f36 }
+        { fneg f85, f82 }
+        { fmul f71, f65, f62 }
+        { fmul f74, f68, f62 }
+        { fmin f76, f70, f73 }
+        { fmax f79, f70, f73 }
+        { fsel f75, r33, f81, f75 }
+        { fsel f78, r33, f84, f78 }
+        { fneg f86, f83 }
+        { fmin f77, f71, f74 }
+        { fmax f80, f71, f74 }
+        { fsel f76, r34, f82, f76 }
+        { fsel f79, r34, f85, f79 }
+        { fmax f40, f7, f75 }
+        { fmin f9, f8, f78 }
+        { fsel f77, r35, f83, f77 }
+        { fsel f80, r35, f86, f80 }
+        { fmax f40, f40, f76 }
+        { fmin f9, f9, f79 }
+        { fmax f40, f40, f77 }
+        { fmin f9, f9, f80 }
+        { fle r59, f40, f9 }
+        { beqz r59, miss }
+        jmp setup2
