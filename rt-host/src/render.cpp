@@ -27,9 +27,35 @@ PreparedScene prepare(Scene scene, int grid_n) {
     PreparedScene p;
     p.scene = std::move(scene);
     p.shapes = build_shapes(p.scene);
+    if (grid_n <= 0) grid_n = choose_grid_resolution(p.scene, p.shapes).n;
     p.grid = build_grid(p.scene, p.shapes, grid_n);
     p.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return p;
+}
+
+GridChoice choose_grid_resolution(const Scene& scene, const ShapeSet& shapes) {
+    GridChoice choice;
+    double best = 0;
+    PreparedScene p;
+    p.scene = scene;
+    p.shapes = shapes;
+    RenderOptions o;
+    o.width = o.height = 64;
+    o.threads = 0;
+    for (int n : {20, 35, 50, 70, 100}) {
+        p.grid = build_grid(p.scene, p.shapes, n);
+        const RenderResult r = render_native(p, o);
+        double cost = 0;
+        for (const TraceCounters& c : r.stats.traversal)
+            cost += 11.0 * static_cast<double>(c.voxel_steps) + 40.0 * static_cast<double>(c.triangle_tests) +
+                    50.0 * static_cast<double>(c.quadric_tests);
+        choice.costs.emplace_back(n, cost);
+        if (choice.n == 0 || cost < best) {
+            best = cost;
+            choice.n = n;
+        }
+    }
+    return choice;
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #include "rt/camera.hpp"
 #include "rt/render.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 using namespace nesshi::rt;
@@ -107,4 +108,19 @@ TEST_CASE("Stats JSON carries the required keys", "[render]") {
         CHECK(j.find(key) != std::string::npos);
     CHECK(r.stats.rays.eye_rays == 81);
     CHECK(r.stats.rays.eye_rays_hit > 0);
+}
+
+TEST_CASE("Automatic grid resolution by pre-pass", "[render]") {
+    NESSHI_REQUIRE_SHARED();
+    Scene sc = load_nff_file(shared_spd("mount-s2.nff"));
+    ShapeSet set = build_shapes(sc);
+    GridChoice a = choose_grid_resolution(sc, set), b = choose_grid_resolution(sc, set);
+    REQUIRE(a.costs.size() == 5);
+    CHECK(a.n == b.n);
+    CHECK(a.costs == b.costs);
+    for (auto [n, cost] : a.costs) {
+        CHECK(cost > 0);
+        if (n != a.n) CHECK(cost >= std::find_if(a.costs.begin(), a.costs.end(), [&](auto& c) { return c.first == a.n; })->second);
+    }
+    CHECK(prepare(sc, 0).grid.stats.n[0] == a.n);
 }

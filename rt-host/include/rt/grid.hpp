@@ -54,8 +54,8 @@ struct Grid {
     MemoryFootprint footprint(std::size_t shape_count) const;
 };
 
-// Grid resolution: a fixed N per axis, or automatic (N = 0): N = clamp(round(3 * cbrt(shapes)), 4, 100),
-// i.e. about 27 voxels per primitive, the Cleary-Wyvill rule of a few primitives per non-empty voxel.
+// A quick resolution rule: N = clamp(round(3 * cbrt(shapes)), 4, 100), about 27 voxels per primitive
+// (build_grid uses it for N = 0). `nesshi render --grid auto` uses the pre-pass of render.hpp instead.
 int auto_grid_resolution(std::size_t shape_count);
 Grid build_grid(const Scene& scene, const ShapeSet& shapes, int n);
 
