@@ -105,13 +105,11 @@ next_ray:
         { flw f39, REC_W+36(r10) }
         { flw f40, REC_W+40(r10) }
         { flw f41, REC_W+44(r10) }
-        { srli r6, r2, TAG_KIND_SHIFT }
-        { andi r6, r6, TAG_KIND_MASK }
-        { addi r6, r6, -KIND_SHADOW }
+        { andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT }
         { addi r7, r7, 1 }
-        { seq r23, r6, r0 ; movif f26, r7 }
+        { addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT) ; movif f26, r7 }
         { fmin f27, f26, f8 }
-        { fsel f10, r23, f8, f27 ; jr r13 }
+        { fsel f10, r6, f27, f8 ; jr r13 }
 
 tri1_A:
         { lw r14, REC_CODE(r11) ; fmul f76, f30, f1 ; fmul f77, f31, f2 ; fmul f78, f32, f3 }

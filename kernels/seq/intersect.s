@@ -40,9 +40,7 @@ next_ray:
         { recv r3, CH_IN }
         { frecv f25, CH_IN }
         { frecv f9, CH_IN }
-        { srli r6, r2, TAG_KIND_SHIFT }
         { movfi r7, f9 }
-        { andi r6, r6, TAG_KIND_MASK }
         { addi r7, r7, 1 }
         { frecv f1, CH_IN }
         { frecv f2, CH_IN }
@@ -53,13 +51,13 @@ next_ray:
         { frecv f7, CH_IN }
         { frecv f8, CH_IN }
         { slli r5, r3, 2 }
-        { addi r6, r6, -KIND_SHADOW }
+        { andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT }
         { movif f26, r7 }
         { add r5, r5, r20 }
-        { seq r23, r6, r0 }
+        { addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT) }
         { fmin f27, f26, f8 }
         { lw r1, 0(r5) }
-        { fsel f10, r23, f8, f27 }
+        { fsel f10, r6, f27, f8 }
         { li r24, 0 }
 
 # ---- next primitive: dispatch on the record's code -----------------------------------------------

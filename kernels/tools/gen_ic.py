@@ -290,10 +290,10 @@ def main():
             'lw r14, REC_CODE(r10)', 'lw r13, IC_JUMPS_A(r14)'] + \
            ['flw %s, REC_W+%d(r10)' % (w('A', i), 4 * i) for i in range(12)] + [
             '# bound = min(next float above t_out, tmax); shadow rays: tmax (any hit counts)',
-            'srli r6, r2, TAG_KIND_SHIFT', 'andi r6, r6, TAG_KIND_MASK', 'addi r6, r6, -KIND_SHADOW',
-            'seq %s, r6, r0' % SHADOW,
+            '# r6 = 0 exactly for shadow rays: kind bits == KIND_SHADOW',
+            'andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT', 'addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT)',
             'movfi r7, %s' % TOUT, 'addi r7, r7, 1', 'movif f26, r7', 'fmin f27, f26, %s' % TMAX,
-            'fsel %s, %s, %s, f27' % (BOUND, SHADOW, TMAX),
+            'fsel %s, r6, f27, %s' % (BOUND, TMAX),
             'fmov %s, %s' % (CAND_T, INF), 'fmov %s, %s' % (BEST_REC, ZERO),
             'jr r13', '#pack end', '']
     for x in 'AB':
