@@ -159,8 +159,15 @@ bool assign_slots(const Machine& m, std::span<Instr> ops, std::span<const int> p
         owner[pinned[i]] = int(i);
         ops[i].slot = uint8_t(pinned[i]);
     }
-    // Kuhn's augmenting paths; at most 8 x 8, so this is trivially cheap.
+    // Kuhn's augmenting paths; at most 8 x 8, so this is trivially cheap. A free slot that
+    // accepts the op is taken first, so ops only move when they must (readable placements).
     std::function<bool(int, std::array<bool, kMaxSlots>&)> place = [&](int i, auto& seen) {
+        for (int s = 0; s < nslots; ++s)
+            if (owner[s] < 0 && !seen[s] && m.slots[s].accepts(ops[i].info().cls)) {
+                owner[s] = i;
+                ops[i].slot = uint8_t(s);
+                return true;
+            }
         for (int s = 0; s < nslots; ++s) {
             if (seen[s] || !m.slots[s].accepts(ops[i].info().cls)) continue;
             seen[s] = true;
