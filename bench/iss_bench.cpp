@@ -10,6 +10,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <bit>
 #include <ctime>
 #include <cstdint>
@@ -119,9 +120,15 @@ int main(int argc, char** argv) {
     auto prog = iss::load_program(r.object, m);
 
     uint32_t buf[2] = {5, 0};
-    double t0 = cpu_seconds();
-    Native n = native_mix(iterations, buf);
-    double native_s = cpu_seconds() - t0;
+    // The native loop is short: take the best of five runs so scheduler noise does not inflate it.
+    Native n{};
+    double native_s = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+        buf[1] = 0;
+        double t0 = cpu_seconds();
+        n = native_mix(iterations, buf);
+        native_s = std::min(native_s, cpu_seconds() - t0);
+    }
 
     Run fast = run_iss(prog, iss::Engine::Fast);
     Run checked = run_iss(prog, iss::Engine::Checked);

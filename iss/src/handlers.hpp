@@ -32,7 +32,10 @@ template <isa::Field F> inline uint32_t src(const Core& c, const DecodedOp& d, c
     else return c.r[d.c];
 }
 
-template <size_t O> void exec(Core& c, const DecodedOp& d) {
+// Direct: the result has latency 1 and no later operation of the bundle reads its register, so
+// it can be written in place (the load-time decoder proves this per operation). Otherwise the
+// write is queued and lands after every operation of the bundle has read its sources.
+template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
     using isa::Field;
     using isa::Kind;
     constexpr const isa::OpInfo& info = isa::kOps[O];
@@ -40,14 +43,18 @@ template <size_t O> void exec(Core& c, const DecodedOp& d) {
     const uint32_t a = src<Field::Rs1>(c, d, info);
     const uint32_t b = src<Field::Rs2>(c, d, info);
     const uint32_t cc = src<Field::Rs3>(c, d, info);
+    auto put = [&](uint32_t v) {
+        if constexpr (Direct) c.r[d.dst] = v;
+        else c.push(d, v);
+    };
     if constexpr (info.kind == Kind::Compute) {
-        c.push(d, eval(a, b, cc, d.imm));
+        put(eval(a, b, cc, d.imm));
     } else if constexpr (info.kind == Kind::Load) {
         uint32_t v;
         if (!c.load(d, eval(a, b, cc, d.imm), info.mem_bytes, v)) return;
         if constexpr (info.mem_signed && info.mem_bytes == 1) v = uint32_t(int32_t(int8_t(v)));
         if constexpr (info.mem_signed && info.mem_bytes == 2) v = uint32_t(int32_t(int16_t(v)));
-        c.push(d, v);
+        put(v);
     } else if constexpr (info.kind == Kind::Store) {
         c.store(d, eval(a, b, cc, d.imm), info.mem_bytes, b);
     } else if constexpr (info.kind == Kind::Branch) {
@@ -59,7 +66,7 @@ template <size_t O> void exec(Core& c, const DecodedOp& d) {
         c.next_pc = d.imm;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpLink) {
-        c.push(d, c.pc + 1);
+        put(c.pc + 1);
         c.next_pc = d.imm;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpReg) {
@@ -67,7 +74,7 @@ template <size_t O> void exec(Core& c, const DecodedOp& d) {
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::Recv) {
         // The engine's FIFO gate has checked that the channel exists and holds a word.
-        c.push(d, c.channels[d.imm]->pop());
+        put(c.channels[d.imm]->pop());
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
         c.channels[d.imm]->push(a, c.cycle);
@@ -79,11 +86,14 @@ template <size_t O> void exec(Core& c, const DecodedOp& d) {
     }
 }
 
-template <size_t... I> constexpr std::array<Handler, sizeof...(I)> make_table(std::index_sequence<I...>) {
-    return {&exec<I>...};
+template <bool Direct, size_t... I>
+constexpr std::array<Handler, sizeof...(I)> make_table(std::index_sequence<I...>) {
+    return {&exec<I, Direct>...};
 }
 
 inline constexpr std::array<Handler, isa::kNumOps> kHandlers =
-    make_table(std::make_index_sequence<isa::kNumOps>{});
+    make_table<false>(std::make_index_sequence<isa::kNumOps>{});
+inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers =
+    make_table<true>(std::make_index_sequence<isa::kNumOps>{});
 
 } // namespace nesshi::iss::detail

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <span>
 #include <stdexcept>
 
 namespace nesshi::iss {
@@ -222,9 +223,13 @@ template <bool Checked, bool Traced> struct EngineLoop {
             if (d.dst == kNoReg) continue;
             uint64_t t = c.cycle + d.latency;
             // Everything landing in cycle t: the ring slot, plus this bundle's latency-1 writes.
-            std::vector<RingWrite> all(c.ring[t & c.mask].w.begin(), c.ring[t & c.mask].w.begin() + c.ring[t & c.mask].n);
+            const RingSlot& slot = c.ring[t & c.mask];
+            std::array<RingWrite, kRingCap + isa::kMaxSlots> buf;
+            uint32_t n = 0;
+            for (uint32_t j = 0; j < slot.n; ++j) buf[n++] = slot.w[j];
             if (d.latency == 1)
-                for (uint32_t j = 0; j < c.nwb; ++j) all.push_back({c.wb_reg[j], c.wb_val[j], c.wb_op[j]});
+                for (uint32_t j = 0; j < c.nwb; ++j) buf[n++] = {c.wb_reg[j], c.wb_val[j], c.wb_op[j]};
+            std::span<const RingWrite> all(buf.data(), n);
             int file = d.dst / isa::kMaxRegs;
             uint32_t same_file = 0, same_reg = 0;
             for (const RingWrite& w : all) {
@@ -296,7 +301,10 @@ template <bool Checked, bool Traced> struct EngineLoop {
             if constexpr (Checked)
                 if (!check_reads(b, st)) return st;
             c.next_pc = c.pc + 1;
-            for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
+            if constexpr (Checked || Traced) // every write through the queue, so it can be inspected
+                for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn_buffered(c, *o);
+            else
+                for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
             if (c.event) [[unlikely]] {
                 if (c.event & kFault) {
                     c.event = 0;

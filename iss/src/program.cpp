@@ -35,7 +35,7 @@ uint16_t reg_index(const isa::Instr& in, const isa::OpInfo& info, isa::Field f) 
 DecodedOp decode_op(const isa::Instr& in, const isa::Machine& m, uint32_t bundle, uint32_t index) {
     const isa::OpInfo& info = in.info();
     DecodedOp d;
-    d.fn = detail::kHandlers[in.opcode];
+    d.fn = d.fn_buffered = detail::kHandlers[in.opcode];
     d.dst = reg_index(in, info, isa::Field::Rd);
     d.a = reg_index(in, info, isa::Field::Rs1);
     d.b = reg_index(in, info, isa::Field::Rs2);
@@ -100,8 +100,15 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
                 // Not an error at load (the branch may never be taken); the engine traps it.
             }
         }
-        for (uint32_t i = b.first; i < b.first + b.count; ++i)
-            if (ops_[i].dst != kNoReg && ops_[i].latency == 1) ++b.lat1_writes[ops_[i].dst / isa::kMaxRegs];
+        for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+            DecodedOp& d = ops_[i];
+            if (d.dst == kNoReg || d.latency != 1) continue;
+            ++b.lat1_writes[d.dst / isa::kMaxRegs];
+            bool read_later = false;
+            for (uint32_t j = i + 1; j < b.first + b.count; ++j)
+                read_later |= ops_[j].a == d.dst || ops_[j].b == d.dst || ops_[j].c == d.dst;
+            if (!read_later) d.fn = detail::kDirectHandlers[d.instr.opcode];
+        }
         bundles_.push_back(b);
     }
     original_ = std::move(decoded);

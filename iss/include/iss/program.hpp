@@ -28,7 +28,8 @@ inline constexpr uint16_t kNumRegs = 2 * isa::kMaxRegs;
 inline constexpr uint16_t kNoReg = kNumRegs;
 
 struct DecodedOp {
-    Handler fn = nullptr;
+    Handler fn = nullptr;              // fast engine: may write a latency-1 result in place
+    Handler fn_buffered = nullptr;     // checked/traced engines: every write goes through the queue
     uint16_t dst = kNoReg;             // destination (flat index) or kNoReg
     uint16_t a = kNoReg, b = kNoReg, c = kNoReg; // sources by field Rs1, Rs2, Rs3
     uint32_t imm = 0;
