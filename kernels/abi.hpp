@@ -1,5 +1,5 @@
 // The kernel ABI: FIFO messages, channel numbers and memory layouts shared by the assembly
-// kernels (through kernels/abi.inc, generated from kAbiConstants below) and the C++ host.
+// kernels (through kernels/abi.inc, generated from kConstants below) and the C++ host.
 //
 // Design in one paragraph. A ray travels as a *tag* word (slot, kind, depth, flags) plus only
 // the words the receiving stage needs. Everything a stage needs only for itself stays in that
@@ -15,6 +15,10 @@
 //   VISIT  OS -> IC    ch 1  12 words  tag|TAG_RETURN, voxel, t_in, t_out, o(3), d(3), tmin, tmax
 //   MISS   OS -> SC    ch 2   1 word   tag (left the grid or passed t_exit: background / light visible)
 //   HIT    IC -> SC    ch 2   6 words  tag, shape index, t, u, v, front
+// MISS and HIT carry the tag with TAG_RETURN clear. HIT: the nearest hit of the voxel with
+// tmin < t <= t_out and t < tmax, ties to the lower shape index (rt::nearest_hit's rule); shadow
+// rays: the nearest with tmin < t < tmax (any such hit kills the ray, rt::any_hit). u, v: the
+// triangle's weights of e1, e2 (0 for quadrics); front: 1 for triangles and front quadric roots.
 // The OS's input channel 0 carries NEW and RETURN messages merged in arrival order by the host.
 // Rays: o finite, tmin >= 0 finite, tmin <= tmax; each direction component is 0 or has
 // |d| >= 2^-60 (the host flushes smaller ones to zero), so no 3DDDA value is ever NaN.
