@@ -489,6 +489,23 @@ void print(const std::vector<Row>& rows) {
         fmt::print("{:<13} {:<4} {:>8.2f} {:>7} {:>6.1f} {:>6.2f} {:>6.2f} {:>7} {:>7}  {}\n", r.metric, r.machine,
                    r.cycles, paper, r.ops, r.ilp, r.utilization, res, rec, r.note);
     }
+    auto find = [&](const char* metric, const char* machine) -> const Row* {
+        for (const Row& r : rows)
+            if (r.metric == metric && r.machine == machine) return &r;
+        return nullptr;
+    };
+    const Row* step = find("dda_step", "os");
+    const Row* tri = find("triangle", "ic");
+    const Row* quad = find("quadric_hit", "ic");
+    const Row* os_all = find("whole_kernel", "os");
+    const Row* ic_all = find("whole_kernel", "ic");
+    if (step && tri && quad && os_all && ic_all) {
+        auto mark = [](bool ok) { return ok ? "met" : "NOT met"; };
+        fmt::print("\ngoals: voxel step on os <= 6: {:.2f} ({}); triangle on ic <= 20: {:.2f} ({}); quadric on ic <= 25: "
+                   "{:.2f} ({}); ILP >= 3.0: os {:.2f}, ic {:.2f} ({})\n",
+                   step->cycles, mark(step->cycles <= 6.0), tri->cycles, mark(tri->cycles <= 20.0), quad->cycles,
+                   mark(quad->cycles <= 25.0), os_all->ilp, ic_all->ilp, mark(os_all->ilp >= 3.0 && ic_all->ilp >= 3.0));
+    }
     fmt::print("\ncycles: per voxel step / ray / primitive, measured on the ISS (fast engine) from label regions;\n"
                "paper: Gwun et al. 1993 step counts (3DDDA 11 VLIW / 23 sequential, init 60, FIFO load/store 25,\n"
                "triangle 40 + 10 load, quadric 50 + 11 load); ILP = ops / cycles in the measured code; util = ILP /\n"
