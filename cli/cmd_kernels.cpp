@@ -428,7 +428,7 @@ std::vector<Row> collect(const std::string& dir) {
         // seq: the shared dispatch (next_prim) plus the kind's code with its early exits.
         const std::vector<std::string> tri = ic ? std::vector<std::string>{"tri1_A", "tri1_B"}
                                                 : std::vector<std::string>{"next_prim", "tri1", "tri_common"};
-        const std::vector<std::string> q1 = ic ? std::vector<std::string>{"sph1_A", "sph1_B"}
+        const std::vector<std::string> q1 = ic ? std::vector<std::string>{"ball1_A", "ball1_B"}
                                                : std::vector<std::string>{"next_prim", "sph1", "quad_common", "sph_root"};
         const std::vector<std::string> q2 = ic ? std::vector<std::string>{"sph2_A", "sph2_B"}
                                                : std::vector<std::string>{"next_prim", "sph2", "quad_common", "sph_root", "sph_two"};
@@ -460,7 +460,7 @@ std::vector<Row> collect(const std::string& dir) {
             Run run = run_ic(dir, file, machine, 1, 40, 200, false);
             const double n = tests(run, ic ? q1 : std::vector<std::string>{"sph1"});
             rows.push_back(make_row("quadric_hit", machine, run, q1, n, 61.0, 2.0, ic));
-            rows.back().note = ic ? "one-sided sphere; branch-free: hit = miss; paper 50 + 11 load"
+            rows.back().note = ic ? "one-sided plain sphere (CODE_BALL1); branch-free: hit = miss; paper 50 + 11 load"
                                   : "one-sided sphere, two real roots; paper 50 + 11 load";
             Run run2 = run_ic(dir, file, machine, 1, 40, 200, true);
             const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"sph1"});

@@ -130,6 +130,7 @@ inline constexpr std::array kConstants = {
     Constant{"CODE_END", 16, "end of a voxel list"},
     Constant{"CODE_SPH1", 20, "one-sided quadric without axis clip (a = 0, L = 0: spheres)"},
     Constant{"CODE_SPH2", 24, "two-sided quadric without axis clip"},
+    Constant{"CODE_BALL1", 28, "one-sided unit-matrix sphere: A=B=C=1, D..I=0, J<0, no clip"},
 };
 
 constexpr std::int64_t get(std::string_view name) {

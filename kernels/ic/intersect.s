@@ -65,6 +65,8 @@ start:
         { sw r62, IC_JUMPS_A+20(r0) }
         { li r62, sph2_A }
         { sw r62, IC_JUMPS_A+24(r0) }
+        { li r62, ball1_A }
+        { sw r62, IC_JUMPS_A+28(r0) }
         { li r62, done }
         { sw r62, IC_JUMPS_A+16(r0) }
         { li r62, tri1_B }
@@ -79,6 +81,8 @@ start:
         { sw r62, IC_JUMPS_B+20(r0) }
         { li r62, sph2_B }
         { sw r62, IC_JUMPS_B+24(r0) }
+        { li r62, ball1_B }
+        { sw r62, IC_JUMPS_B+28(r0) }
         { li r62, done }
         { sw r62, IC_JUMPS_B+16(r0) }
 
@@ -330,6 +334,34 @@ sph2_A:
         { fle r40, f102, f104 ; fmin f16, f104, f102 }
         { fsel f19, r40, f24, f23 ; jr r13 }
 
+ball1_A:
+        { lw r14, REC_CODE(r11) ; fsub f71, f1, f30 ; fsub f72, f2, f31 ; fsub f73, f3, f32 }
+        { lw r13, IC_JUMPS_B(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
+        { fadd f77, f74, f75 ; fmul f86, f4, f4 ; fmul f87, f5, f5 }
+        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fadd f78, f77, f76 ; fmul f88, f6, f6 }
+        { fle r33, f48, f49 ; flw f42, REC_W+48(r10) ; fneg f79, f78 ; fadd f89, f86, f87 }
+        { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
+        { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
+        { fmul f91, f4, f81 ; fmul f96, f81, f81 ; fmul f97, f83, f83 }
+        { fmul f92, f5, f83 ; fmul f98, f85, f85 ; fadd f99, f96, f97 }
+        { fmul f93, f6, f85 ; fadd f94, f91, f92 ; fadd f100, f99, f98 }
+        { flw f51, REC_W+4(r11) ; fadd f90, f89, f88 ; fadd f95, f94, f93 }
+        { flw f52, REC_W+8(r11) ; fadd f101, f100, f42 ; fmul f102, f95, f95 }
+        { flw f53, REC_W+12(r11) ; fmul f103, f90, f101 ; fneg f106, f95 }
+        { fsel f67, r32, f16, f21 ; flw f54, REC_W+16(r11) ; fsub f104, f102, f103 }
+        { fsel f67, r33, f67, f21 ; flw f55, REC_W+20(r11) ; fsqrt f105, f104 ; fmov f47, f23 }
+        { flt r34, f67, f10 ; flw f56, REC_W+24(r11) ; fmov f48, f23 ; fmov f49, f24 }
+        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f57, REC_W+28(r11) }
+        { flw f58, REC_W+32(r11) ; movif f20, r10 }
+        { fsel f13, r34, f17, f13 ; flw f59, REC_W+36(r11) ; fsub f107, f106, f105 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; flw f60, REC_W+40(r11) ; fdiv f108, f107, f90 }
+        { flw f61, REC_W+44(r11) ; fmov f19, f24 }
+        { lw r10, 0(r1) }
+        { addi r1, r1, 4 }
+        { fadd f109, f79, f108 }
+        { flt r30, f7, f109 }
+        { fsel f16, r30, f109, f21 ; jr r13 }
+
 tri1_B:
         { lw r14, REC_CODE(r10) ; fmul f76, f50, f1 ; fmul f77, f51, f2 ; fmul f78, f52, f3 }
         { lw r13, IC_JUMPS_A(r14) ; fmul f71, f50, f4 ; fmul f72, f51, f5 ; fadd f79, f76, f77 }
@@ -548,6 +580,34 @@ sph2_B:
         { fsel f102, r30, f97, f21 ; fsel f104, r37, f101, f21 ; addi r1, r1, 4 }
         { fle r40, f102, f104 ; fmin f16, f104, f102 }
         { fsel f19, r40, f24, f23 ; jr r13 }
+
+ball1_B:
+        { lw r14, REC_CODE(r10) ; fsub f71, f1, f50 ; fsub f72, f2, f51 ; fsub f73, f3, f52 }
+        { lw r13, IC_JUMPS_A(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
+        { fadd f77, f74, f75 ; fmul f86, f4, f4 ; fmul f87, f5, f5 }
+        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fadd f78, f77, f76 ; fmul f88, f6, f6 }
+        { fle r33, f48, f49 ; flw f62, REC_W+48(r11) ; fneg f79, f78 ; fadd f89, f86, f87 }
+        { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
+        { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
+        { fmul f91, f4, f81 ; fmul f96, f81, f81 ; fmul f97, f83, f83 }
+        { fmul f92, f5, f83 ; fmul f98, f85, f85 ; fadd f99, f96, f97 }
+        { fmul f93, f6, f85 ; fadd f94, f91, f92 ; fadd f100, f99, f98 }
+        { flw f31, REC_W+4(r10) ; fadd f90, f89, f88 ; fadd f95, f94, f93 }
+        { flw f32, REC_W+8(r10) ; fadd f101, f100, f62 ; fmul f102, f95, f95 }
+        { flw f33, REC_W+12(r10) ; fmul f103, f90, f101 ; fneg f106, f95 }
+        { fsel f67, r32, f16, f21 ; flw f34, REC_W+16(r10) ; fsub f104, f102, f103 }
+        { fsel f67, r33, f67, f21 ; flw f35, REC_W+20(r10) ; fsqrt f105, f104 ; fmov f47, f23 }
+        { flt r34, f67, f10 ; flw f36, REC_W+24(r10) ; fmov f48, f23 ; fmov f49, f24 }
+        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f37, REC_W+28(r10) }
+        { flw f38, REC_W+32(r10) ; movif f20, r11 }
+        { fsel f13, r34, f17, f13 ; flw f39, REC_W+36(r10) ; fsub f107, f106, f105 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; flw f40, REC_W+40(r10) ; fdiv f108, f107, f90 }
+        { flw f41, REC_W+44(r10) ; fmov f19, f24 }
+        { lw r11, 0(r1) }
+        { addi r1, r1, 4 }
+        { fadd f109, f79, f108 }
+        { flt r30, f7, f109 }
+        { fsel f16, r30, f109, f21 ; jr r13 }
 
 # ---- end of the list: accept the last candidate, then HIT or RETURN ----
 done:

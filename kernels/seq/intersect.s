@@ -26,13 +26,15 @@ start:
         { li r62, done }
         { sw r62, IC_JUMPS_A+CODE_END(r0) }
         { li r62, sph1 }
-        { li r60, 0x7f800000 }
         { sw r62, IC_JUMPS_A+CODE_SPH1(r0) }
         { li r62, sph2 }
+        { li r60, 0x7f800000 }
+        { sw r62, IC_JUMPS_A+CODE_SPH2(r0) }
+        { li r62, sph1 }
         { movif f21, r60 }
         { fli f23, 0.0 }
         { fli f24, 1.0 }
-        { sw r62, IC_JUMPS_A+CODE_SPH2(r0) }
+        { sw r62, IC_JUMPS_A+CODE_BALL1(r0) }
 
 # ---- receive a VISIT ----------------------------------------------------------------------------
 next_ray:

@@ -152,7 +152,7 @@ def tri(x, two):
     return o
 
 
-def quad(x, two, sphere=False):
+def quad(x, two, sphere=False, ball=False):
     t = Tmp()
     m = lambda: t.f()
     o = []
@@ -160,6 +160,8 @@ def quad(x, two, sphere=False):
     o.append('# quadric (%s-sided%s): general quadric form, twin operation order'
              % ('two' if two else 'one', ', no axial clip' if sphere else ''))
     for i in range(12, 13 if sphere else 17):
+        if ball and i != 12:
+            continue
         o.append('flw %s, REC_W+%d(%s)' % (X(i) if i < 16 or two else CQB, 4 * i, BASE[x]))
     o.append('movif %s, %s' % (CAND_REC, BASE[x]))
     P = []
@@ -186,6 +188,17 @@ def quad(x, two, sphere=False):
         o += ['fmul %s, %s, %s' % (mk, t0, D[k]), 'fadd %s, %s, %s' % (qk, P[k], mk)]
         Q.append(qk)
     A, B, C, Dh, Eh, Fh, Gh, Hh, Ih, J = (X(i) for i in range(3, 13))
+    if ball:
+        # M = I, g = 0: Md = d and Mq + g/2 = q exactly (see kernels/image.hpp, plain_sphere)
+        r, qa = dot3(D, D)
+        o += r
+        r, qb = dot3(D, Q)
+        o += r
+        r, qq = dot3(Q, Q)
+        o += r
+        qc = m()
+        o += ['fadd %s, %s, %s' % (qc, qq, J)]
+        return finish_roots(o, m, x, two, sphere, qa, qb, qc, t0, Q, X)
     rows = [(A, Dh, Fh), (Dh, B, Eh), (Fh, Eh, C)]
     MD = []
     for row in rows:
@@ -207,6 +220,17 @@ def quad(x, two, sphere=False):
     o += r
     c1, qc = m(), m()
     o += ['fadd %s, %s, %s' % (c1, qq, gq), 'fadd %s, %s, %s' % (qc, c1, J)]
+    return finish_roots(o, m, x, two, sphere, qa, qb, qc, t0, Q, X)
+
+
+def finish_roots(o, m, x, two, sphere, qa, qb, qc, t0, Q, X):
+    D = globals()['D']
+
+    def dot3(u, v):
+        c0, c1, c2, s1, s2 = m(), m(), m(), m(), m()
+        return ['fmul %s, %s, %s' % (c0, u[0], v[0]), 'fmul %s, %s, %s' % (c1, u[1], v[1]),
+                'fmul %s, %s, %s' % (c2, u[2], v[2]), 'fadd %s, %s, %s' % (s1, c0, c1),
+                'fadd %s, %s, %s' % (s2, s1, c2)], s2
     bb, ac, disc, rr, nb = m(), m(), m(), m(), m()
     o += ['fmul %s, %s, %s' % (bb, qb, qb), 'fmul %s, %s, %s' % (ac, qa, qc), 'fsub %s, %s, %s' % (disc, bb, ac),
           'fsqrt %s, %s' % (rr, disc), 'fneg %s, %s' % (nb, qb)]
@@ -277,7 +301,7 @@ def main():
     out += ['li r0, 0', 'li r60, 0x7f800000', 'li r61, 0xff800000', 'movif %s, r60' % INF, 'movif %s, r61' % NINF,
             'fli %s, 0.0' % ZERO, 'fli %s, 1.0' % ONE, 'lw r20, IC_HEADER+ICH_VOXTAB(r0)']
     for x in 'AB':
-        for code, lab in ((0, 'tri1'), (4, 'tri2'), (8, 'quad1'), (12, 'quad2'), (20, 'sph1'), (24, 'sph2')):
+        for code, lab in ((0, 'tri1'), (4, 'tri2'), (8, 'quad1'), (12, 'quad2'), (20, 'sph1'), (24, 'sph2'), (28, 'ball1')):
             out += ['li r62, %s_%s' % (lab, x), 'sw r62, %s+%d(r0)' % (JT[x], code)]
         out += ['li r62, done', 'sw r62, %s+16(r0)' % JT[x]]
     out += ['#pack end', '']
@@ -303,6 +327,7 @@ def main():
         out += body('quad2_' + x, x, quad(x, True))
         out += body('sph1_' + x, x, quad(x, False, True))
         out += body('sph2_' + x, x, quad(x, True, True))
+        out += body('ball1_' + x, x, quad(x, False, True, True))
     out += ['# ---- end of the list: accept the last candidate, then HIT or RETURN ----', 'done:', '#pack begin']
     out += tail()
     out += ['movfi r7, %s' % BEST_REC, 'bnez r7, hit', '#pack end',
