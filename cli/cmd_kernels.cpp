@@ -429,11 +429,11 @@ std::vector<Row> collect(const std::string& dir) {
         const std::vector<std::string> tri = ic ? std::vector<std::string>{"tri1_A", "tri1_B"}
                                                 : std::vector<std::string>{"next_prim", "tri1", "tri_common"};
         const std::vector<std::string> q1 = ic ? std::vector<std::string>{"ball1_A", "ball1_B"}
-                                               : std::vector<std::string>{"next_prim", "sph1", "quad_common", "sph_root"};
+                                               : std::vector<std::string>{"next_prim", "ball1", "quad_roots", "sph_root"};
         const std::vector<std::string> q2 = ic ? std::vector<std::string>{"sph2_A", "sph2_B"}
-                                               : std::vector<std::string>{"next_prim", "sph2", "quad_common", "sph_root", "sph_two"};
+                                               : std::vector<std::string>{"next_prim", "sph2", "quad_common", "quad_roots", "sph_root", "sph_two"};
         const std::vector<std::string> qc = ic ? std::vector<std::string>{"quad1_A", "quad1_B"}
-                                               : std::vector<std::string>{"next_prim", "quad1", "quad_common"};
+                                               : std::vector<std::string>{"next_prim", "quad1", "quad_common", "quad_roots"};
         auto tests = [&](const Run& run, const std::vector<std::string>& first) {
             return measure(run, first).entries;
         };
@@ -458,12 +458,12 @@ std::vector<Row> collect(const std::string& dir) {
         }
         {
             Run run = run_ic(dir, file, machine, 1, 40, 200, false);
-            const double n = tests(run, ic ? q1 : std::vector<std::string>{"sph1"});
+            const double n = tests(run, ic ? q1 : std::vector<std::string>{"ball1"});
             rows.push_back(make_row("quadric_hit", machine, run, q1, n, 61.0, 2.0, ic));
             rows.back().note = ic ? "one-sided plain sphere (CODE_BALL1); branch-free: hit = miss; paper 50 + 11 load"
-                                  : "one-sided sphere, two real roots; paper 50 + 11 load";
+                                  : "one-sided plain sphere, two real roots; paper 50 + 11 load";
             Run run2 = run_ic(dir, file, machine, 1, 40, 200, true);
-            const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"sph1"});
+            const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"ball1"});
             rows.push_back(make_row("quadric_miss", machine, run2, q1, n2, std::nullopt, 2.0, ic));
             rows.back().note = "sphere, discriminant < 0";
             Run run3 = run_ic(dir, file, machine, 2, 40, 200, false);

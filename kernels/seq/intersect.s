@@ -30,7 +30,7 @@ start:
         { li r62, sph2 }
         { li r60, 0x7f800000 }
         { sw r62, IC_JUMPS_A+CODE_SPH2(r0) }
-        { li r62, sph1 }
+        { li r62, ball1 }
         { movif f21, r60 }
         { fli f23, 0.0 }
         { fli f24, 1.0 }
@@ -255,6 +255,7 @@ quad_common:
         { fsub f122, f120, f121 }
         { fle r30, f23, f122 }
         { beqz r30, next_prim }
+quad_roots:
         { fsqrt f123, f122 }
         { fneg f124, f59 }
         nop
@@ -353,6 +354,52 @@ sph_two:
         { mov r24, r10 }
         { mov r25, r37 }
         { jmp next_prim }
+
+# plain sphere (M = I, g = 0, one-sided; exact, see kernels/image.hpp): no matrix products
+ball1:
+        { flw f30, REC_W+0(r10) }
+        { flw f31, REC_W+4(r10) }
+        { flw f32, REC_W+8(r10) }
+        { fsub f71, f1, f30 }
+        { fsub f72, f2, f31 }
+        { fsub f73, f3, f32 }
+        { fmul f74, f71, f4 }
+        { fmul f75, f72, f5 }
+        { fadd f77, f74, f75 }
+        { fmul f76, f73, f6 }
+        { fadd f78, f77, f76 }
+        { fneg f79, f78 }
+        { fmul f80, f79, f4 }
+        { fmul f82, f79, f5 }
+        { fadd f81, f71, f80 }
+        { fadd f83, f72, f82 }
+        { fmul f84, f79, f6 }
+        { fadd f85, f73, f84 }
+        { fmul f60, f81, f81 }
+        { fmul f61, f83, f83 }
+        { fmul f50, f4, f4 }
+        { fmul f51, f5, f5 }
+        { fmul f55, f4, f81 }
+        { fmul f56, f5, f83 }
+        { fadd f62, f60, f61 }
+        { fmul f63, f85, f85 }
+        { flw f42, REC_W+48(r10) }
+        { fadd f52, f50, f51 }
+        { fmul f53, f6, f6 }
+        { fadd f57, f55, f56 }
+        { fmul f58, f6, f85 }
+        { fadd f64, f62, f63 }
+        { fadd f54, f52, f53 }
+        { fadd f59, f57, f58 }
+        { fadd f119, f64, f42 }
+        { fmul f120, f59, f59 }
+        { fmul f121, f54, f119 }
+        { fsub f122, f120, f121 }
+        { fle r30, f23, f122 }
+        { li r26, 0 }
+        { li r27, 1 }
+        { beqz r30, next_prim }
+        jmp quad_roots
 
 # ---- end of the list: HIT or RETURN ---------------------------------------------------------------
 done:
