@@ -93,7 +93,7 @@ next_ray:
         { iu0: add r5, r5, r20 ; fpu0: frecv f2, CH_IN ; fpu1: frecv f3, CH_IN ; fpu2: movfi r7, f9 }
         { iu0: lw r1, 0(r5) ; fpu0: frecv f4, CH_IN ; fpu1: frecv f5, CH_IN ; fpu2: frecv f6, CH_IN }
         { iu0: lw r10, 0(r1) ; fpu0: frecv f7, CH_IN ; fpu1: frecv f8, CH_IN }
-        { lw r11, 4(r1) }
+        { lw r11, 4(r1) ; movfi r8, f7 }
         { addi r1, r1, 8 }
         { lw r14, REC_CODE(r10) }
         { lw r13, IC_JUMPS_A(r14) }
@@ -110,9 +110,10 @@ next_ray:
         { flw f40, REC_W+40(r10) }
         { flw f41, REC_W+44(r10) }
         { andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT }
+        { addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT) }
         { addi r7, r7, 1 }
-        { addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT) ; movif f26, r7 }
-        { fmin f27, f26, f8 }
+        { movif f26, r7 ; addi r8, r8, 1 }
+        { fmin f27, f26, f8 ; movif f28, r8 }
         { fsel f10, r6, f27, f8 ; jr r13 }
 
 tri1_A:
@@ -267,30 +268,28 @@ sph1_A:
         { fmul f93, f37, f6 ; fadd f112, f111, f40 ; fadd f117, f116, f115 }
         { fadd f94, f91, f92 ; fmul f96, f38, f4 ; fmul f97, f37, f5 }
         { fadd f118, f117, f41 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
-        { fadd f90, f89, f88 ; fmul f80, f39, f81 ; fmul f72, f40, f83 }
-        { fadd f95, f94, f93 ; fmul f98, f35, f6 ; fadd f99, f96, f97 }
-        { fmul f76, f85, f118 ; fadd f78, f75, f77 ; fmul f82, f41, f85 }
-        { fadd f100, f99, f98 ; fmul f119, f4, f90 ; fadd f73, f80, f72 }
-        { fmul f120, f5, f95 ; fmul f124, f4, f106 ; fmul f125, f5, f112 }
-        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
-        { fle r33, f48, f49 ; flw f42, REC_W+48(r10) ; fmul f121, f6, f100 ; fadd f122, f119, f120 }
-        { fmul f126, f6, f118 ; fadd f127, f124, f125 ; fadd f86, f71, f84 }
-        { flw f51, REC_W+4(r11) ; fadd f123, f122, f121 ; fadd f74, f127, f126 }
-        { flw f52, REC_W+8(r11) ; fadd f87, f86, f42 ; fmul f89, f74, f74 }
-        { flw f53, REC_W+12(r11) ; fmul f88, f123, f87 ; fneg f94, f74 }
-        { fsel f67, r32, f16, f21 ; flw f54, REC_W+16(r11) ; fsub f91, f89, f88 }
-        { fsel f67, r33, f67, f21 ; flw f55, REC_W+20(r11) ; fsqrt f92, f91 ; fmov f47, f23 }
-        { flt r34, f67, f10 ; flw f56, REC_W+24(r11) ; fmov f48, f23 ; fmov f49, f24 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) ; movif f20, r10 }
-        { fsel f13, r34, f17, f13 ; flw f59, REC_W+36(r11) ; fsub f93, f94, f92 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; flw f60, REC_W+40(r11) ; fdiv f96, f93, f123 }
-        { flw f61, REC_W+44(r11) ; fmov f19, f24 }
-        { lw r10, 0(r1) }
+        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fmul f80, f39, f81 ; fmul f72, f40, f83 }
+        { fadd f90, f89, f88 ; fadd f95, f94, f93 ; fmul f98, f35, f6 }
+        { fadd f99, f96, f97 ; fmul f76, f85, f118 ; fadd f78, f75, f77 }
+        { fle r33, f48, f49 ; flw f51, REC_W+4(r11) ; fmul f82, f41, f85 ; fadd f73, f80, f72 }
+        { fadd f100, f99, f98 ; fmul f119, f4, f90 ; fmul f120, f5, f95 }
+        { fmul f124, f4, f106 ; fmul f125, f5, f112 ; fadd f71, f78, f76 }
+        { flw f52, REC_W+8(r11) ; fmul f121, f6, f100 ; fadd f84, f73, f82 }
+        { flw f42, REC_W+48(r10) ; fadd f122, f119, f120 ; fmul f126, f6, f118 }
+        { flw f53, REC_W+12(r11) ; fadd f127, f124, f125 ; fadd f86, f71, f84 }
+        { fadd f123, f122, f121 ; fadd f74, f127, f126 ; fadd f87, f86, f42 }
+        { flw f54, REC_W+16(r11) ; fmul f89, f74, f74 ; fmul f88, f123, f87 }
+        { flw f55, REC_W+20(r11) ; fsub f91, f89, f88 ; fneg f94, f74 }
+        { fsel f67, r32, f16, f21 ; flw f56, REC_W+24(r11) ; fsqrt f92, f91 ; fmov f47, f23 }
+        { fsel f67, r33, f67, f21 ; flw f57, REC_W+28(r11) ; fmov f48, f28 }
+        { flt r34, f67, f10 ; flw f58, REC_W+32(r11) }
+        { fsel f12, r34, f20, f12 ; flw f59, REC_W+36(r11) }
+        { flw f60, REC_W+40(r11) ; movif f20, r10 ; fsub f93, f94, f92 }
+        { fsel f10, r34, f67, f10 ; fsel f13, r34, f17, f13 ; flw f61, REC_W+44(r11) ; fdiv f96, f93, f123 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; fmov f19, f24 ; lw r10, 0(r1) }
         { addi r1, r1, 4 }
-        { fadd f97, f79, f96 }
-        { flt r30, f7, f97 }
-        { fsel f16, r30, f97, f21 ; jr r13 }
+        nop
+        { fadd f16, f79, f96 ; fadd f49, f79, f96 ; jr r13 }
 
 sph2_A:
         { lw r14, REC_CODE(r11) ; fsub f71, f1, f30 ; fsub f72, f2, f31 ; fsub f73, f3, f32 }
@@ -337,30 +336,28 @@ sph2_A:
 ball1_A:
         { lw r14, REC_CODE(r11) ; fsub f71, f1, f30 ; fsub f72, f2, f31 ; fsub f73, f3, f32 }
         { lw r13, IC_JUMPS_B(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
-        { fadd f77, f74, f75 ; fmul f86, f4, f4 ; fmul f87, f5, f5 }
-        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fadd f78, f77, f76 ; fmul f88, f6, f6 }
-        { fle r33, f48, f49 ; flw f42, REC_W+48(r10) ; fneg f79, f78 ; fadd f89, f86, f87 }
+        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fadd f77, f74, f75 ; fmul f86, f4, f4 }
+        { fle r33, f48, f49 ; flw f51, REC_W+4(r11) ; fadd f78, f77, f76 ; fmul f87, f5, f5 }
+        { flw f52, REC_W+8(r11) ; fneg f79, f78 ; fmul f88, f6, f6 }
         { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
         { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
         { fmul f91, f4, f81 ; fmul f96, f81, f81 ; fmul f97, f83, f83 }
         { fmul f92, f5, f83 ; fmul f98, f85, f85 ; fadd f99, f96, f97 }
-        { fmul f93, f6, f85 ; fadd f94, f91, f92 ; fadd f100, f99, f98 }
-        { flw f51, REC_W+4(r11) ; fadd f90, f89, f88 ; fadd f95, f94, f93 }
-        { flw f52, REC_W+8(r11) ; fadd f101, f100, f42 ; fmul f102, f95, f95 }
-        { flw f53, REC_W+12(r11) ; fmul f103, f90, f101 ; fneg f106, f95 }
-        { fsel f67, r32, f16, f21 ; flw f54, REC_W+16(r11) ; fsub f104, f102, f103 }
-        { fsel f67, r33, f67, f21 ; flw f55, REC_W+20(r11) ; fsqrt f105, f104 ; fmov f47, f23 }
-        { flt r34, f67, f10 ; flw f56, REC_W+24(r11) ; fmov f48, f23 ; fmov f49, f24 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) ; movif f20, r10 }
-        { fsel f13, r34, f17, f13 ; flw f59, REC_W+36(r11) ; fsub f107, f106, f105 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; flw f60, REC_W+40(r11) ; fdiv f108, f107, f90 }
-        { flw f61, REC_W+44(r11) ; fmov f19, f24 }
-        { lw r10, 0(r1) }
+        { flw f42, REC_W+48(r10) ; fadd f89, f86, f87 ; fmul f93, f6, f85 }
+        { flw f53, REC_W+12(r11) ; fadd f94, f91, f92 ; fadd f100, f99, f98 }
+        { fadd f90, f89, f88 ; fadd f95, f94, f93 ; fadd f101, f100, f42 }
+        { flw f54, REC_W+16(r11) ; fmul f102, f95, f95 ; fmul f103, f90, f101 }
+        { flw f55, REC_W+20(r11) ; fsub f104, f102, f103 ; fneg f106, f95 }
+        { fsel f67, r32, f16, f21 ; flw f56, REC_W+24(r11) ; fsqrt f105, f104 ; fmov f47, f23 }
+        { fsel f67, r33, f67, f21 ; flw f57, REC_W+28(r11) ; fmov f48, f28 }
+        { flt r34, f67, f10 ; flw f58, REC_W+32(r11) }
+        { fsel f12, r34, f20, f12 ; flw f59, REC_W+36(r11) }
+        { flw f60, REC_W+40(r11) ; movif f20, r10 ; fsub f107, f106, f105 }
+        { fsel f10, r34, f67, f10 ; fsel f13, r34, f17, f13 ; flw f61, REC_W+44(r11) ; fdiv f108, f107, f90 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; fmov f19, f24 ; lw r10, 0(r1) }
         { addi r1, r1, 4 }
-        { fadd f109, f79, f108 }
-        { flt r30, f7, f109 }
-        { fsel f16, r30, f109, f21 ; jr r13 }
+        nop
+        { fadd f16, f79, f108 ; fadd f49, f79, f108 ; jr r13 }
 
 tri1_B:
         { lw r14, REC_CODE(r10) ; fmul f76, f50, f1 ; fmul f77, f51, f2 ; fmul f78, f52, f3 }
@@ -514,30 +511,28 @@ sph1_B:
         { fmul f93, f57, f6 ; fadd f112, f111, f60 ; fadd f117, f116, f115 }
         { fadd f94, f91, f92 ; fmul f96, f58, f4 ; fmul f97, f57, f5 }
         { fadd f118, f117, f61 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
-        { fadd f90, f89, f88 ; fmul f80, f59, f81 ; fmul f72, f60, f83 }
-        { fadd f95, f94, f93 ; fmul f98, f55, f6 ; fadd f99, f96, f97 }
-        { fmul f76, f85, f118 ; fadd f78, f75, f77 ; fmul f82, f61, f85 }
-        { fadd f100, f99, f98 ; fmul f119, f4, f90 ; fadd f73, f80, f72 }
-        { fmul f120, f5, f95 ; fmul f124, f4, f106 ; fmul f125, f5, f112 }
-        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
-        { fle r33, f48, f49 ; flw f62, REC_W+48(r11) ; fmul f121, f6, f100 ; fadd f122, f119, f120 }
-        { fmul f126, f6, f118 ; fadd f127, f124, f125 ; fadd f86, f71, f84 }
-        { flw f31, REC_W+4(r10) ; fadd f123, f122, f121 ; fadd f74, f127, f126 }
-        { flw f32, REC_W+8(r10) ; fadd f87, f86, f62 ; fmul f89, f74, f74 }
-        { flw f33, REC_W+12(r10) ; fmul f88, f123, f87 ; fneg f94, f74 }
-        { fsel f67, r32, f16, f21 ; flw f34, REC_W+16(r10) ; fsub f91, f89, f88 }
-        { fsel f67, r33, f67, f21 ; flw f35, REC_W+20(r10) ; fsqrt f92, f91 ; fmov f47, f23 }
-        { flt r34, f67, f10 ; flw f36, REC_W+24(r10) ; fmov f48, f23 ; fmov f49, f24 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) ; movif f20, r11 }
-        { fsel f13, r34, f17, f13 ; flw f39, REC_W+36(r10) ; fsub f93, f94, f92 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; flw f40, REC_W+40(r10) ; fdiv f96, f93, f123 }
-        { flw f41, REC_W+44(r10) ; fmov f19, f24 }
-        { lw r11, 0(r1) }
+        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fmul f80, f59, f81 ; fmul f72, f60, f83 }
+        { fadd f90, f89, f88 ; fadd f95, f94, f93 ; fmul f98, f55, f6 }
+        { fadd f99, f96, f97 ; fmul f76, f85, f118 ; fadd f78, f75, f77 }
+        { fle r33, f48, f49 ; flw f31, REC_W+4(r10) ; fmul f82, f61, f85 ; fadd f73, f80, f72 }
+        { fadd f100, f99, f98 ; fmul f119, f4, f90 ; fmul f120, f5, f95 }
+        { fmul f124, f4, f106 ; fmul f125, f5, f112 ; fadd f71, f78, f76 }
+        { flw f32, REC_W+8(r10) ; fmul f121, f6, f100 ; fadd f84, f73, f82 }
+        { flw f62, REC_W+48(r11) ; fadd f122, f119, f120 ; fmul f126, f6, f118 }
+        { flw f33, REC_W+12(r10) ; fadd f127, f124, f125 ; fadd f86, f71, f84 }
+        { fadd f123, f122, f121 ; fadd f74, f127, f126 ; fadd f87, f86, f62 }
+        { flw f34, REC_W+16(r10) ; fmul f89, f74, f74 ; fmul f88, f123, f87 }
+        { flw f35, REC_W+20(r10) ; fsub f91, f89, f88 ; fneg f94, f74 }
+        { fsel f67, r32, f16, f21 ; flw f36, REC_W+24(r10) ; fsqrt f92, f91 ; fmov f47, f23 }
+        { fsel f67, r33, f67, f21 ; flw f37, REC_W+28(r10) ; fmov f48, f28 }
+        { flt r34, f67, f10 ; flw f38, REC_W+32(r10) }
+        { fsel f12, r34, f20, f12 ; flw f39, REC_W+36(r10) }
+        { flw f40, REC_W+40(r10) ; movif f20, r11 ; fsub f93, f94, f92 }
+        { fsel f10, r34, f67, f10 ; fsel f13, r34, f17, f13 ; flw f41, REC_W+44(r10) ; fdiv f96, f93, f123 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; fmov f19, f24 ; lw r11, 0(r1) }
         { addi r1, r1, 4 }
-        { fadd f97, f79, f96 }
-        { flt r30, f7, f97 }
-        { fsel f16, r30, f97, f21 ; jr r13 }
+        nop
+        { fadd f16, f79, f96 ; fadd f49, f79, f96 ; jr r13 }
 
 sph2_B:
         { lw r14, REC_CODE(r10) ; fsub f71, f1, f50 ; fsub f72, f2, f51 ; fsub f73, f3, f52 }
@@ -584,30 +579,28 @@ sph2_B:
 ball1_B:
         { lw r14, REC_CODE(r10) ; fsub f71, f1, f50 ; fsub f72, f2, f51 ; fsub f73, f3, f52 }
         { lw r13, IC_JUMPS_A(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
-        { fadd f77, f74, f75 ; fmul f86, f4, f4 ; fmul f87, f5, f5 }
-        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fadd f78, f77, f76 ; fmul f88, f6, f6 }
-        { fle r33, f48, f49 ; flw f62, REC_W+48(r11) ; fneg f79, f78 ; fadd f89, f86, f87 }
+        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fadd f77, f74, f75 ; fmul f86, f4, f4 }
+        { fle r33, f48, f49 ; flw f31, REC_W+4(r10) ; fadd f78, f77, f76 ; fmul f87, f5, f5 }
+        { flw f32, REC_W+8(r10) ; fneg f79, f78 ; fmul f88, f6, f6 }
         { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
         { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
         { fmul f91, f4, f81 ; fmul f96, f81, f81 ; fmul f97, f83, f83 }
         { fmul f92, f5, f83 ; fmul f98, f85, f85 ; fadd f99, f96, f97 }
-        { fmul f93, f6, f85 ; fadd f94, f91, f92 ; fadd f100, f99, f98 }
-        { flw f31, REC_W+4(r10) ; fadd f90, f89, f88 ; fadd f95, f94, f93 }
-        { flw f32, REC_W+8(r10) ; fadd f101, f100, f62 ; fmul f102, f95, f95 }
-        { flw f33, REC_W+12(r10) ; fmul f103, f90, f101 ; fneg f106, f95 }
-        { fsel f67, r32, f16, f21 ; flw f34, REC_W+16(r10) ; fsub f104, f102, f103 }
-        { fsel f67, r33, f67, f21 ; flw f35, REC_W+20(r10) ; fsqrt f105, f104 ; fmov f47, f23 }
-        { flt r34, f67, f10 ; flw f36, REC_W+24(r10) ; fmov f48, f23 ; fmov f49, f24 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) ; movif f20, r11 }
-        { fsel f13, r34, f17, f13 ; flw f39, REC_W+36(r10) ; fsub f107, f106, f105 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; flw f40, REC_W+40(r10) ; fdiv f108, f107, f90 }
-        { flw f41, REC_W+44(r10) ; fmov f19, f24 }
-        { lw r11, 0(r1) }
+        { flw f62, REC_W+48(r11) ; fadd f89, f86, f87 ; fmul f93, f6, f85 }
+        { flw f33, REC_W+12(r10) ; fadd f94, f91, f92 ; fadd f100, f99, f98 }
+        { fadd f90, f89, f88 ; fadd f95, f94, f93 ; fadd f101, f100, f62 }
+        { flw f34, REC_W+16(r10) ; fmul f102, f95, f95 ; fmul f103, f90, f101 }
+        { flw f35, REC_W+20(r10) ; fsub f104, f102, f103 ; fneg f106, f95 }
+        { fsel f67, r32, f16, f21 ; flw f36, REC_W+24(r10) ; fsqrt f105, f104 ; fmov f47, f23 }
+        { fsel f67, r33, f67, f21 ; flw f37, REC_W+28(r10) ; fmov f48, f28 }
+        { flt r34, f67, f10 ; flw f38, REC_W+32(r10) }
+        { fsel f12, r34, f20, f12 ; flw f39, REC_W+36(r10) }
+        { flw f40, REC_W+40(r10) ; movif f20, r11 ; fsub f107, f106, f105 }
+        { fsel f10, r34, f67, f10 ; fsel f13, r34, f17, f13 ; flw f41, REC_W+44(r10) ; fdiv f108, f107, f90 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; fmov f19, f24 ; lw r11, 0(r1) }
         { addi r1, r1, 4 }
-        { fadd f109, f79, f108 }
-        { flt r30, f7, f109 }
-        { fsel f16, r30, f109, f21 ; jr r13 }
+        nop
+        { fadd f16, f79, f108 ; fadd f49, f79, f108 ; jr r13 }
 
 # ---- end of the list: accept the last candidate, then HIT or RETURN ----
 done:

@@ -23,6 +23,7 @@ TMIN, TMAX, TOUT = 'f7', 'f8', 'f9'
 BOUND, BEST_T, BEST_REC, BEST_U, BEST_V, BEST_FRONT = 'f10', 'f11', 'f12', 'f13', 'f14', 'f15'
 CAND_T, CAND_U, CAND_V, CAND_FRONT, CAND_REC = 'f16', 'f17', 'f18', 'f19', 'f20'
 INF, NINF, ZERO, ONE = 'f21', 'f22', 'f23', 'f24'
+TMINUP = 'f28'  # the float just above tmin (tmin >= 0): t > tmin <=> tmin_up <= t
 CP, CQ = 'r32', 'r33'   # candidate flags, computed and applied by the tail
 CPV, CQA, CQB = 'f47', 'f48', 'f49'  # the head's values for them: 0 <= CPV, CQA <= CQB
 SHADOW = 'r23'
@@ -237,6 +238,12 @@ def finish_roots(o, m, x, two, sphere, qa, qb, qc, t0, Q, X):
     n1, sf = m(), m()
     o += ['fsub %s, %s, %s' % (n1, nb, rr), 'fdiv %s, %s, %s' % (sf, n1, qa)]
     tf = m()
+    if sphere and not two:
+        # the root goes straight to the candidate; its range test t > tmin becomes the tail's
+        # non-strict CQA <= CQB as tmin_up <= t (tmin_up = the float above tmin, made per ray)
+        o += ['fadd %s, %s, %s' % (CAND_T, t0, sf), 'fadd %s, %s, %s' % (CQB, t0, sf),
+              'fmov %s, %s' % (CPV, ZERO), 'fmov %s, %s' % (CQA, TMINUP), 'fmov %s, %s' % (CAND_FRONT, ONE)]
+        return o
     o += ['fadd %s, %s, %s' % (tf, t0, sf)]
     if two:
         n2, sb, tb = m(), m(), m()
@@ -317,6 +324,7 @@ def main():
             '# r6 = 0 exactly for shadow rays: kind bits == KIND_SHADOW',
             'andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT', 'addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT)',
             'movfi r7, %s' % TOUT, 'addi r7, r7, 1', 'movif f26, r7', 'fmin f27, f26, %s' % TMAX,
+            'movfi r8, %s' % TMIN, 'addi r8, r8, 1', 'movif %s, r8' % TMINUP,
             'fsel %s, r6, f27, %s' % (BOUND, TMAX),
             'fmov %s, %s' % (CAND_T, INF), 'fmov %s, %s' % (BEST_REC, ZERO),
             'jr r13', '#pack end', '']
