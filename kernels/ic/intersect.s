@@ -33,18 +33,24 @@
 #   ResMII = 18.7 (FPRF write ports), RecMII = 2 (bound -> flt -> fsel -> bound).
 # The remaining 1.3 cycles: the head's dependence chain (dn, on -> fneg -> fdiv (4) -> p -> a, b
 # -> a + b) is about 17 cycles long and cannot start before the body does.
-# Quadric bodies: quad1/quad2 (with the axial clip: cylinders, cones) 41/47 bundles, sph1/sph2
-# (axis and length zero: spheres, CODE_SPH*; the clip is then exactly a no-op, kernels/image.hpp)
-# 39/40. The twin's general form costs about 46 fmul + 44 fadd + sqrt + 2 fdiv: the FPRF write
-# ports bound them (ResMII 39.3 clipped, 34.7 sphere) and the sphere body's remaining gap is its
-# latency chain (p -> t0 -> q -> Mq -> c -> disc -> sqrt (4) -> fdiv (4) -> t, about 31 cycles).
+# Quadric bodies (the twin's general form: about 46 fmul + 44 fadd + sqrt + 2 fdiv):
+#   quad1 / quad2   41 / 47 bundles   with the axial clip (cylinders, cones); ResMII 39.3 (FPRF writes)
+#   sph1 / sph2     37 / 40           axis and length zero (CODE_SPH*): the clip is exactly a no-op
+#   ball1           24                one-sided, M = I, g = 0, J < 0 (CODE_BALL1, plain spheres): the
+#                                     products by 1 and sums with +-0 are exact, so M d = d and
+#                                     M q + g/2 = q (kernels/image.hpp argues the signs of zeros);
+#                                     ResMII 21.3; the rest is the chain p -> t0 -> q -> b, c ->
+#                                     disc -> sqrt (4) -> fdiv (4) -> t.
+# One-sided unclipped bodies end with the root itself: its test t > tmin is left to the next
+# body's tail as the non-strict tmin_up <= t (tmin_up = the float above tmin, made per ray; exact
+# for tmin >= 0), which takes two operations off the end of the chain.
 #
 # Register allocation
 #   r1 list pointer (entry m+2)  r2 tag  r3 voxel  r10 r11 record base A/B  r13 jump target  r14 code
 #   r20 voxel table  r23 shadow flag  r30 r31 head flags  r32 r33 tail flags  r34 accept flag
 #   f1-f3 o  f4-f6 d  f7 tmin  f8 tmax  f9 t_out  f10 bound = best t  f12 best record (bits)
 #   f13 f14 best u, v  f15 best front  f16-f20 candidate t, u, v, front, record  f21 +inf f22 -inf
-#   f23 0  f24 1  f30-f46 payload buffer A  f50-f66 buffer B  f47-f49 range-test values
+#   f23 0  f24 1  f28 tmin_up  f30-f46 payload buffer A  f50-f66 buffer B  f47-f49 range-test values
 #   f67 masked candidate  f71-f127 head temporaries (allocated by gen_ic.py by linear scan)
                 .include "../abi.inc"
                 .text
