@@ -7,8 +7,7 @@
 
 namespace nesshi::iss {
 
-PagedMemory::PagedMemory(uint32_t size)
-    : size_(size), pages_((uint64_t{size} + kPageSize - 1) >> kPageBits) {}
+PagedMemory::PagedMemory(uint32_t size) : size_(size) {}
 
 void PagedMemory::write_bytes(uint32_t off, std::span<const uint8_t> bytes) {
     for (size_t i = 0; i < bytes.size(); ++i) write(uint32_t(off + i), 1, bytes[i]);

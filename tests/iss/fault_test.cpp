@@ -12,13 +12,19 @@ namespace {
 // The dynamic port conflict on a taken path (tests/iss/programs/port_conflict_branch.s): the
 // fdiv issued in cycle 1 lands in cycle 5 with the two float writes of `target` (cycle 4).
 std::vector<Bundle> port_conflict_program() {
-    return {{op("fli", 2, 0, 0, 0x40c00000u), op("fli", 3, 0, 0, 0x40000000u), op("li", 5, 0, 0, 5)},
-            {op("fdiv", 9, 2, 3)},
-            {op("nop")},
-            {op("jr", 0, 5)},
-            {op("halt")},
-            {op("fadd", 1, 2, 3), op("fmul", 4, 2, 3)},
-            {op("halt")}};
+    auto at = [](isa::Instr in, uint8_t slot) { in.slot = slot; return in; }; // os: iu0 iu1 fpu0 fpu1
+    return {{at(op("fli", 2, 0, 0, 0x40c00000u), 3), at(op("fli", 3, 0, 0, 0x40000000u), 2), at(op("li", 5, 0, 0, 5), 0)},
+            {at(op("fdiv", 9, 2, 3), 2)},
+            {at(op("nop"), 0)},
+            {at(op("jr", 0, 5), 0)},
+            {at(op("halt"), 0)},
+            {at(op("fadd", 1, 2, 3), 3), at(op("fmul", 4, 2, 3), 2)},
+            {at(op("halt"), 0)}};
+}
+
+std::unique_ptr<Processor> port_conflict_proc(Engine e) {
+    isa::Machine m = isa::load_machine("os");
+    return std::make_unique<Processor>(load_program(make_object(m, port_conflict_program(), {{"target", 5}}, {}, true), m), e);
 }
 
 const Fault& run_to_fault(Processor& p) {
@@ -29,7 +35,7 @@ const Fault& run_to_fault(Processor& p) {
 } // namespace
 
 TEST_CASE("dynamic write-port conflict on a taken path: checked engine reports, fast engine trusts") {
-    auto c = make_proc("os", port_conflict_program(), Engine::Checked, {{"target", 5}});
+    auto c = port_conflict_proc(Engine::Checked);
     const Fault& f = run_to_fault(*c);
     CHECK(f.kind == FaultKind::WritePorts);
     CHECK(f.cycle == 4);
@@ -41,13 +47,13 @@ TEST_CASE("dynamic write-port conflict on a taken path: checked engine reports, 
                     "  note: fdiv f9, f2, f3 (bundle 1, issued in cycle 1, test.s:2) writes f9 in cycle 5\n"
                     "  note: fadd f1, f2, f3 (bundle 5, issued in cycle 4, test.s:6) writes f1 in cycle 5\n"
                     "  note: fmul f4, f2, f3 (bundle 5, issued in cycle 4, test.s:6) writes f4 in cycle 5\n");
-    auto fast = make_proc("os", port_conflict_program(), Engine::Fast);
+    auto fast = port_conflict_proc(Engine::Fast);
     CHECK(fast->run() == Status::Halted);
 }
 
 TEST_CASE("the committed object of the port-conflict program is what the builder makes") {
     isa::Machine m = isa::load_machine("os");
-    isa::ObjectFile obj = make_object(m, port_conflict_program(), {{"target", 5}});
+    isa::ObjectFile obj = make_object(m, port_conflict_program(), {{"target", 5}}, {}, true);
     obj.files = {"tests/iss/programs/port_conflict_branch.s"};
     obj.lines = {{0, 9}, {0, 10}, {0, 11}, {0, 12}, {0, 13}, {0, 14}, {0, 15}};
     std::string path = std::string(NESSHI_SOURCE_DIR) + "/tests/iss/programs/port_conflict_branch.o";

@@ -46,10 +46,10 @@ inline isa::Instr op(std::string_view m, uint8_t rd = 0, uint8_t rs1 = 0, uint8_
 
 using Bundle = std::vector<isa::Instr>;
 
-// Slots are assigned automatically; labels are (name, bundle) pairs; data sections optional.
+// Slots are assigned automatically (or kept as given when `pinned`); labels are (name, bundle) pairs; data sections optional.
 inline isa::ObjectFile make_object(const isa::Machine& m, std::vector<Bundle> bundles,
                                    std::vector<std::pair<std::string, uint32_t>> labels = {},
-                                   std::vector<isa::DataSection> data = {}) {
+                                   std::vector<isa::DataSection> data = {}, bool pinned = false) {
     isa::ObjectFile obj;
     obj.machine = m.name;
     obj.machine_fingerprint = m.fingerprint();
@@ -57,6 +57,8 @@ inline isa::ObjectFile make_object(const isa::Machine& m, std::vector<Bundle> bu
     uint32_t line = 1;
     for (Bundle& b : bundles) {
         std::vector<int> pins(b.size(), -1);
+        if (pinned)
+            for (size_t i = 0; i < b.size(); ++i) pins[i] = b[i].slot;
         REQUIRE(isa::assign_slots(m, b, pins));
         for (size_t i = 0; i < b.size(); ++i) obj.code.push_back(isa::encode(b[i], i + 1 == b.size()));
         obj.lines.push_back({0, line++});

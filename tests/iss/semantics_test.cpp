@@ -119,9 +119,16 @@ TEST_CASE("every compute operation matches the reference evaluator") {
             else has_imm = true;
         }
         REQUIRE(dst != kNoReg);
+        static const isa::Machine seq = isa::load_machine("seq");
+        std::shared_ptr<const Program> prog;
+        uint32_t prog_imm = 0;
         for (const auto& v : inputs(uint32_t(code) + 1)) {
             in.imm = has_imm ? v[1] : 0;
-            auto proc = make_proc("seq", {{clean(in)}, {op("halt")}});
+            if (!prog || prog_imm != in.imm) { // one program per immediate value
+                prog = load_program(make_object(seq, {{clean(in)}, {op("halt")}}), seq);
+                prog_imm = in.imm;
+            }
+            auto proc = std::make_unique<Processor>(prog);
             for (int s = 0; s < 3; ++s)
                 if (regs[s] != kNoReg) proc->set_reg(regs[s], v[s]);
             REQUIRE(proc->run() == Status::Halted);

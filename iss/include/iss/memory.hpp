@@ -1,8 +1,8 @@
 // The memory system of one processor: the machine's regions over sparse paged storage.
 //
 // Each region (OS SRAM, IC resident memory, global memory, ...) comes from the machine
-// description. Storage is a PagedMemory: 4 KiB pages allocated on first write, so an
-// untouched 64 MiB region costs only its page table. A host shares one PagedMemory between
+// description. Storage is a PagedMemory: 4 KiB pages (and the page table itself) allocated on
+// first write, so an untouched region costs nothing. A host shares one PagedMemory between
 // processors (e.g. the IC global memory) with Processor::attach_memory; reads never allocate,
 // so concurrent readers of read-only data are safe. Out-of-range and misaligned accesses are
 // faults, never undefined behaviour. An optional CacheModel adds stall cycles per access.
@@ -29,13 +29,16 @@ class PagedMemory {
 
     // Offsets are relative to the start of the storage; callers check bounds and alignment.
     uint32_t read(uint32_t off, uint32_t bytes) const {
-        const uint8_t* p = pages_[off >> kPageBits].get();
+        uint32_t page = off >> kPageBits;
+        if (page >= pages_.size()) return 0; // page table not allocated yet: all zero
+        const uint8_t* p = pages_[page].get();
         if (!p) return 0;
         uint32_t v = 0;
         std::memcpy(&v, p + (off & (kPageSize - 1)), bytes); // little-endian host assumed
         return v;
     }
     void write(uint32_t off, uint32_t bytes, uint32_t v) {
+        if (pages_.empty()) pages_.resize((uint64_t{size_} + kPageSize - 1) >> kPageBits); // on first write
         auto& p = pages_[off >> kPageBits];
         if (!p) p = std::make_unique<uint8_t[]>(kPageSize); // zero-initialised
         std::memcpy(p.get() + (off & (kPageSize - 1)), &v, bytes);
