@@ -4,7 +4,7 @@ PRESET ?= release
 BUILD  := build
 JOBS   ?= $(shell nproc)
 
-.PHONY: all deps configure build demo test test-asan clean
+.PHONY: all deps configure build demo test test-asan bench clean
 
 all: build
 
@@ -37,6 +37,11 @@ test-asan: deps
 	@cmake --preset asan >/dev/null
 	@cmake --build build-asan -j $(JOBS)
 	@ctest --test-dir build-asan --output-on-failure -j $(JOBS) -L unit
+
+# Benchmarks print figures measured in one run; long (minutes), never part of `make test`.
+bench: build
+	@$(BUILD)/bench_iss
+	@$(BUILD)/bench_native_render
 
 clean:
 	rm -rf build build-asan
