@@ -230,6 +230,20 @@ double rec_mii(const isa::Machine& m, const std::vector<Op>& ops, double iterati
     return best / iterations;
 }
 
+// The whole kernel's processing cycles, ops, ILP and utilisation per ray over `rays` rays.
+Row whole_kernel_row(const std::string& machine, const Run& run, double rays, std::string note) {
+    const iss::Stats st = iss::compute_stats(*run.proc, 0);
+    Row t;
+    t.metric = "whole_kernel";
+    t.machine = machine;
+    t.cycles = static_cast<double>(st.processing_cycles) / rays;
+    t.ops = static_cast<double>(st.processing_ops) / rays;
+    t.ilp = st.ilp;
+    t.utilization = st.utilisation;
+    t.note = std::move(note);
+    return t;
+}
+
 Row make_row(const std::string& metric, const std::string& machine, const Run& run,
              const std::vector<std::string>& labels, double per, std::optional<double> paper, double iters_in_region,
              bool bounds) {
@@ -408,17 +422,10 @@ std::vector<Row> collect(const std::string& dir) {
             rows.back().note = "tag word + dispatch; the 8 ray words are received inside dda_init";
             rows.push_back(make_row("send_ray", machine, run, {"visit_a", "visit_b"}, 0, 25.0, 1.0, false));
             rows.push_back(make_row("resume", machine, run, {"resume"}, 0, std::nullopt, 1.0, false));
-            const iss::Stats st = iss::compute_stats(*run.proc, 0);
-            Row t;
-            t.metric = "whole_kernel";
-            t.machine = machine;
-            t.cycles = static_cast<double>(st.processing_cycles) / 300.0;
-            t.ops = static_cast<double>(st.processing_ops) / 300.0;
-            t.ilp = st.ilp;
-            t.utilization = st.utilisation;
-            t.note = machine == "os" ? "per ray, processing cycles only; paper OS ILP 2.27-2.29, util 0.56-0.57"
-                                     : "per ray, processing cycles only";
-            rows.push_back(t);
+            rows.push_back(whole_kernel_row(machine, run, 300.0,
+                                            machine == "os" ? "per ray, processing cycles only; paper OS ILP "
+                                                              "2.27-2.29, util 0.56-0.57"
+                                                            : "per ray, processing cycles only"));
         }
     }
     for (const std::string machine : {"ic", "seq"}) {
@@ -441,18 +448,11 @@ std::vector<Row> collect(const std::string& dir) {
             Run run = run_ic(dir, file, machine, 0, 40, 200, false);
             const double n = tests(run, ic ? tri : std::vector<std::string>{"tri1"});
             rows.push_back(make_row("triangle", machine, run, tri, n, 50.0, 2.0, ic));
-            const iss::Stats st = iss::compute_stats(*run.proc, 0);
-            Row t;
-            t.metric = "whole_kernel";
-            t.machine = machine;
-            t.cycles = static_cast<double>(st.processing_cycles) / 200.0;
-            t.ops = static_cast<double>(st.processing_ops) / 200.0;
-            t.ilp = st.ilp;
-            t.utilization = st.utilisation;
-            t.note = ic ? "per ray, 40 triangles; processing only; paper IC ILP 2.01-2.31, util 0.50-0.57"
-                        : "per ray, 40 triangles; processing only";
             rows.back().note = ic ? "one-sided; paper 40 + 10 shape load" : "one-sided, rays at the triangles: mean with early exits";
-            rows.push_back(t);
+            rows.push_back(whole_kernel_row(machine, run, 200.0,
+                                            ic ? "per ray, 40 triangles; processing only; paper IC ILP "
+                                                 "2.01-2.31, util 0.50-0.57"
+                                               : "per ray, 40 triangles; processing only"));
             rows.push_back(make_row("recv_ray", machine, run, {"next_ray"}, 0, 25.0, 1.0, false));
             rows.push_back(make_row("send_ray", machine, run, {"done", "hit", "return"}, 0, 25.0, 1.0, false));
         }
