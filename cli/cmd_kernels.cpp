@@ -133,24 +133,9 @@ std::vector<Op> ops_of(const iss::Program& p, const std::vector<std::pair<std::u
 void regs_of(const isa::Instr& in, std::vector<int>& reads, int& write) {
     reads.clear();
     write = -1;
-    const isa::OpInfo& info = in.info();
-    for (int i = 0; i < info.num_operands; ++i) {
-        const isa::Operand& o = info.operands[static_cast<std::size_t>(i)];
-        int file;
-        if (o.kind == isa::OperandKind::IntReg || o.kind == isa::OperandKind::Mem) file = 0;
-        else if (o.kind == isa::OperandKind::FloatReg) file = 1;
-        else continue;
-        int num = 0;
-        switch (o.field) {
-        case isa::Field::Rd: num = in.rd; break;
-        case isa::Field::Rs1: num = in.rs1; break;
-        case isa::Field::Rs2: num = in.rs2; break;
-        case isa::Field::Rs3: num = in.rs3; break;
-        default: continue;
-        }
-        if (o.kind == isa::OperandKind::Mem) num = in.rs1;
-        const int flat = file * 128 + num;
-        if (o.is_dest) write = flat;
+    for (const isa::RegOperand& r : isa::register_operands(in)) {
+        const int flat = static_cast<int>(r.file) * 128 + r.reg;
+        if (r.write) write = flat;
         else reads.push_back(flat);
     }
 }

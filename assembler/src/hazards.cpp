@@ -29,25 +29,8 @@ struct RegAccess {
 
 char prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
 
-uint8_t field(const isa::Instr& in, isa::Field f) {
-    switch (f) {
-    case isa::Field::Rd: return in.rd;
-    case isa::Field::Rs1: return in.rs1;
-    case isa::Field::Rs2: return in.rs2;
-    case isa::Field::Rs3: return in.rs3;
-    default: return 0;
-    }
-}
-
 void accesses(const isa::Instr& in, std::vector<RegAccess>& reads, std::vector<RegAccess>& writes) {
-    const isa::OpInfo& info = in.info();
-    for (int i = 0; i < info.num_operands; ++i) {
-        const isa::Operand& o = info.operands[size_t(i)];
-        if (o.kind == isa::OperandKind::Mem) reads.push_back({isa::RegFile::Int, in.rs1});
-        if (o.kind != isa::OperandKind::IntReg && o.kind != isa::OperandKind::FloatReg) continue;
-        RegAccess a{o.kind == isa::OperandKind::IntReg ? isa::RegFile::Int : isa::RegFile::Float, field(in, o.field)};
-        (o.is_dest ? writes : reads).push_back(a);
-    }
+    for (const isa::RegOperand& r : isa::register_operands(in)) (r.write ? writes : reads).push_back({r.file, r.reg});
 }
 
 struct Edge {

@@ -23,34 +23,6 @@ std::string_view rule_name(Rule r) {
 
 namespace {
 
-struct RegRef {
-    RegFile file;
-    uint8_t reg;
-    bool write;
-};
-
-// Every register an operation reads or writes, in operand order.
-std::vector<RegRef> regs_of(const Instr& in) {
-    std::vector<RegRef> out;
-    const OpInfo& info = in.info();
-    auto value = [&](Field f) -> uint8_t {
-        switch (f) {
-        case Field::Rd: return in.rd;
-        case Field::Rs1: return in.rs1;
-        case Field::Rs2: return in.rs2;
-        case Field::Rs3: return in.rs3;
-        default: return 0;
-        }
-    };
-    for (int i = 0; i < info.num_operands; ++i) {
-        const Operand& o = info.operands[i];
-        if (o.kind == OperandKind::IntReg) out.push_back({RegFile::Int, value(o.field), o.is_dest});
-        if (o.kind == OperandKind::FloatReg) out.push_back({RegFile::Float, value(o.field), o.is_dest});
-        if (o.kind == OperandKind::Mem) out.push_back({RegFile::Int, in.rs1, false});
-    }
-    return out;
-}
-
 char file_prefix(RegFile f) { return f == RegFile::Int ? 'r' : 'f'; }
 
 void check_slots(const Machine& m, std::span<const Instr> ops, std::vector<Violation>& out) {
@@ -90,7 +62,7 @@ void check_registers(const Machine& m, std::span<const Instr> ops, std::vector<V
     for (int i = 0; i < int(ops.size()); ++i) {
         const Instr& in = ops[i];
         uint32_t lat = m.latency_of(in.info());
-        for (const RegRef& r : regs_of(in)) {
+        for (const RegOperand& r : register_operands(in)) {
             const RegFileDesc& rf = m.regfile(r.file);
             int f = int(r.file);
             if (r.reg >= rf.count)

@@ -20,6 +20,32 @@ unsigned used_fields(const OpInfo& info) {
     return used;
 }
 
+uint8_t field_value(const Instr& in, Field f) {
+    switch (f) {
+    case Field::Rd: return in.rd;
+    case Field::Rs1: return in.rs1;
+    case Field::Rs2: return in.rs2;
+    case Field::Rs3: return in.rs3;
+    case Field::Imm: return 0;
+    }
+    return 0;
+}
+
+RegOperands register_operands(const Instr& in) {
+    RegOperands out;
+    const OpInfo& info = in.info();
+    for (int i = 0; i < info.num_operands; ++i) {
+        const Operand& o = info.operands[i];
+        if (o.kind == OperandKind::IntReg)
+            out.items[out.count++] = {RegFile::Int, field_value(in, o.field), o.is_dest};
+        else if (o.kind == OperandKind::FloatReg)
+            out.items[out.count++] = {RegFile::Float, field_value(in, o.field), o.is_dest};
+        else if (o.kind == OperandKind::Mem)
+            out.items[out.count++] = {RegFile::Int, in.rs1, false};
+    }
+    return out;
+}
+
 uint64_t encode(const Instr& in, bool end_of_bundle) {
     uint64_t w = end_of_bundle ? kEndOfBundle : 0;
     w |= (uint64_t{in.opcode} & k7) << kOpShift;

@@ -15,19 +15,6 @@ std::string format_float_bits(uint32_t bits) {
     return s;
 }
 
-namespace {
-uint8_t field_value(const Instr& in, Field f) {
-    switch (f) {
-    case Field::Rd: return in.rd;
-    case Field::Rs1: return in.rs1;
-    case Field::Rs2: return in.rs2;
-    case Field::Rs3: return in.rs3;
-    case Field::Imm: return 0;
-    }
-    return 0;
-}
-} // namespace
-
 std::string format_operands(const Instr& in, const TargetNamer& namer) {
     const OpInfo& info = in.info();
     std::string out;

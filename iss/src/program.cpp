@@ -26,8 +26,7 @@ uint16_t reg_index(const isa::Instr& in, const isa::OpInfo& info, isa::Field f) 
         if (o.kind == isa::OperandKind::Mem && f == isa::Field::Rs1) return flat_reg(isa::RegFile::Int, in.rs1);
         if (!reg || o.field != f) continue;
         auto file = o.kind == isa::OperandKind::IntReg ? isa::RegFile::Int : isa::RegFile::Float;
-        uint8_t n = f == isa::Field::Rd ? in.rd : f == isa::Field::Rs1 ? in.rs1 : f == isa::Field::Rs2 ? in.rs2 : in.rs3;
-        return flat_reg(file, n);
+        return flat_reg(file, isa::field_value(in, f));
     }
     return kNoReg;
 }

@@ -11,6 +11,7 @@
 
 #include "isa/ops.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -31,6 +32,26 @@ inline constexpr int kMaxSlots = 8;
 inline constexpr int kMaxRegs = 128;
 
 uint64_t encode(const Instr& in, bool end_of_bundle);
+
+// The register number held in a register field (0 for Field::Imm).
+uint8_t field_value(const Instr& in, Field f);
+
+// One register an operation reads or writes.
+struct RegOperand {
+    RegFile file;
+    uint8_t reg;
+    bool write;
+};
+
+// Every register an operation reads or writes, in operand order; a memory operand's base
+// register is a read. The one walk over operands that port checks, hazards and tools share.
+struct RegOperands {
+    std::array<RegOperand, 4> items{};
+    uint8_t count = 0;
+    const RegOperand* begin() const { return items.data(); }
+    const RegOperand* end() const { return items.data() + count; }
+};
+RegOperands register_operands(const Instr& in);
 
 struct DecodeResult {
     bool ok = false;
