@@ -18,29 +18,6 @@ std::string slots_accepting(const isa::Machine& m, isa::OpClass c) {
         if (slot.accepts(c)) s += (s.empty() ? "" : ", ") + slot.name;
     return s.empty() ? "none" : s;
 }
-bool greedy_slots(const isa::Machine& m, std::vector<isa::Instr>& ops, const std::vector<int>& pins) {
-    std::vector<bool> used(m.slots.size(), false);
-    for (int p : pins)
-        if (p >= 0) {
-            if (used[size_t(p)]) return false;
-            used[size_t(p)] = true;
-        }
-    std::vector<isa::Instr> out = ops;
-    for (size_t i = 0; i < ops.size(); ++i) {
-        if (pins[i] >= 0) {
-            out[i].slot = uint8_t(pins[i]);
-            continue;
-        }
-        size_t s = 0;
-        while (s < m.slots.size() && (used[s] || !m.slots[s].accepts(ops[i].info().cls))) ++s;
-        if (s == m.slots.size()) return false;
-        used[s] = true;
-        out[i].slot = uint8_t(s);
-    }
-    ops = std::move(out);
-    return true;
-}
-
 } // namespace
 
 bool check_bundle_rules(BundleRec& b, const isa::Machine& m, Diagnostics& diags) {
@@ -51,9 +28,9 @@ bool check_bundle_rules(BundleRec& b, const isa::Machine& m, Diagnostics& diags)
         pins.push_back(o.pin);
     }
     bool ok = true;
-    // Prefer the obvious placement (each op in the first free slot that accepts it, in source
-    // order); fall back to the full matching when that greedy choice gets stuck.
-    bool assign_failed = !greedy_slots(m, ops, pins) && !isa::assign_slots(m, ops, pins);
+    // Each op takes the first free slot that accepts it, in source order; ops move only when
+    // that gets stuck (isa::assign_slots).
+    bool assign_failed = !isa::assign_slots(m, ops, pins);
     if (assign_failed) {
         // Find the first unpinned op that cannot be placed given the ones before it.
         for (size_t k = 0; k < ops.size(); ++k) {
