@@ -8,7 +8,7 @@
 // (longest latency path from a live-in read of a register to the region's last write of it).
 #include "commands.hpp"
 
-#include "../kernels/image.hpp"
+#include "../kernels/runner.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -62,36 +62,9 @@ std::string find_kernels_dir(const std::string& given, const char* argv0) {
     throw CLI::RuntimeError("cannot find the kernels/ source folder (use --kernels DIR)", 1);
 }
 
-struct Run {
-    std::shared_ptr<const iss::Program> prog;
-    std::unique_ptr<iss::Processor> proc;
-    iss::QueueChannel in, out1, out2;
-    Run(const std::string& dir, const std::string& rel, const std::string& machine) {
-        const isa::Machine m = isa::load_machine(machine);
-        auto r = assembler::assemble_file(dir + "/" + rel, m, {});
-        if (!r.ok) throw CLI::RuntimeError(fmt::format("{}: assembly failed:\n{}", rel, r.diagnostics), 1);
-        prog = iss::load_program(r.object, m);
-        proc = std::make_unique<iss::Processor>(prog);
-        proc->attach_channel(0, &in);
-        proc->attach_channel(1, &out1);
-        proc->attach_channel(2, &out2);
-    }
-    void load(const kernels::MemImage& m) {
-        if (!m.bytes.empty()) proc->memory().load_data(m.base, m.bytes);
-    }
-    template <class W>
-    void feed(const W& w) {
-        for (std::uint32_t x : w) in.feed(x, proc->cycle());
-    }
-    void run() {
-        const iss::Status s = proc->run(100'000'000);
-        if (s != iss::Status::Blocked) throw CLI::RuntimeError("kernel did not wait for input: " + proc->fault_report(), 1);
-    }
-    const iss::Region* region(const std::string& label) const {
-        for (const auto& r : prog->regions())
-            if (r.label == label) return &r;
-        return nullptr;
-    }
+struct Run : kernels::KernelRunner {
+    Run(const std::string& dir, const std::string& rel, const std::string& machine)
+        : KernelRunner(kernels::assemble_kernel(dir + "/" + rel, machine)) {}
 };
 
 // Cycles and ops issued in the named regions, and how many times their first bundles issued.
@@ -330,7 +303,7 @@ rt::Shape cylinder_shape(std::mt19937& rng) {
 }
 
 // One voxel whose list holds `count` shapes of one kind; rays aimed at the origin.
-Run run_ic(const std::string& dir, const std::string& file, const std::string& machine, int kind, int count, int rays,
+std::unique_ptr<Run> run_ic(const std::string& dir, const std::string& file, const std::string& machine, int kind, int count, int rays,
            bool miss) {
     std::mt19937 rng(7);
     std::vector<rt::Shape> shapes;
@@ -341,11 +314,11 @@ Run run_ic(const std::string& dir, const std::string& file, const std::string& m
                                      : cylinder_shape(rng));
     std::vector<std::vector<std::uint32_t>> lists(1);
     for (int i = 0; i < count; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
-    Run run(dir, file, machine);
+    auto run = std::make_unique<Run>(dir, file, machine);
     const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
-    run.load(im.resident);
-    run.load(im.global);
-    run.run();
+    run->load(im.resident);
+    run->load(im.global);
+    run->run();
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     for (int i = 0; i < rays; ++i) {
         rt::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
@@ -357,10 +330,10 @@ Run run_ic(const std::string& dir, const std::string& file, const std::string& m
         v.t_out = 1e30f;
         for (int k = 0; k < 3; ++k) v.o[k] = o[k], v.d[k] = d[k];
         v.tmax = std::numeric_limits<float>::infinity();
-        run.feed(v.words());
-        run.run();
-        run.out1.drain_all();
-        run.out2.drain_all();
+        run->feed(v.words());
+        run->run();
+        run->out1.drain_all();
+        run->out2.drain_all();
     }
     return run;
 }
@@ -430,7 +403,8 @@ std::vector<Row> collect(const std::string& dir) {
             return measure(run, first).entries;
         };
         {
-            Run run = run_ic(dir, file, machine, 0, 40, 200, false);
+            const auto run_owner = run_ic(dir, file, machine, 0, 40, 200, false);
+            const Run& run = *run_owner;
             const double n = tests(run, ic ? tri : std::vector<std::string>{"tri1"});
             rows.push_back(make_row("triangle", machine, run, tri, n, 50.0, 2.0, ic));
             rows.back().note = ic ? "one-sided; paper 40 + 10 shape load" : "one-sided, rays at the triangles: mean with early exits";
@@ -442,20 +416,24 @@ std::vector<Row> collect(const std::string& dir) {
             rows.push_back(make_row("send_ray", machine, run, {"done", "hit", "return"}, 0, 25.0, 1.0, false));
         }
         {
-            Run run = run_ic(dir, file, machine, 1, 40, 200, false);
+            const auto run_owner = run_ic(dir, file, machine, 1, 40, 200, false);
+            const Run& run = *run_owner;
             const double n = tests(run, ic ? q1 : std::vector<std::string>{"ball1"});
             rows.push_back(make_row("quadric_hit", machine, run, q1, n, 61.0, 2.0, ic));
             rows.back().note = ic ? "one-sided plain sphere (CODE_BALL1); branch-free: hit = miss; paper 50 + 11 load"
                                   : "one-sided plain sphere, two real roots; paper 50 + 11 load";
-            Run run2 = run_ic(dir, file, machine, 1, 40, 200, true);
+            const auto run2_owner = run_ic(dir, file, machine, 1, 40, 200, true);
+            const Run& run2 = *run2_owner;
             const double n2 = tests(run2, ic ? q1 : std::vector<std::string>{"ball1"});
             rows.push_back(make_row("quadric_miss", machine, run2, q1, n2, std::nullopt, 2.0, ic));
             rows.back().note = "sphere, discriminant < 0";
-            Run run3 = run_ic(dir, file, machine, 2, 40, 200, false);
+            const auto run3_owner = run_ic(dir, file, machine, 2, 40, 200, false);
+            const Run& run3 = *run3_owner;
             const double n3 = tests(run3, ic ? q2 : std::vector<std::string>{"sph2"});
             rows.push_back(make_row("quadric2_hit", machine, run3, q2, n3, 61.0, 2.0, ic));
             rows.back().note = "two-sided sphere: both roots";
-            Run run4 = run_ic(dir, file, machine, 3, 40, 200, false);
+            const auto run4_owner = run_ic(dir, file, machine, 3, 40, 200, false);
+            const Run& run4 = *run4_owner;
             const double n4 = tests(run4, ic ? qc : std::vector<std::string>{"quad1"});
             rows.push_back(make_row("cylinder_hit", machine, run4, qc, n4, 61.0, 2.0, ic));
             rows.back().note = "one-sided quadric with axial clip (cylinder)";

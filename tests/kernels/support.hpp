@@ -3,6 +3,7 @@
 
 #include "abi.hpp"
 #include "image.hpp"
+#include "runner.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -30,40 +31,17 @@ inline std::shared_ptr<const iss::Program> kernel_program(const std::string& rel
     const std::string key = rel + "@" + machine;
     auto it = cache.find(key);
     if (it != cache.end()) return it->second;
-    const isa::Machine m = isa::load_machine(machine);
-    assembler::AsmResult r = assembler::assemble_file(kernel_path(rel), m, {});
-    INFO(r.diagnostics);
-    REQUIRE(r.ok);
-    auto prog = iss::load_program(r.object, m);
+    auto prog = assemble_kernel(kernel_path(rel), machine);
     cache.emplace(key, prog);
     return prog;
 }
 
 // One processor running a kernel, with its input channel 0 and output channels 1 and 2.
-struct Rig {
-    std::unique_ptr<iss::Processor> proc;
-    iss::QueueChannel in, out1, out2;
-
-    Rig(const std::string& rel, const std::string& machine, iss::Engine engine) {
-        proc = std::make_unique<iss::Processor>(kernel_program(rel, machine), engine);
-        proc->attach_channel(0, &in);
-        proc->attach_channel(1, &out1);
-        proc->attach_channel(2, &out2);
-    }
-    void load(const MemImage& m) {
-        if (!m.bytes.empty()) proc->memory().load_data(m.base, m.bytes);
-    }
-    template <class Words>
-    void feed(const Words& w) {
-        for (std::uint32_t x : w) in.feed(x, proc->cycle());
-    }
+struct Rig : KernelRunner {
+    Rig(const std::string& rel, const std::string& machine, iss::Engine engine)
+        : KernelRunner(kernel_program(rel, machine), engine) {}
     // Runs until the kernel waits for input; fails the test on a fault or halt.
-    void run() {
-        iss::Status s = proc->run(50'000'000);
-        INFO(proc->fault_report());
-        REQUIRE(s == iss::Status::Blocked);
-        REQUIRE(proc->blocked_channel() == 0);
-    }
+    void run() { REQUIRE_NOTHROW(KernelRunner::run(50'000'000)); }
     std::uint32_t peek32(std::uint32_t addr) const {
         std::uint32_t v = 0;
         REQUIRE(proc->memory().peek(addr, 4, v));
