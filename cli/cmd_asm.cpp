@@ -13,15 +13,12 @@
 namespace nesshi::cli {
 namespace {
 // The machine named by a `# machine: NAME` first line of the source, else "os".
-std::string header_machine(const std::string& path) {
+std::string source_machine(const std::string& path) {
     std::ifstream in(path);
     std::string line;
-    const std::string key = "# machine:";
-    if (!std::getline(in, line) || line.rfind(key, 0) != 0) return "os";
-    line.erase(0, key.size());
-    line.erase(0, line.find_first_not_of(" \t"));
-    line.erase(line.find_last_not_of(" \t\r") + 1);
-    return line.empty() ? "os" : line;
+    std::getline(in, line);
+    std::string m = assembler::header_machine(line);
+    return m.empty() ? "os" : m;
 }
 } // namespace
 
@@ -42,7 +39,7 @@ void add_asm(CLI::App& app) {
     cmd->callback([o] {
         isa::Machine m;
         try {
-            m = isa::load_machine(o->machine.empty() ? header_machine(o->input) : o->machine);
+            m = isa::load_machine(o->machine.empty() ? source_machine(o->input) : o->machine);
         } catch (const std::exception& e) {
             fmt::print(stderr, "{}\n", e.what());
             throw CLI::RuntimeError(1);

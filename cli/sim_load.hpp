@@ -16,17 +16,6 @@
 
 namespace nesshi::cli {
 
-// The machine named by a `# machine: NAME` first line, or empty.
-inline std::string machine_comment(std::string_view text) {
-    std::string_view first = text.substr(0, text.find('\n'));
-    constexpr std::string_view key = "# machine:";
-    if (first.substr(0, key.size()) != key) return {};
-    std::string_view rest = first.substr(key.size());
-    while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
-    while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\r' || rest.back() == '\t')) rest.remove_suffix(1);
-    return std::string(rest);
-}
-
 // Prints diagnostics to stderr and throws CLI::RuntimeError(1) on any loading problem.
 inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& path, const std::string& machine) {
     try {
@@ -35,7 +24,7 @@ inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& pat
         std::ifstream in(path, std::ios::binary);
         if (!in) throw iss::LoadError(fmt::format("{}: error: cannot open", path));
         std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        std::string name = !machine.empty() ? machine : machine_comment(text);
+        std::string name = !machine.empty() ? machine : assembler::header_machine(text);
         isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
         auto r = assembler::assemble_string(text, path, m, {});
         fmt::print(stderr, "{}", r.diagnostics);

@@ -84,4 +84,15 @@ AsmResult assemble_file(const std::string& path, const isa::Machine& m, const As
     return assemble_string(ss.str(), path, m, opts);
 }
 
+std::string header_machine(std::string_view text) {
+    constexpr std::string_view key = "# machine:";
+    std::string_view first = text.substr(0, text.find('\n'));
+    if (first.substr(0, key.size()) != key) return {};
+    first.remove_prefix(key.size());
+    const auto b = first.find_first_not_of(" \t");
+    if (b == std::string_view::npos) return {};
+    const auto e = first.find_last_not_of(" \t\r");
+    return std::string(first.substr(b, e - b + 1));
+}
+
 } // namespace nesshi::assembler

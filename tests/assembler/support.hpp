@@ -19,16 +19,7 @@ inline std::string read_text(const std::filesystem::path& p) {
     return ss.str();
 }
 
-// The machine named by a `# machine: NAME` first line, or empty.
-inline std::string header_machine(const std::string& text) {
-    const std::string key = "# machine:";
-    if (text.rfind(key, 0) != 0) return {};
-    auto end = text.find('\n');
-    std::string m = text.substr(key.size(), end == std::string::npos ? std::string::npos : end - key.size());
-    m.erase(0, m.find_first_not_of(" \t"));
-    m.erase(m.find_last_not_of(" \t\r") + 1);
-    return m;
-}
+using assembler::header_machine;
 
 // examples/**/*.s that declare their machine (kernels/ are covered by the CTest round trips,
 // registered per file in tests/assembler/CMakeLists.txt).

@@ -34,6 +34,10 @@ AsmResult assemble_file(const std::string& path, const isa::Machine& m, const As
 AsmResult assemble_string(std::string_view text, std::string_view filename, const isa::Machine& m,
                           const AsmOptions& opts);
 
+// The machine a source names on its first line, `# machine: NAME` (how examples and kernels say
+// which machine they are for), or empty when that line is absent.
+std::string header_machine(std::string_view text);
+
 struct DisOptions {
     bool slots = true; // print each op's issue slot ("fpu0: fadd ..."), needed for byte identity
     bool lines = true; // print .file/.loc so the line table is reproduced
