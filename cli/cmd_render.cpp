@@ -1,6 +1,7 @@
 // `nesshi render`: render a scene with a chosen model (native for now) to PNG, stats and buffers.
 #include "commands.hpp"
 
+#include "rt/machine.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/format.h>
@@ -24,16 +25,12 @@ struct RenderArgs {
     std::string out, stats_json, id_buffer, t_buffer;
     double cutoff = 0;
     bool quiet = false;
+    // the simulated machine (models S, M, V)
+    rt::MachineOptions mo;
+    bool cache = false;
 };
 
-// A model renders a prepared scene. Models S, M, V (the macropipeline host) register here later.
-using ModelFn = std::function<rt::RenderResult(const rt::PreparedScene&, const rt::RenderOptions&)>;
-const std::map<std::string, ModelFn>& models() {
-    static const std::map<std::string, ModelFn> m = {
-        {"native", [](const rt::PreparedScene& p, const rt::RenderOptions& o) { return rt::render_native(p, o); }},
-    };
-    return m;
-}
+const char* const kModels = "native, S, M, V";
 
 int parse_int(const std::string& s, const char* what) {
     int v = 0;
@@ -44,9 +41,11 @@ int parse_int(const std::string& s, const char* what) {
 }
 
 void run_render(const RenderArgs& a) {
-    auto mit = models().find(a.model);
-    if (mit == models().end())
-        throw std::runtime_error(fmt::format("unknown model '{}' (available: native)", a.model));
+    const bool native = a.model == "native";
+    rt::MachineOptions mo = a.mo;
+    if (!native && !rt::parse_machine_model(a.model, mo.model))
+        throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
+    mo.cache.enabled = a.cache;
     rt::RenderOptions opt;
     if (auto x = a.size.find('x'); x != std::string::npos) {
         opt.width = parse_int(a.size.substr(0, x), "width");
@@ -58,34 +57,46 @@ void run_render(const RenderArgs& a) {
     int grid = a.grid == "auto" ? 0 : parse_int(a.grid, "grid resolution");
     if (grid > 512) throw std::runtime_error("grid resolution is limited to 512");
     opt.threads = a.threads;
+    mo.threads = a.threads;
     opt.cutoff = a.cutoff;
     opt.id_buffer = !a.id_buffer.empty();
     opt.t_buffer = !a.t_buffer.empty();
     const bool tty = isatty(STDERR_FILENO) && !a.quiet;
-    if (tty)
-        opt.progress = [](int done, int total) {
-            int pct = total ? done * 100 / total : 100;
-            int bar = pct * 40 / 100;
-            fmt::print(stderr, "\r[{:<40}] {:3}% ", std::string(static_cast<std::size_t>(bar), '#'), pct);
-            if (done == total) fmt::print(stderr, "\n");
-        };
+    auto bar = [](std::uint64_t done, std::uint64_t total) {
+        const std::uint64_t pct = total ? done * 100 / total : 100;
+        fmt::print(stderr, "\r[{:<40}] {:3}% ", std::string(static_cast<std::size_t>(pct * 40 / 100), '#'), pct);
+        if (done == total) fmt::print(stderr, "\n");
+    };
+    if (tty) {
+        opt.progress = [bar](int done, int total) { bar(static_cast<std::uint64_t>(done), static_cast<std::uint64_t>(total)); };
+        mo.progress = bar;
+    }
 
     rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), grid);
-    rt::RenderResult r = mit->second(prep, opt);
+    rt::MachineResult mr;
+    if (native) mr.render = rt::render_native(prep, opt);
+    else mr = rt::render_machine(prep, opt, mo);
+    const rt::RenderResult& r = mr.render;
 
     if (!a.out.empty()) rt::write_png(a.out, r.image);
     if (opt.id_buffer) rt::write_id_buffer(a.id_buffer, r.id_buffer);
     if (opt.t_buffer) rt::write_t_buffer(a.t_buffer, r.t_buffer);
     if (!a.stats_json.empty()) {
         std::ofstream f(a.stats_json);
-        f << rt::stats_json(prep, opt, r, a.model);
+        f << (native ? rt::stats_json(prep, opt, r, a.model) : rt::machine_stats_json(prep, opt, mo, mr));
         if (!f) throw std::runtime_error(fmt::format("{}: cannot write", a.stats_json));
     }
     if (!a.quiet) {
         fmt::print("{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
                    a.model, opt.max_depth, opt.cutoff > 0 ? fmt::format(", cut-off {:g}", opt.cutoff) : "");
         fmt::print("{}", rt::format_grid(prep.grid, prep.shapes.shapes.size()));
-        fmt::print("{}", rt::format_rays(r.stats));
+        if (native) {
+            fmt::print("{}", rt::format_rays(r.stats));
+        } else {
+            fmt::print("{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
+            fmt::print("{}", rt::format_machine(mr.machine));
+            fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
+        }
     }
 }
 
@@ -95,16 +106,33 @@ void add_render(CLI::App& app) {
     auto* cmd = app.add_subcommand("render", "Render a scene (NFF file or built-in SPD name) to PNG");
     auto a = std::make_shared<RenderArgs>();
     cmd->add_option("scene", a->scene, "NFF file or built-in name (balls mount rings tetra tree gears, NAME:SIZE)")->required();
-    cmd->add_option("--model", a->model, "model: native (S, M, V come with the macropipeline host)");
+    cmd->add_option("--model", a->model, "native (C++ tracer), V (VLIW OS + IC), M (sequential pipeline), S (one sequential processor)");
     cmd->add_option("--size", a->size, "image size W or WxH (default 512)");
     cmd->add_option("--grid", a->grid, "voxels per axis, or 'auto' (default 50)");
-    cmd->add_option("--threads", a->threads, "host threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", a->threads, "host threads (default: all cores); never changes the cycles")->check(CLI::NonNegativeNumber);
     cmd->add_option("-o,--output", a->out, "PNG image");
     cmd->add_option("--stats-json", a->stats_json, "statistics as JSON");
     cmd->add_option("--id-buffer", a->id_buffer, "eye-ray primitive ids: raw int32 LE, (H+1) x (W+1)");
     cmd->add_option("--t-buffer", a->t_buffer, "eye-ray hit distances: raw float32 LE, (H+1) x (W+1)");
     cmd->add_option("--cutoff", a->cutoff, "contribution cut-off for secondary rays (0 = off, SPD mode)");
     cmd->add_flag("-q,--quiet", a->quiet, "no report, no progress bar");
+    auto* m = "Machine (models S, M, V)";
+    cmd->add_option("--pes", a->mo.pes, "processing elements (default 1)")->check(CLI::PositiveNumber)->group(m);
+    cmd->add_option("--window", a->mo.window, "eye rays in flight per PE, the DIS's limit (default 64)")
+        ->check(CLI::PositiveNumber)->group(m);
+    cmd->add_option("--fifo-capacity", a->mo.fifo_capacity, "words per FIFO, 0 = unbounded (default)")->group(m);
+    cmd->add_option("--fifo-latency", a->mo.fifo_latency, "extra cycles per FIFO hop (default 0)")->group(m);
+    cmd->add_flag("--cache", a->cache, "a real IC cache over global memory instead of 100% hits")->group(m);
+    cmd->add_option("--cache-size", a->mo.cache.bytes, "IC cache bytes (default 1 MiB)")->group(m);
+    cmd->add_option("--cache-ways", a->mo.cache.ways, "IC cache ways (default 4)")->group(m);
+    cmd->add_option("--cache-line", a->mo.cache.line, "IC cache line bytes (default 32)")->group(m);
+    cmd->add_option("--miss-cycles", a->mo.cache.miss_cycles, "IC cache miss penalty (default 20)")->group(m);
+    cmd->add_option("--quantum", a->mo.quantum, "scheduling slack between a PE's stages, cycles (default 32)")
+        ->check(CLI::PositiveNumber)->group(m);
+    cmd->add_option("--max-cycles", a->mo.max_cycles, "stop with an error past this many cycles per PE")->group(m);
+    cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);
+    cmd->add_option("--trace-json", a->mo.trace_json, "Chrome/Perfetto trace of stage activity and FIFO words")->group(m);
+    cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);
     cmd->callback([a] {
         try {
             run_render(*a);

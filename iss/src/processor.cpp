@@ -456,6 +456,14 @@ Status Processor::run(uint64_t max_cycles) {
     return dispatch(limit, kNoLimit, false);
 }
 
+void Processor::idle_until(uint64_t target) {
+    if (target <= core_->cycle) return;
+    const uint64_t gap = target - core_->cycle;
+    counters_.wait[core_->pc] += gap;
+    counters_.wait_cycles += gap;
+    core_->cycle = target;
+}
+
 Status Processor::step(uint64_t bundles) { return dispatch(kNoLimit, bundles, false); }
 
 std::string Processor::fault_report() const { return fault_ ? format_fault(*prog_, *fault_) : std::string(); }

@@ -1,5 +1,6 @@
 // Eye-ray generation (see camera.hpp for the exact operation order).
 #include "rt/camera.hpp"
+#include "rt/shading.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -26,7 +27,7 @@ Ray Camera::eye_ray(int i, int j) const {
     const float inv = 1.0f / std::sqrt(dot(d, d));
     Ray r;
     r.o = eye;
-    r.d = d * inv;
+    r.d = flush_direction(d * inv);
     r.tmin = 0.0f;
     r.kind = RayKind::eye;
     r.depth = 1;

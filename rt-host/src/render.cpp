@@ -60,18 +60,6 @@ GridChoice choose_grid_resolution(const Scene& scene, const ShapeSet& shapes) {
 
 namespace {
 
-struct Col {
-    float r = 0, g = 0, b = 0;
-    Col& operator+=(Col o) {
-        r += o.r;
-        g += o.g;
-        b += o.b;
-        return *this;
-    }
-};
-Col scale(Col c, float s) { return {c.r * s, c.g * s, c.b * s}; }
-Col from(Color c) { return {c.r, c.g, c.b}; }
-
 struct Tracer {
     const PreparedScene& prep;
     const RenderOptions& opt;
@@ -83,70 +71,22 @@ struct Tracer {
         TraceCounters& tc = trav[static_cast<std::size_t>(ray.kind)];
         Hit hit = opt.brute_force ? nearest_hit_brute(prep.shapes, ray, tc) : nearest_hit(prep.grid, prep.shapes, ray, tc);
         if (first) *first = hit;
-        if (!hit.hit) return from(prep.scene.background);
+        if (!hit.hit) return to_col(prep.scene.background);
         if (ray.kind == RayKind::eye) ++rays.eye_rays_hit;
         else ++rays.secondary_rays_hit;
-        return shade(ray, hit, weight);
-    }
-
-    Col shade(const Ray& ray, const Hit& hit, float weight) {
-        const Surface s = surface_at(prep, ray, hit);
-        const Material& m = *s.mat;
-        const Col base = from(m.color);
-        const float kd = static_cast<float>(m.kd), ks = static_cast<float>(m.ks), kt = static_cast<float>(m.t);
-        Col c = scale(base, kd * intensity); // ambient
-        const Vec3f refl = normalize(ray.d - s.n * (2.0f * dot(ray.d, s.n)));
-        for (const Light& l : prep.scene.lights) {
-            const Vec3f lp = to_float(l.pos);
-            const Vec3f ld = lp - s.p;
-            const float dist = length(ld);
-            const Vec3f dir = ld * (1.0f / dist);
-            const float ndl = dot(s.n, dir);
-            if (!(ndl > 0.0f)) continue; // SPD rule 10: no shadow ray toward a light behind the surface
-            Ray sr;
-            sr.o = s.p;
-            sr.d = dir;
-            sr.tmin = opt.epsilon;
-            sr.tmax = dist;
-            sr.kind = RayKind::shadow;
-            sr.depth = ray.depth + 1;
-            ++rays.shadow_rays;
-            TraceCounters& sc = trav[static_cast<std::size_t>(RayKind::shadow)];
-            if (opt.brute_force ? any_hit_brute(prep.shapes, sr, sc) : any_hit(prep.grid, prep.shapes, sr, sc)) {
-                ++rays.shadow_rays_blocked;
-                continue;
-            }
-            const Col lc = l.has_color ? from(l.color) : Col{1, 1, 1};
-            c += scale(Col{base.r * lc.r, base.g * lc.g, base.b * lc.b}, kd * ndl * intensity);
-            if (ks > 0.0f) {
-                const float rl = dot(refl, dir);
-                if (rl > 0.0f) c += scale(lc, ks * intensity * std::pow(rl, static_cast<float>(m.shine)));
-            }
+        const ShadePlan plan = plan_shade(prep, opt, intensity, ray, hit, weight, rays);
+        std::vector<char> blocked(plan.lights.size(), 0);
+        TraceCounters& sc = trav[static_cast<std::size_t>(RayKind::shadow)];
+        for (std::size_t k = 0; k < plan.lights.size(); ++k) {
+            const Ray& sr = plan.lights[k].shadow;
+            blocked[k] = opt.brute_force ? any_hit_brute(prep.shapes, sr, sc) : any_hit(prep.grid, prep.shapes, sr, sc);
+            rays.shadow_rays_blocked += blocked[k] ? 1 : 0;
         }
-        if (ray.depth >= opt.max_depth) return c;
-        if (ks > 0.0f || kt > 0.0f) {
-            if (!(opt.cutoff > 0 && weight * ks < opt.cutoff)) {
-                ++rays.reflection_rays;
-                c += scale(trace(reflection_ray(ray, s, opt.epsilon), weight * ks, nullptr), ks);
-            }
-        }
-        if (kt > 0.0f) {
-            Ray rr;
-            if (!refraction_ray(ray, s, opt.epsilon, rr)) {
-                ++rays.total_internal_reflections;
-            } else if (!(opt.cutoff > 0 && weight * kt < opt.cutoff)) {
-                ++rays.refraction_rays;
-                c += scale(trace(rr, weight * kt, nullptr), kt);
-            }
-        }
-        return c;
+        const Col refl = plan.reflect ? trace(plan.reflect_ray, plan.reflect_weight, nullptr) : Col{};
+        const Col refr = plan.refract ? trace(plan.refract_ray, plan.refract_weight, nullptr) : Col{};
+        return finish_shade(plan, blocked, refl, refr);
     }
 };
-
-std::uint8_t to_byte(float v) {
-    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; // NaN -> 0
-    return static_cast<std::uint8_t>(static_cast<int>(v * 255.0f + 0.5f));
-}
 
 } // namespace
 
@@ -208,21 +148,7 @@ RenderResult render_native(const PreparedScene& prep, const RenderOptions& opt) 
         res.stats.rays += row_rays[j];
         for (std::size_t k = 0; k < kRayKinds; ++k) res.stats.traversal[k] += row_trav[j][k];
     }
-    res.image.width = W;
-    res.image.height = H;
-    res.image.rgb.resize(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) * 3);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const std::size_t a = static_cast<std::size_t>(y) * cw + static_cast<std::size_t>(x);
-            Col c = corners[a];
-            c += corners[a + 1];
-            c += corners[a + cw];
-            c += corners[a + cw + 1];
-            std::uint8_t* px = &res.image.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x)) * 3];
-            px[0] = to_byte(c.r * 0.25f);
-            px[1] = to_byte(c.g * 0.25f);
-            px[2] = to_byte(c.b * 0.25f);
-        }
+    res.image = resolve_image(corners, W, H);
     return res;
 }
 

@@ -102,6 +102,10 @@ class Processor {
     Status run_until(uint64_t cycle);  // stop when cycle() reaches `cycle` (blocked: waits to it)
     Status run(uint64_t max_cycles = std::numeric_limits<uint64_t>::max()); // until halt/block/fault
     Status step(uint64_t bundles = 1); // issue `bundles` bundles (waits and bubbles included)
+    // Host-imposed idle time (a processor time-shared with others, or a sender held until its
+    // full FIFO drains): the clock advances to `cycle`, counted as wait cycles of the current
+    // bundle. No-op when `cycle` <= cycle().
+    void idle_until(uint64_t cycle);
 
     Status status() const { return status_; }
     const std::optional<Fault>& fault() const { return fault_; }

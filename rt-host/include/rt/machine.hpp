@@ -1,0 +1,108 @@
+// The simulated machine: a scene rendered through PEs whose OS and IC stages are ISS instances
+// running the kernels of kernels/, with the SC stage in C++ under a counted cycle-cost model.
+//
+//   rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 20);
+//   rt::MachineOptions mo;  mo.model = rt::MachineModel::V;
+//   rt::MachineResult r = rt::render_machine(prep, render_options, mo);
+//   r.render.image ... r.machine.total_cycles, r.machine.os.processing ...
+//
+// Models change timing, never results: S, M, V and render_native give identical images, ID
+// buffers and ray counts. Deterministic: the same inputs give the same cycles for any thread
+// count (each PE is simulated by one host thread from start to end; PEs share only read-only
+// data). See rt-host/README.md ("The macropipeline") for the scheduling and cost models.
+#pragma once
+#include "rt/render.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace nesshi::rt {
+
+enum class MachineModel : std::uint8_t {
+    S, // one seq processor runs OS, IC and SC in turn (one clock)
+    M, // OS, IC, SC each on a seq processor, pipelined through FIFOs
+    V, // VLIW OS (os) and IC (ic), SC on seq, pipelined through FIFOs
+};
+const char* machine_model_name(MachineModel m);
+bool parse_machine_model(const std::string& s, MachineModel& out);
+
+struct CacheOptions {
+    bool enabled = false;             // false: the paper's ideal 100% hits
+    std::uint32_t bytes = 1u << 20;   // IC cache over global memory (paper: 1 MB)
+    std::uint32_t line = 32;          // bytes per line
+    std::uint32_t ways = 4;
+    std::uint32_t miss_cycles = 20;   // stall per miss
+};
+
+struct MachineOptions {
+    MachineModel model = MachineModel::V;
+    int pes = 1;                      // processing elements; corner rays interleaved over them
+    int threads = 0;                  // host threads (0 = all cores); never changes the cycles
+    int window = 64;                  // eye rays (pixel corners) in flight per PE (the DIS's limit)
+    std::size_t fifo_capacity = 0;    // words per FIFO; 0 = unbounded (the paper's ideal)
+    std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
+    std::uint64_t quantum = 32;       // scheduling slack between a PE's processors (cycles)
+    CacheOptions cache;
+    bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
+    std::string kernels_dir;          // empty: the kernels/ folder found by kernels_directory()
+    std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
+    std::uint64_t max_cycles = 0;     // per PE; 0 = no limit. Exceeding it is an error.
+    // Called from the calling thread about 10 times a second with (corner rays done, total).
+    std::function<void(std::uint64_t, std::uint64_t)> progress;
+};
+
+// One stage's cycles, summed over PEs. processing + communication + wait = elapsed for each
+// processor (elapsed = that processor's clock when its PE finished).
+struct StageCycles {
+    std::uint64_t processing = 0, communication = 0, wait = 0;
+    std::uint64_t bundles = 0, ops = 0;     // processing_ops over processing cycles gives ilp
+    std::uint64_t processing_ops = 0;
+    std::uint64_t units = 1;                // issue slots of the machine
+    std::uint64_t words_received = 0, words_sent = 0;
+    bool modelled = false;                  // SC: counted operations, not simulated
+    double ilp() const { return processing ? static_cast<double>(processing_ops) / static_cast<double>(processing) : 0; }
+    double utilization() const { return ilp() / static_cast<double>(units); }
+    std::uint64_t load() const { return processing + communication; } // the paper's Table 2 "load"
+    std::uint64_t elapsed() const { return processing + communication + wait; }
+    StageCycles& operator+=(const StageCycles& o);
+};
+
+struct MachineStats {
+    MachineModel model = MachineModel::V;
+    std::uint64_t total_cycles = 0;        // the slowest PE's finishing time
+    // Model M runs also give model S's time: one processor executing the same instruction streams
+    // takes the sum of the three stages' loads (processing + communication) per PE; the slowest
+    // PE's. Equal to a separate model-S run (tested). 0 for model V.
+    std::uint64_t s_cycles = 0;
+    StageCycles os, ic, sc;                // summed over PEs
+    std::vector<std::uint64_t> pe_cycles;  // finishing time of each PE
+    std::uint64_t visits = 0, returns = 0, misses = 0, hits = 0; // FIFO messages
+    std::uint64_t cache_accesses = 0, cache_misses = 0;
+    std::uint64_t max_fifo_words = 0;      // highest occupancy seen on any FIFO
+    double wall_seconds = 0;               // host time of the simulation
+    std::uint64_t simulated_bundles = 0;   // bundles issued by every ISS instance
+    int threads = 1;
+    double bundles_per_second() const { return wall_seconds > 0 ? static_cast<double>(simulated_bundles) / wall_seconds : 0; }
+};
+
+struct MachineResult {
+    RenderResult render; // image, buffers, ray counts (traversal counters: only `rays` is filled)
+    MachineStats machine;
+};
+
+// Throws std::runtime_error on a deadlock (bounded FIFOs), a kernel fault, a memory-capacity
+// error (grid too large for the OS SRAM, data too large for IC memory) or max_cycles exceeded.
+MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo);
+
+// The folder with the kernel sources: NESSHI_KERNELS, else the source tree's kernels/ (built in).
+std::string kernels_directory();
+
+// Stats JSON: render's stats_json plus "cycles" and "host" for the machine (see README.md).
+std::string machine_stats_json(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo,
+                               const MachineResult& r);
+// The Table 2 row of this run and the per-stage summary, for the terminal.
+std::string format_machine(const MachineStats& s);
+
+} // namespace nesshi::rt

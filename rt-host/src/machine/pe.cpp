@@ -1,0 +1,262 @@
+// One PE's simulation: processors, FIFOs, the scheduler (see pe.hpp), the statistics.
+#include "pe.hpp"
+
+#include "cache.hpp"
+
+#include "abi.hpp"
+#include "iss/stats.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <optional>
+#include <stdexcept>
+
+namespace nesshi::rt::machine {
+
+namespace abi = kernels::abi;
+
+namespace {
+
+constexpr std::uint64_t kSoloChunk = 1u << 16; // cycles a stage runs alone before the host looks again
+constexpr std::size_t kMaxSendsPerBundle = 4;  // a processor blocked on a full FIFO retries when this much room
+
+// An OS or IC processor with its input FIFO and its two output FIFOs.
+struct Stage {
+    std::unique_ptr<iss::Processor> proc;
+    Fifo* in = nullptr;
+    Fifo* out[3] = {nullptr, nullptr, nullptr}; // by channel number (1, 2)
+    const char* name = "";
+
+    // Earliest cycle at which the processor can make progress; kNever if it cannot now.
+    std::uint64_t next_event() const {
+        switch (proc->status()) {
+        case iss::Status::Running: return proc->cycle();
+        case iss::Status::Blocked: {
+            const std::uint32_t ch = proc->blocked_channel();
+            if (ch == abi::kChIn) return in->empty() ? kNever : std::max(proc->cycle(), in->ready(0));
+            const Fifo& o = *out[ch];
+            return o.writable() >= kMaxSendsPerBundle ? std::max(proc->cycle(), o.room_cycle) : kNever;
+        }
+        case iss::Status::Halted:
+        case iss::Status::Faulted: break;
+        }
+        return kNever;
+    }
+    bool blocked_on_send() const {
+        return proc->status() == iss::Status::Blocked && proc->blocked_channel() != abi::kChIn;
+    }
+    // Runs up to `horizon` (exclusive) or until it blocks.
+    void run(std::uint64_t horizon) {
+        if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+        if (horizon <= proc->cycle()) return;
+        const iss::Status s = proc->run(horizon - proc->cycle());
+        if (s == iss::Status::Faulted || s == iss::Status::Halted)
+            throw std::runtime_error(fmt::format("{} processor stopped: {}\n{}", name, iss::status_name(s),
+                                                 proc->fault_report()));
+    }
+    std::uint64_t busy() const { return proc->cycle() - proc->counters().wait_cycles; }
+};
+
+StageCycles stage_cycles(const iss::Processor& p) {
+    const iss::Stats s = iss::compute_stats(p, 0);
+    StageCycles c;
+    c.processing = s.processing_cycles;
+    c.communication = s.communication_cycles;
+    c.wait = s.wait_cycles;
+    c.bundles = s.bundles;
+    c.ops = s.ops;
+    c.processing_ops = s.processing_ops;
+    c.units = p.program().machine().slots.size();
+    c.words_received = s.words_received;
+    c.words_sent = s.words_sent;
+    return c;
+}
+
+class Pe {
+  public:
+    Pe(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo,
+       std::vector<std::uint32_t> corners, CornerSink sink)
+        : mo_(mo), serial_(mo.model == MachineModel::S),
+          os_in_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency), ic_in_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency),
+          sc_os_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency), sc_ic_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency),
+          sc_(prep, opt, setup.sc_prices, std::move(corners), mo.window, sink, sc_os_, sc_ic_, os_in_) {
+        const iss::Engine engine = mo.checked ? iss::Engine::Checked : iss::Engine::Fast;
+        os_.name = "OS";
+        os_.proc = std::make_unique<iss::Processor>(setup.os_prog, engine);
+        os_.in = &os_in_;
+        os_.out[abi::kChOsIc] = &ic_in_;
+        os_.out[abi::kChOsSc] = &sc_os_;
+        ic_.name = "IC";
+        ic_.proc = std::make_unique<iss::Processor>(setup.ic_prog, engine);
+        ic_.in = &ic_in_;
+        ic_.out[abi::kChIcOs] = &os_in_;
+        ic_.out[abi::kChIcSc] = &sc_ic_;
+        for (Stage* s : {&os_, &ic_}) {
+            s->proc->attach_channel(abi::kChIn, s->in);
+            s->proc->attach_channel(1, s->out[1]);
+            s->proc->attach_channel(2, s->out[2]);
+        }
+        os_.proc->memory().load_data(setup.os_image.base, setup.os_image.bytes);
+        ic_.proc->attach_memory("global", setup.global);
+        if (!setup.ic_resident.bytes.empty())
+            ic_.proc->memory().load_data(setup.ic_resident.base, setup.ic_resident.bytes);
+        if (mo.cache.enabled) {
+            cache_.emplace(mo.cache);
+            ic_.proc->attach_cache("global", &*cache_);
+        }
+    }
+
+    PeResult run(std::atomic<std::uint64_t>& corners_done) {
+        std::uint64_t reported = 0;
+        while (!sc_.done()) {
+            if (serial_) step_serial();
+            else step_pipelined();
+            if (sc_.corners_done() != reported) {
+                corners_done += sc_.corners_done() - reported;
+                reported = sc_.corners_done();
+            }
+            if (!mo_.trace_json.empty()) sample();
+        }
+        return finish();
+    }
+
+  private:
+    std::uint64_t clock_of(int i) const { return i == 0 ? os_.proc->cycle() : i == 1 ? ic_.proc->cycle() : sc_.clock(); }
+    std::uint64_t next_of(int i) const { return i == 0 ? os_.next_event() : i == 1 ? ic_.next_event() : sc_.next_event(); }
+
+    [[noreturn]] void deadlock() const {
+        auto state = [](const Stage& s) {
+            if (s.proc->status() != iss::Status::Blocked) return std::string(iss::status_name(s.proc->status()));
+            return fmt::format("blocked on channel {} ({}) at cycle {}", s.proc->blocked_channel(),
+                               s.proc->blocked_channel() == abi::kChIn ? "empty input" : "full output", s.proc->cycle());
+        };
+        throw std::runtime_error(fmt::format(
+            "deadlock: every stage waits on another (FIFO capacity {} words)\n  OS: {}\n  IC: {}\n  SC: at cycle {}, "
+            "{} corners done\n  FIFO words: OS in {}, IC in {}, SC from OS {}, SC from IC {}",
+            mo_.fifo_capacity, state(os_), state(ic_), sc_.clock(), sc_.corners_done(), os_in_.size(), ic_in_.size(), sc_os_.size(),
+            sc_ic_.size()));
+    }
+
+    void check_limit(std::uint64_t t) const {
+        if (mo_.max_cycles && t > mo_.max_cycles)
+            throw std::runtime_error(fmt::format("the PE passed the cycle limit ({} cycles)", mo_.max_cycles));
+    }
+
+    void run_stage(int i, std::uint64_t horizon) {
+        if (i == 2) {
+            sc_.run(horizon);
+            sc_os_.room_cycle = sc_ic_.room_cycle = sc_.clock();
+        } else {
+            Stage& s = i == 0 ? os_ : ic_;
+            s.run(horizon);
+            s.in->room_cycle = s.proc->cycle();
+        }
+    }
+
+    void step_pipelined() {
+        std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
+        int w = 0;
+        for (int i = 1; i < 3; ++i)
+            if (key[i] < key[w]) w = i;
+        if (key[w] == kNever) deadlock();
+        std::uint64_t second = kNever;
+        for (int i = 0; i < 3; ++i)
+            if (i != w) second = std::min(second, key[i]);
+        std::uint64_t horizon = second == kNever ? key[w] + kSoloChunk : std::max(second, key[w]) + mo_.quantum;
+        check_limit(key[w]);
+        run_stage(w, horizon);
+    }
+
+    // Model S: one processor, one clock `now_`.
+    void step_serial() {
+        std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
+        int w = 0;
+        for (int i = 1; i < 3; ++i)
+            if (key[i] < key[w]) w = i;
+        if (key[w] == kNever) deadlock();
+        check_limit(now_);
+        if (w == 2) {
+            sc_.idle_until(now_);
+            sc_.run(kNever);
+            sc_os_.room_cycle = sc_ic_.room_cycle = sc_.clock();
+            now_ = sc_.clock();
+        } else {
+            Stage& s = w == 0 ? os_ : ic_;
+            s.proc->idle_until(now_);
+            s.run(now_ + kSoloChunk);
+            s.in->room_cycle = s.proc->cycle();
+            now_ = s.proc->cycle();
+        }
+    }
+
+    void sample() {
+        const std::uint64_t t = std::min({os_.proc->cycle(), ic_.proc->cycle(), sc_.clock()});
+        if (t < next_sample_) return;
+        Sample s;
+        s.cycle = t;
+        s.fifo[0] = static_cast<std::uint32_t>(os_in_.size());
+        s.fifo[1] = static_cast<std::uint32_t>(ic_in_.size());
+        s.fifo[2] = static_cast<std::uint32_t>(sc_os_.size());
+        s.fifo[3] = static_cast<std::uint32_t>(sc_ic_.size());
+        s.busy[0] = os_.busy();
+        s.busy[1] = ic_.busy();
+        s.busy[2] = sc_.cycles.processing + sc_.cycles.communication;
+        samples_.push_back(s);
+        next_sample_ = t + interval_;
+        if (samples_.size() >= 4000) { // keep the trace small: halve the resolution
+            std::vector<Sample> kept;
+            for (std::size_t i = 0; i < samples_.size(); i += 2) kept.push_back(samples_[i]);
+            samples_ = std::move(kept);
+            interval_ *= 2;
+        }
+    }
+
+    PeResult finish() {
+        // Every processor's clock runs to the PE's end, so processing + communication + wait = end.
+        const std::uint64_t end = std::max({os_.proc->cycle(), ic_.proc->cycle(), sc_.clock()});
+        os_.proc->idle_until(end);
+        ic_.proc->idle_until(end);
+        sc_.idle_until(end);
+        PeResult r;
+        r.end = end;
+        r.os = stage_cycles(*os_.proc);
+        r.ic = stage_cycles(*ic_.proc);
+        r.sc = sc_.cycles;
+        r.rays = sc_.rays;
+        r.traversal = sc_.traversal;
+        r.bundles = r.os.bundles + r.ic.bundles;
+        r.visits = os_.out[abi::kChOsIc]->pushed() / static_cast<std::uint64_t>(abi::get("MSG_VISIT"));
+        r.misses = sc_os_.pushed();
+        r.hits = sc_ic_.pushed() / static_cast<std::uint64_t>(abi::get("MSG_HIT"));
+        r.returns = r.visits - r.hits; // every VISIT ends in a HIT or a RETURN
+        if (cache_) {
+            r.cache_accesses = cache_->accesses();
+            r.cache_misses = cache_->misses();
+        }
+        r.max_fifo = std::max({os_in_.max_size(), ic_in_.max_size(), sc_os_.max_size(), sc_ic_.max_size()});
+        r.samples = std::move(samples_);
+        return r;
+    }
+
+    const MachineOptions& mo_;
+    bool serial_;
+    Fifo os_in_, ic_in_, sc_os_, sc_ic_;
+    ScStage sc_;
+    Stage os_, ic_;
+    std::optional<SetAssocCache> cache_;
+    std::uint64_t now_ = 0;
+    std::vector<Sample> samples_;
+    std::uint64_t next_sample_ = 0, interval_ = 256;
+};
+
+} // namespace
+
+PeResult run_pe(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt,
+                const MachineOptions& mo, int, std::vector<std::uint32_t> corners, CornerSink sink,
+                std::atomic<std::uint64_t>& corners_done) {
+    Pe pe(setup, prep, opt, mo, std::move(corners), sink);
+    return pe.run(corners_done);
+}
+
+} // namespace nesshi::rt::machine

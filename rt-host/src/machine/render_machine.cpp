@@ -1,0 +1,165 @@
+// render_machine: builds the machine's memory images and programs once, simulates each PE on a
+// host thread, and gathers image, buffers and statistics.
+#include "pe.hpp"
+
+#include "abi.hpp"
+#include "image.hpp"
+#include "runner.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+namespace nesshi::rt {
+
+namespace abi = kernels::abi;
+using namespace machine;
+
+std::string kernels_directory() {
+    if (const char* e = std::getenv("NESSHI_KERNELS"); e && *e) return e;
+    return NESSHI_KERNELS_DIR;
+}
+
+namespace {
+
+OpPrices seq_prices() {
+    const isa::Machine m = isa::load_machine("seq");
+    auto lat = [&](isa::OpClass c) { return m.latency[static_cast<std::size_t>(c)]; };
+    OpPrices p;
+    p.alu = lat(isa::OpClass::Alu);
+    p.fadd = lat(isa::OpClass::FAdd);
+    p.fmul = lat(isa::OpClass::FMul);
+    p.fdiv = lat(isa::OpClass::FDiv);
+    p.load = lat(isa::OpClass::Load);
+    p.store = lat(isa::OpClass::Store);
+    p.branch = lat(isa::OpClass::Branch);
+    return p;
+}
+
+MachineSetup build_setup(const PreparedScene& prep, const MachineOptions& mo) {
+    const std::string dir = mo.kernels_dir.empty() ? kernels_directory() : mo.kernels_dir;
+    if (!std::filesystem::exists(std::filesystem::path(dir) / "abi.inc"))
+        throw std::runtime_error(fmt::format("kernel sources not found in '{}' (set NESSHI_KERNELS)", dir));
+    const bool vliw = mo.model == MachineModel::V;
+    MachineSetup s;
+    s.os_prog = kernels::assemble_kernel(dir + (vliw ? "/os/dda.s" : "/seq/dda.s"), vliw ? "os" : "seq");
+    s.ic_prog = kernels::assemble_kernel(dir + (vliw ? "/ic/intersect.s" : "/seq/intersect.s"), vliw ? "ic" : "seq");
+    const Grid& g = prep.grid;
+    const kernels::PaddedGrid pg = kernels::padded(g.geom);
+    if (abi::kOsOcc + pg.voxels() > abi::kOsOccLimit)
+        throw std::runtime_error(fmt::format(
+            "grid {}x{}x{} does not fit the OS SRAM: its padded occupancy map takes {} bytes from 0x{:x}, the SRAM "
+            "ends at 0x{:x} (use a coarser grid)",
+            g.geom.n[0], g.geom.n[1], g.geom.n[2], pg.voxels(), abi::kOsOcc, abi::kOsOccLimit));
+    s.os_image = kernels::os_image(g.geom, g.occupancy);
+    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes);
+    constexpr std::uint32_t kGlobalBytes = 0x04000000;
+    if (ic.global.bytes.size() > kGlobalBytes)
+        throw std::runtime_error(fmt::format("the IC data ({} bytes) do not fit the 64 MiB global memory",
+                                             ic.global.bytes.size()));
+    s.ic_resident = std::move(ic.resident);
+    s.global = std::make_shared<iss::PagedMemory>(kGlobalBytes);
+    if (!ic.global.bytes.empty()) s.global->write_bytes(ic.global.base - abi::kIcGlobal, ic.global.bytes);
+    s.sc_prices = seq_prices();
+    return s;
+}
+
+} // namespace
+
+MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo) {
+    if (mo.pes < 1) throw std::invalid_argument("the machine needs at least one PE");
+    if (mo.fifo_capacity != 0 && mo.fifo_capacity < 16)
+        throw std::invalid_argument("FIFO capacity must be 0 (unbounded) or at least 16 words (a VISIT is 12)");
+    if (mo.window < 1) throw std::invalid_argument("the DIS window must be at least 1 corner");
+    const auto t0 = std::chrono::steady_clock::now();
+    const MachineSetup setup = build_setup(prep, mo);
+
+    const int W = opt.width, H = opt.height;
+    const std::size_t ncorners = (static_cast<std::size_t>(W) + 1) * (static_cast<std::size_t>(H) + 1);
+    MachineResult res;
+    std::vector<Col> colors(ncorners);
+    if (opt.id_buffer) res.render.id_buffer.assign(ncorners, -1);
+    if (opt.t_buffer) res.render.t_buffer.assign(ncorners, -1.0f);
+    CornerSink sink{&colors, opt.id_buffer ? &res.render.id_buffer : nullptr,
+                    opt.t_buffer ? &res.render.t_buffer : nullptr, W, H};
+
+    // DIS: corners interleaved over PEs (corner k goes to PE k mod pes), row-major order.
+    std::vector<std::vector<std::uint32_t>> work(static_cast<std::size_t>(mo.pes));
+    for (std::size_t k = 0; k < ncorners; ++k) work[k % work.size()].push_back(static_cast<std::uint32_t>(k));
+
+    std::vector<PeResult> results(work.size());
+    std::atomic<std::uint64_t> done{0};
+    std::atomic<std::size_t> next_pe{0};
+    std::mutex err_mu;
+    std::string error;
+    auto worker = [&] {
+        for (;;) {
+            const std::size_t i = next_pe.fetch_add(1);
+            if (i >= work.size()) return;
+            try {
+                results[i] = run_pe(setup, prep, opt, mo, static_cast<int>(i), std::move(work[i]), sink, done);
+            } catch (const std::exception& e) {
+                std::lock_guard lk(err_mu);
+                if (error.empty()) error = work.size() > 1 ? fmt::format("PE {}: {}", i, e.what()) : e.what();
+                next_pe = work.size(); // stop handing out PEs
+            }
+        }
+    };
+    int threads = mo.threads > 0 ? mo.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::min<int>(threads, mo.pes);
+    std::vector<std::thread> pool;
+    std::atomic<int> finished{0};
+    const int extra = mo.progress ? threads : threads - 1; // with progress, the caller only reports
+    for (int t = 0; t < extra; ++t) pool.emplace_back([&] {
+        worker();
+        ++finished;
+    });
+    if (mo.progress) {
+        while (finished.load() < extra) {
+            mo.progress(done.load(), ncorners);
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        }
+    } else {
+        worker();
+    }
+    for (std::thread& t : pool) t.join();
+    if (!error.empty()) throw std::runtime_error(error);
+    if (mo.progress) mo.progress(ncorners, ncorners);
+
+    MachineStats& ms = res.machine;
+    ms.model = mo.model;
+    ms.threads = threads;
+    for (const PeResult& r : results) {
+        ms.total_cycles = std::max(ms.total_cycles, r.end);
+        ms.pe_cycles.push_back(r.end);
+        ms.os += r.os;
+        ms.ic += r.ic;
+        ms.sc += r.sc;
+        if (mo.model == MachineModel::M) ms.s_cycles = std::max(ms.s_cycles, r.os.load() + r.ic.load() + r.sc.load());
+        ms.visits += r.visits;
+        ms.returns += r.returns;
+        ms.misses += r.misses;
+        ms.hits += r.hits;
+        ms.cache_accesses += r.cache_accesses;
+        ms.cache_misses += r.cache_misses;
+        ms.max_fifo_words = std::max(ms.max_fifo_words, r.max_fifo);
+        ms.simulated_bundles += r.bundles;
+        res.render.stats.rays += r.rays;
+        for (std::size_t k = 0; k < kRayKinds; ++k) res.render.stats.traversal[k] += r.traversal[k];
+    }
+    ms.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    res.render.image = resolve_image(colors, W, H);
+    res.render.stats.setup_seconds = prep.setup_seconds;
+    res.render.stats.trace_seconds = ms.wall_seconds;
+    res.render.stats.threads = threads;
+    res.render.stats.epsilon = opt.epsilon;
+    if (!mo.trace_json.empty()) write_trace_json(mo.trace_json, results);
+    return res;
+}
+
+} // namespace nesshi::rt

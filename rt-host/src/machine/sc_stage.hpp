@@ -1,0 +1,122 @@
+// The SC stage of one PE, with the distributor (DIS) and collector (COL) it talks to.
+//
+// SC receives MISS messages from the OS and HIT messages from the IC, shades with the same code
+// as the native renderer (plan_shade / finish_shade), sends shadow, reflection and refraction
+// rays to the OS, and when a pixel corner's whole ray tree is resolved combines it and sends the
+// colour to COL. It is modelled, not simulated: each step costs the cycles of sc_cost.hpp.
+// DIS keeps at most `window` corners of this PE in flight and sends a new eye ray (9 words,
+// one per cycle on its link, no SC cycles) when one finishes.
+#pragma once
+
+#include "fifo.hpp"
+#include "sc_cost.hpp"
+
+#include "rt/camera.hpp"
+#include "rt/machine.hpp"
+#include "rt/shading.hpp"
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace nesshi::rt::machine {
+
+inline constexpr std::uint64_t kNever = ~std::uint64_t{0};
+
+// Per-class latencies of the machine SC runs on (`seq`).
+struct OpPrices {
+    std::uint32_t alu = 1, fadd = 1, fmul = 1, fdiv = 4, load = 1, store = 1, branch = 1;
+    std::uint64_t cycles(const OpMix& m) const {
+        return std::uint64_t{m.alu} * alu + std::uint64_t{m.fadd} * fadd + std::uint64_t{m.fmul} * fmul +
+               std::uint64_t{m.fdiv} * fdiv + std::uint64_t{m.load} * load + std::uint64_t{m.store} * store +
+               std::uint64_t{m.branch} * branch;
+    }
+};
+
+// Where finished corners go (shared by all PEs; each corner is written by one PE only).
+struct CornerSink {
+    std::vector<Col>* colors = nullptr;
+    std::vector<std::int32_t>* ids = nullptr; // may be null
+    std::vector<float>* ts = nullptr;         // may be null
+    int width = 0, height = 0;                // image size; corners per row = width + 1
+};
+
+class ScStage {
+  public:
+    ScStage(const PreparedScene& prep, const RenderOptions& opt, const OpPrices& prices, std::vector<std::uint32_t> corners,
+            int window, CornerSink sink, Fifo& from_os, Fifo& from_ic, Fifo& to_os);
+
+    // Earliest cycle at which SC can act (a complete message arrived, or a send waiting for room);
+    // kNever when it has nothing to do.
+    std::uint64_t next_event() const;
+    // Acts while its next action starts before `horizon`.
+    void run(std::uint64_t horizon);
+    // Model S: the one processor is busy elsewhere until `cycle`.
+    void idle_until(std::uint64_t cycle);
+    bool done() const { return finished_ == corners_.size(); }
+    std::uint64_t clock() const { return clock_; }
+    std::uint64_t corners_done() const { return finished_; }
+
+    StageCycles cycles;  // processing, communication, wait, words, units = 1, modelled
+    RayStats rays;
+    std::array<TraceCounters, kRayKinds> traversal{}; // only `rays` per kind
+
+  private:
+    struct Node {
+        Ray ray;
+        float weight = 1;
+        bool hit = false;
+        ShadePlan plan;
+        std::vector<char> blocked;
+        int reflect = -1, refract = -1; // child nodes
+    };
+    struct Tree {
+        std::uint32_t corner = 0;
+        std::vector<Node> nodes;
+        int outstanding = 0; // rays sent and not yet resolved
+    };
+    struct SlotRec {
+        int tree = -1, node = -1, light = -1; // light >= 0: a shadow ray of node's plan
+    };
+    struct Outgoing {
+        Ray ray;
+        SlotRec rec;
+    };
+
+    void dis_fill(std::uint64_t at);
+    void spawn(const Ray& ray, SlotRec rec); // queue a ray for the OS
+    void flush_sends();                     // send queued rays while slots and room allow
+    void send_ray(const Ray& r, std::uint32_t slot, std::uint64_t& at, bool charge);
+    void on_miss(std::uint32_t tag);
+    void on_hit(const std::uint32_t* w);
+    void resolved(int tree);
+    Col combine(const Tree& t, int node);
+    void charge(const OpMix& m) { processing(prices_.cycles(m)); }
+    void processing(std::uint64_t c) {
+        cycles.processing += c;
+        clock_ += c;
+    }
+    void communication(std::uint64_t words) {
+        cycles.communication += words;
+        clock_ += words;
+    }
+
+    const PreparedScene& prep_;
+    const RenderOptions& opt_;
+    OpPrices prices_;
+    float intensity_;
+    std::vector<std::uint32_t> corners_;
+    std::size_t next_corner_ = 0, finished_ = 0;
+    int window_, in_flight_ = 0;
+    CornerSink sink_;
+    Camera camera_;
+    Fifo &from_os_, &from_ic_, &to_os_;
+    std::uint64_t clock_ = 0, dis_clock_ = 0;
+    std::vector<Tree> trees_;
+    std::vector<int> free_trees_;
+    std::vector<SlotRec> slots_;
+    std::vector<std::uint32_t> free_slots_;
+    std::deque<Outgoing> outgoing_;
+};
+
+} // namespace nesshi::rt::machine
