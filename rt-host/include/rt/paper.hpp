@@ -2,7 +2,7 @@
 // resumable matrix of machine runs, one cell per scene x grid x model, and the reports built from it.
 //
 //   paper::PaperOptions po;  po.size = 64;  po.out_dir = "paper-out";
-//   paper::PaperData d = paper::run_paper(po); // runs or loads every cell, writes tables, chart, summary
+//   paper::PaperRun r = paper::run_paper(po); // runs or loads every cell, writes tables, chart, summary
 //
 // Model S is not simulated separately: a model-M run also gives S's time (MachineStats::s_cycles:
 // one processor executing the same instruction streams takes the sum of the stages' loads), as the
@@ -138,8 +138,13 @@ std::string summary_markdown(const PaperData& d);
 // table2.md/.csv, table3.md/.csv, table4.md/.csv, fig6.svg, summary.md; returns the file names.
 std::vector<std::string> write_reports(const PaperData& d, const std::string& out_dir);
 
-// validate, auto grid per scene, run_matrix with simulate_cell, write_reports. Throws PaperError
+struct PaperRun {
+    PaperData data;
+    std::vector<std::string> files; // written into out_dir
+    std::size_t loaded = 0, run = 0; // cells
+};
+// validate, run_matrix with simulate_cell, auto grid per scene, write_reports. Throws PaperError
 // naming the failed cells after writing the reports of the others.
-PaperData run_paper(const PaperOptions& o);
+PaperRun run_paper(const PaperOptions& o);
 
 } // namespace nesshi::rt::paper

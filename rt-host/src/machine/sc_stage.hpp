@@ -91,7 +91,12 @@ class ScStage {
     void on_hit(const std::uint32_t* w);
     void resolved(int tree);
     Col combine(const Tree& t, int node);
-    void charge(const OpMix& m) { processing(prices_.cycles(m)); }
+    void charge(const OpMix& m) {
+        const std::uint64_t n = std::uint64_t{m.alu} + m.fadd + m.fmul + m.fdiv + m.load + m.store + m.branch;
+        cycles.ops += n;
+        cycles.processing_ops += n;
+        processing(prices_.cycles(m));
+    }
     void processing(std::uint64_t c) {
         cycles.processing += c;
         clock_ += c;
