@@ -15,4 +15,5 @@ void add_render(CLI::App& app);
 void add_demo(CLI::App& app);
 void add_isa(CLI::App& app);
 void add_kernels(CLI::App& app);
+void add_paper(CLI::App& app);
 } // namespace nesshi::cli

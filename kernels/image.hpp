@@ -118,11 +118,13 @@ inline std::uint32_t shape_code(const rt::Shape& s) {
 }
 
 // Lists given directly: lists[v] = shape indices of padded voxel v (empty for the frame).
-inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<rt::Shape>& shapes) {
+inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<rt::Shape>& shapes,
+                              bool allow_resident = true) {
     std::size_t refs = 0;
     for (const auto& l : lists) refs += l.size() + 1;
     const std::size_t bytes = (shapes.size() + 1) * abi::kRecBytes + lists.size() * 4 + refs * 4 + 4;
-    const bool resident = abi::kIcData + bytes <= static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
+    const bool resident =
+        allow_resident && abi::kIcData + bytes <= static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
     IcImage im;
     im.resident.base = abi::kIcHeader;
     im.global.base = abi::kIcGlobal;
@@ -160,7 +162,8 @@ inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lis
 
 // From rt/grid.hpp's unpadded offsets and shape-index lists.
 inline IcImage ic_image(const rt::twins::GridGeom& g, const std::vector<std::uint32_t>& offsets,
-                        const std::vector<std::uint32_t>& prims, const std::vector<rt::Shape>& shapes) {
+                        const std::vector<std::uint32_t>& prims, const std::vector<rt::Shape>& shapes,
+                        bool allow_resident = true) {
     const PaddedGrid p = padded(g);
     std::vector<std::vector<std::uint32_t>> lists(p.voxels());
     for (int z = 0; z < p.n[2]; ++z)
@@ -169,7 +172,7 @@ inline IcImage ic_image(const rt::twins::GridGeom& g, const std::vector<std::uin
                 const std::uint32_t u = p.unpadded(x, y, z);
                 lists[p.index(x, y, z)].assign(prims.begin() + offsets[u], prims.begin() + offsets[u + 1]);
             }
-    return ic_image_lists(lists, shapes);
+    return ic_image_lists(lists, shapes, allow_resident);
 }
 
 } // namespace nesshi::kernels

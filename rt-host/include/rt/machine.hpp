@@ -45,6 +45,9 @@ struct MachineOptions {
     std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
     std::uint64_t quantum = 32;       // scheduling slack between a PE's processors (cycles)
     CacheOptions cache;
+    // IC data placement: the records, voxel table and lists go to the resident memory when they
+    // fit in it, else all to global memory (behind the cache). false: always global memory.
+    bool resident = true;
     bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
     std::string kernels_dir;          // empty: the kernels/ folder found by kernels_directory()
     std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)

@@ -1,16 +1,16 @@
-// `nesshi paper`: the paper's evaluation re-run (Tables 2, 3, 4 and Fig. 6 of Gwun et al. 1993) as a
-// resumable matrix of machine runs, one cell per scene x grid x model, and the reports built from it.
+// `nesshi paper`: the paper's evaluation re-run (Tables 2, 3, 4 and Fig. 6 of Gwun et al. 1993) as a resumable
+// matrix of machine runs, one cell per scene x grid x model, and the reports built from it.
 //
 //   paper::PaperOptions po;  po.size = 64;  po.out_dir = "paper-out";
-//   paper::PaperRun r = paper::run_paper(po); // runs or loads every cell, writes tables, chart, summary
+//   paper::PaperRun r = paper::run_paper(po); // runs or loads every cell; writes tables, chart, summary
 //
-// Model S is not simulated separately: a model-M run also gives S's time (MachineStats::s_cycles:
-// one processor executing the same instruction streams takes the sum of the stages' loads), as the
-// issue specifies; that S equals a separate model-S run is tested with the machine. So each
-// scene x grid costs one M run and one V run, and asking for S alone still runs M.
+// Model S is not simulated separately: a model-M run also gives S's time (MachineStats::s_cycles: one
+// processor executing the same instruction streams takes the sum of the stages' loads), as the issue
+// specifies; that S equals a separate model-S run is tested with the machine. So each scene x grid costs
+// one M run and one V run, and asking for S alone still runs M.
 //
-// Everything but simulate_cell() and run_paper() works on cell records, so the tables, chart and
-// resumable runner are testable with synthetic cells and a stand-in CellRunner.
+// Everything but simulate_cell() and run_paper() works on cell records, so the tables, chart and resumable
+// runner are testable with synthetic cells and a stand-in CellRunner.
 #pragma once
 #include "rt/machine.hpp"
 
@@ -26,7 +26,7 @@ namespace nesshi::rt::paper {
 
 // Bad options, a malformed cell file ("FILE: error: ..."), failed cells.
 class PaperError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -35,7 +35,7 @@ struct CellKey {
     std::string scene; // as given: built-in name ("balls", "tetra:1") or NFF path
     int grid = 0;
     MachineModel model = MachineModel::V; // M or V: S comes from M
-    int size = 512;                        // image width = height
+    int size = 512;                       // image width = height
     bool operator==(const CellKey&) const = default;
 };
 std::string cell_file_name(const CellKey& k); // "balls-g20-V-512.json", "tetra_1-g4-M-8.json"
@@ -51,7 +51,7 @@ struct CellRecord {
     std::uint64_t total = 0;
     std::uint64_t s_cycles = 0; // model M only: model S's time
     StageRecord os, ic, sc;
-    double wall_seconds = 0;    // host time of the simulation (0 if the file does not say)
+    double wall_seconds = 0; // host time of the simulation (0 if the file does not say)
 };
 // Parses a cell file's text; throws PaperError "FILE: error: ..." when a key is missing or wrong.
 CellRecord parse_cell(const CellKey& key, const std::string& json_text, const std::string& file);
@@ -62,7 +62,7 @@ struct PaperProgress {
     const CellRecord* finished = nullptr; // the cell just finished; nullptr: start or a periodic update
     std::size_t cells_total = 0, cells_loaded = 0, cells_run = 0, cells_failed = 0;
     std::size_t cells_to_run = 0;
-    double fraction = 0;       // of the cells to run, counting the partial progress of running ones
+    double fraction = 0; // of the cells to run, counting the partial progress of running ones
     double elapsed_seconds = 0;
     int threads = 1;
 };
@@ -94,8 +94,8 @@ struct MatrixResult {
     std::vector<std::string> failures; // "cell: message" for cells whose run threw
     std::size_t loaded = 0, run = 0;
 };
-// Loads the cells whose files exist (a malformed one is an error naming it: delete it to re-run) and
-// runs the others, o.threads at a time, longest first. A failing cell does not stop the others.
+// Loads the cells whose files exist (a malformed one is an error naming it: delete it to re-run)
+// and runs the others, o.threads at a time, longest first. A failing cell does not stop the others.
 MatrixResult run_matrix(const PaperOptions& o, const CellRunner& run);
 
 // What the reports read.
@@ -111,13 +111,13 @@ struct PaperData {
 PaperData make_data(const PaperOptions& o, std::vector<CellRecord> cells);
 
 // Derived numbers, shared by the tables, chart and summary.
-double scale_to_paper(int size);                        // (512 / size)^2
-std::string paper_scene(const std::string& scene);      // "balls", "balls:4" -> "balls"; other -> ""
-bool is_paper_scene_size(const std::string& scene);     // built-in at the paper's size factor
-std::array<int, 3> load_ratio(const CellRecord& v);     // OS:IC:SC loads over the smallest, rounded
-std::uint64_t s_time(const CellRecord& m);              // s_cycles, else the sum of the stage loads
+double scale_to_paper(int size);                    // (512 / size)^2
+std::string paper_scene(const std::string& scene);  // "balls", "balls:4" -> "balls"; other -> ""
+bool is_paper_scene_size(const std::string& scene); // built-in at the paper's size factor
+std::array<int, 3> load_ratio(const CellRecord& v); // OS:IC:SC loads over the smallest, rounded
+std::uint64_t s_time(const CellRecord& m);          // s_cycles, else the sum of the stage loads
 int best_grid(const PaperData& d, const std::string& scene, MachineModel m); // 0 if no cell
-MachineModel time_model(const PaperData& d);            // the model best grids are judged by: V, M, S
+MachineModel time_model(const PaperData& d); // the model best grids are judged by: V, M, S
 
 // A report table: rendered as Markdown and as CSV from the same cells.
 struct Table {
@@ -140,7 +140,7 @@ std::vector<std::string> write_reports(const PaperData& d, const std::string& ou
 
 struct PaperRun {
     PaperData data;
-    std::vector<std::string> files; // written into out_dir
+    std::vector<std::string> files;  // written into out_dir
     std::size_t loaded = 0, run = 0; // cells
 };
 // validate, run_matrix with simulate_cell, auto grid per scene, write_reports. Throws PaperError

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "iss/channel.hpp"
+#include "iss/processor.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -33,6 +34,7 @@ class Fifo final : public iss::Channel {
     std::uint32_t pop() override {
         const std::uint32_t v = words_.front().value;
         words_.pop_front();
+        room_cycle = 1 + (consumer_proc ? consumer_proc->cycle() : consumer_clock ? *consumer_clock : 0);
         return v;
     }
     std::size_t writable() const override { return capacity_ - std::min(capacity_, words_.size()); }
@@ -44,11 +46,17 @@ class Fifo final : public iss::Channel {
     bool empty() const { return words_.empty(); }
     std::uint32_t word(std::size_t i) const { return words_[i].value; }
     std::uint64_t ready(std::size_t i) const { return words_[i].ready; }
+    // Words from two producers interleave in push order, so ready times need not be monotone.
+    bool all_ready(std::uint64_t cycle) const {
+        return std::all_of(words_.begin(), words_.end(), [cycle](const Word& w) { return w.ready <= cycle; });
+    }
     std::size_t max_size() const { return max_size_; }
     std::uint64_t pushed() const { return pushed_; }
-    // When the consumer last made room (its clock at the end of the chunk that received): the
-    // earliest cycle a producer held on a full FIFO can go on.
+    // The cycle after the consumer's last receive: the earliest cycle a producer held on a full
+    // FIFO can go on. The consumer is a processor or the SC model (its clock).
     std::uint64_t room_cycle = 0;
+    const iss::Processor* consumer_proc = nullptr;
+    const std::uint64_t* consumer_clock = nullptr;
 
   private:
     struct Word {

@@ -18,8 +18,7 @@ namespace abi = kernels::abi;
 
 namespace {
 
-constexpr std::uint64_t kSoloChunk = 1u << 16; // cycles a stage runs alone before the host looks again
-constexpr std::size_t kMaxSendsPerBundle = 4;  // a processor blocked on a full FIFO retries when this much room
+constexpr std::uint64_t kSoloChunk = 4096; // cycles a stage runs alone before the host looks again
 
 // An OS or IC processor with its input FIFO and its two output FIFOs.
 struct Stage {
@@ -28,20 +27,37 @@ struct Stage {
     Fifo* out[3] = {nullptr, nullptr, nullptr}; // by channel number (1, 2)
     const char* name = "";
 
+    // A processor whose last run only waited for words not yet sent (a bundle receiving several
+    // words of a message its producer has not finished) cannot progress until its FIFOs change.
+    bool starved = false;
+    std::uint64_t starved_at = 0; // in->pushed() when it starved
+
     // Earliest cycle at which the processor can make progress; kNever if it cannot now.
     std::uint64_t next_event() const {
+        if (starved && in->pushed() == starved_at) return kNever;
         switch (proc->status()) {
         case iss::Status::Running: return proc->cycle();
         case iss::Status::Blocked: {
             const std::uint32_t ch = proc->blocked_channel();
             if (ch == abi::kChIn) return in->empty() ? kNever : std::max(proc->cycle(), in->ready(0));
             const Fifo& o = *out[ch];
-            return o.writable() >= kMaxSendsPerBundle ? std::max(proc->cycle(), o.room_cycle) : kNever;
+            return o.writable() >= sends_needed(ch) ? std::max(proc->cycle(), o.room_cycle) : kNever;
         }
         case iss::Status::Halted:
         case iss::Status::Faulted: break;
         }
         return kNever;
+    }
+    // Words the blocked bundle sends on `ch`.
+    std::size_t sends_needed(std::uint32_t ch) const {
+        const iss::Program& p = proc->program();
+        const iss::DecodedBundle& b = p.bundles()[proc->pc()];
+        std::size_t n = 0;
+        for (std::uint32_t i = 0; i < b.count; ++i) {
+            const iss::DecodedOp& d = p.ops()[b.first + i];
+            n += d.instr.info().kind == isa::Kind::Send && d.imm == ch;
+        }
+        return n;
     }
     bool blocked_on_send() const {
         return proc->status() == iss::Status::Blocked && proc->blocked_channel() != abi::kChIn;
@@ -50,7 +66,13 @@ struct Stage {
     void run(std::uint64_t horizon) {
         if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
         if (horizon <= proc->cycle()) return;
+        const std::uint64_t busy_before = busy();
         const iss::Status s = proc->run(horizon - proc->cycle());
+        // Starved: it issued nothing though every word in its FIFO has arrived, so more time alone
+        // does not help (words still in flight would: those are waited for cycle by cycle).
+        starved = s == iss::Status::Running && busy() == busy_before && !in->empty() &&
+                  in->all_ready(proc->cycle());
+        starved_at = in->pushed();
         if (s == iss::Status::Faulted || s == iss::Status::Halted)
             throw std::runtime_error(fmt::format("{} processor stopped: {}\n{}", name, iss::status_name(s),
                                                  proc->fault_report()));
@@ -101,6 +123,9 @@ class Pe {
         ic_.proc->attach_memory("global", setup.global);
         if (!setup.ic_resident.bytes.empty())
             ic_.proc->memory().load_data(setup.ic_resident.base, setup.ic_resident.bytes);
+        os_in_.consumer_proc = os_.proc.get();
+        ic_in_.consumer_proc = ic_.proc.get();
+        sc_os_.consumer_clock = sc_ic_.consumer_clock = &sc_.clock_ref();
         if (mo.cache.enabled) {
             cache_.emplace(mo.cache);
             ic_.proc->attach_cache("global", &*cache_);
@@ -127,7 +152,9 @@ class Pe {
 
     [[noreturn]] void deadlock() const {
         auto state = [](const Stage& s) {
-            if (s.proc->status() != iss::Status::Blocked) return std::string(iss::status_name(s.proc->status()));
+            if (s.proc->status() != iss::Status::Blocked)
+                return fmt::format("{} at cycle {}{}", iss::status_name(s.proc->status()), s.proc->cycle(),
+                                   s.starved ? ", waiting for the rest of a message" : "");
             return fmt::format("blocked on channel {} ({}) at cycle {}", s.proc->blocked_channel(),
                                s.proc->blocked_channel() == abi::kChIn ? "empty input" : "full output", s.proc->cycle());
         };
@@ -146,11 +173,8 @@ class Pe {
     void run_stage(int i, std::uint64_t horizon) {
         if (i == 2) {
             sc_.run(horizon);
-            sc_os_.room_cycle = sc_ic_.room_cycle = sc_.clock();
         } else {
-            Stage& s = i == 0 ? os_ : ic_;
-            s.run(horizon);
-            s.in->room_cycle = s.proc->cycle();
+            (i == 0 ? os_ : ic_).run(horizon);
         }
     }
 
@@ -179,13 +203,11 @@ class Pe {
         if (w == 2) {
             sc_.idle_until(now_);
             sc_.run(kNever);
-            sc_os_.room_cycle = sc_ic_.room_cycle = sc_.clock();
             now_ = sc_.clock();
         } else {
             Stage& s = w == 0 ? os_ : ic_;
             s.proc->idle_until(now_);
             s.run(now_ + kSoloChunk);
-            s.in->room_cycle = s.proc->cycle();
             now_ = s.proc->cycle();
         }
     }

@@ -57,7 +57,7 @@ MachineSetup build_setup(const PreparedScene& prep, const MachineOptions& mo) {
             "ends at 0x{:x} (use a coarser grid)",
             g.geom.n[0], g.geom.n[1], g.geom.n[2], pg.voxels(), abi::kOsOcc, abi::kOsOccLimit));
     s.os_image = kernels::os_image(g.geom, g.occupancy);
-    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes);
+    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes, mo.resident);
     constexpr std::uint32_t kGlobalBytes = 0x04000000;
     if (ic.global.bytes.size() > kGlobalBytes)
         throw std::runtime_error(fmt::format("the IC data ({} bytes) do not fit the 64 MiB global memory",

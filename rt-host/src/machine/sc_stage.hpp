@@ -55,6 +55,7 @@ class ScStage {
     void idle_until(std::uint64_t cycle);
     bool done() const { return finished_ == corners_.size(); }
     std::uint64_t clock() const { return clock_; }
+    const std::uint64_t& clock_ref() const { return clock_; }
     std::uint64_t corners_done() const { return finished_; }
 
     StageCycles cycles;  // processing, communication, wait, words, units = 1, modelled

@@ -85,8 +85,8 @@ CellRecord parse_cell(const CellKey& key, const std::string& text, const std::st
         r.wall_seconds = number_or_zero(host, "wall_seconds");
         return r;
     } catch (const std::exception& e) { // json::exception or PaperError
-        throw PaperError(fmt::format("{}: error: malformed cell file: {} (delete it to run the cell again)", file,
-                                     e.what()));
+        throw PaperError(
+            fmt::format("{}: error: malformed cell file: {} (delete it to run the cell again)", file, e.what()));
     }
 }
 

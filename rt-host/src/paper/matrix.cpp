@@ -130,7 +130,8 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
     });
     m.partial.assign(m.todo.size(), 0.0);
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    m.threads = std::clamp(o.threads > 0 ? o.threads : cores, 1, static_cast<int>(std::max<std::size_t>(1, m.todo.size())));
+    m.threads =
+        std::clamp(o.threads > 0 ? o.threads : cores, 1, static_cast<int>(std::max<std::size_t>(1, m.todo.size())));
     {
         std::lock_guard lock(m.mutex);
         m.report(nullptr);

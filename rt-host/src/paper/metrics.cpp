@@ -40,9 +40,7 @@ std::array<int, 3> load_ratio(const CellRecord& v) {
     return r;
 }
 
-std::uint64_t s_time(const CellRecord& m) {
-    return m.s_cycles ? m.s_cycles : m.os.load() + m.ic.load() + m.sc.load();
-}
+std::uint64_t s_time(const CellRecord& m) { return m.s_cycles ? m.s_cycles : m.os.load() + m.ic.load() + m.sc.load(); }
 
 int best_grid(const PaperData& d, const std::string& scene, MachineModel m) {
     int best = 0;

@@ -18,9 +18,8 @@ void validate_scene(const std::string& scene) {
     } catch (const std::invalid_argument& e) { // a built-in name with a bad size suffix
         throw PaperError(e.what());
     }
-    throw PaperError(fmt::format("unknown scene '{}' (built-in: balls mount rings tetra tree gears, NAME:SIZE, "
-                                 "or an NFF file)",
-                                 scene));
+    throw PaperError(fmt::format(
+        "unknown scene '{}' (built-in: balls mount rings tetra tree gears, NAME:SIZE, or an NFF file)", scene));
 }
 } // namespace
 
@@ -47,7 +46,8 @@ std::vector<CellKey> matrix_cells(const PaperOptions& o) {
     for (const std::string& scene : o.scenes)
         for (int g : grids) {
             if (wants(o, MachineModel::V)) cells.push_back({scene, g, MachineModel::V, o.size});
-            if (wants(o, MachineModel::S) || wants(o, MachineModel::M)) cells.push_back({scene, g, MachineModel::M, o.size});
+            if (wants(o, MachineModel::S) || wants(o, MachineModel::M))
+                cells.push_back({scene, g, MachineModel::M, o.size});
         }
     return cells;
 }

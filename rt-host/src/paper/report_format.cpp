@@ -31,16 +31,16 @@ std::string format_scale(int size) { return fmt::format("×{:g}", scale_to_paper
 std::vector<std::string> common_notes(const PaperData& d) {
     std::vector<std::string> notes;
     if (d.size != 512)
-        notes.push_back(fmt::format(
-            "Note: ours at {0}x{0}; the paper's values are for 512x512. Columns marked {1} are ours scaled by "
-            "(512/{0})² to compare (approximate: the machine traces (size+1)² pixel corners).",
-            d.size, format_scale(d.size)));
+        notes.push_back(
+            fmt::format("Note: ours at {0}x{0}; the paper's values are for 512x512. Columns marked {1} are ours scaled "
+                        "by (512/{0})² to compare (approximate: the machine traces (size+1)² pixel corners).",
+                        d.size, format_scale(d.size)));
     std::vector<std::string> off_size;
     for (const std::string& s : d.scenes)
         if (!is_paper_scene_size(s)) off_size.push_back(s);
     if (!off_size.empty())
-        notes.push_back(fmt::format("Note: {} {} not the paper's scene (size factor or file): the paper's columns "
-                                    "are for its own scene of that name and shown for reference only.",
+        notes.push_back(fmt::format("Note: {} {} not the paper's scene (size factor or file): the paper's columns are "
+                                    "for its own scene of that name and shown for reference only.",
                                     fmt::join(off_size, ", "), off_size.size() == 1 ? "is" : "are"));
     return notes;
 }

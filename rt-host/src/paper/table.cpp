@@ -43,7 +43,10 @@ std::string to_csv(const Table& t) {
     };
     std::string o;
     auto row = [&](const std::vector<std::string>& cells) {
-        for (std::size_t i = 0; i < cells.size(); ++i) o += (i ? "," : "") + cell(cells[i]);
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+            if (i) o += ',';
+            o += cell(cells[i]);
+        }
         o += "\n";
     };
     row(t.header);

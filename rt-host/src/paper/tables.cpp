@@ -16,7 +16,8 @@ void add_cycles(std::vector<std::string>& row, const std::vector<std::uint64_t>&
 void add_scaled(const PaperData& d, std::vector<std::string>& row, const std::vector<std::uint64_t>& values,
                 bool present) {
     if (d.size == 512) return;
-    for (std::uint64_t v : values) row.push_back(present ? format_mcycles(as_double(v) * scale_to_paper(d.size)) : kMissing);
+    for (std::uint64_t v : values)
+        row.push_back(present ? format_mcycles(as_double(v) * scale_to_paper(d.size)) : kMissing);
 }
 void add_scaled_header(const PaperData& d, std::vector<std::string>& header, std::initializer_list<const char*> names) {
     if (d.size == 512) return;
@@ -61,11 +62,11 @@ Table table2(const PaperData& d) {
             t.rows.push_back(std::move(row));
         }
     t.notes.insert(t.notes.begin(),
-                   "proc = processing, comm = FIFO communication, wait = waiting on an empty input FIFO; OS:IC:SC "
-                   "is the ratio of loads (processing + communication), the smallest = 1, rounded.");
+                   "proc = processing, comm = FIFO communication, wait = waiting on an empty input FIFO; OS:IC:SC is "
+                   "the ratio of loads (processing + communication), the smallest = 1, rounded.");
     if (suspect)
-        t.notes.push_back("(?): the printed ratio contradicts the printed processing columns (tree 20 gives "
-                          "≈7:211:1, tree 50 ≈14:85:1); probably misread in print.");
+        t.notes.push_back("(?): the printed ratio contradicts the printed processing columns (tree 20 gives ≈7:211:1, "
+                          "tree 50 ≈14:85:1); probably misread in print.");
     return t;
 }
 
@@ -100,8 +101,8 @@ Table table3(const PaperData& d) {
             }
             t.rows.push_back(std::move(row));
         }
-    t.notes.insert(t.notes.begin(), "S is derived from the model-M run (the sum of the stages' loads on one "
-                                    "processor, MachineStats::s_cycles), not simulated separately.");
+    t.notes.insert(t.notes.begin(), "S is derived from the model-M run (the sum of the stages' loads on one processor, "
+                                    "MachineStats::s_cycles), not simulated separately.");
     t.notes.push_back(kReconstructedNote);
     return t;
 }
@@ -119,21 +120,25 @@ Table table4(const PaperData& d) {
             const CellRecord* m = d.find(scene, g, MachineModel::M);
             const CellRecord* v = d.find(scene, g, MachineModel::V);
             auto quotient = [&](const StageRecord CellRecord::*stage, std::uint64_t StageRecord::*field) {
-                return m && v ? format_quotient(as_double((m->*stage).*field), as_double((v->*stage).*field)) : kMissing;
+                return m && v ? format_quotient(as_double((m->*stage).*field), as_double((v->*stage).*field))
+                              : kMissing;
             };
             auto of_v = [&](const StageRecord CellRecord::*stage, double StageRecord::*field) {
                 return v ? fmt::format("{:.2f}", (v->*stage).*field) : kMissing;
             };
-            const std::string ours[] = {
-                quotient(&CellRecord::os, &StageRecord::processing), quotient(&CellRecord::os, &StageRecord::communication),
-                quotient(&CellRecord::ic, &StageRecord::processing), quotient(&CellRecord::ic, &StageRecord::communication),
-                of_v(&CellRecord::os, &StageRecord::ilp),            of_v(&CellRecord::ic, &StageRecord::ilp),
-                of_v(&CellRecord::os, &StageRecord::utilization),    of_v(&CellRecord::ic, &StageRecord::utilization)};
+            const std::string ours[] = {quotient(&CellRecord::os, &StageRecord::processing),
+                                        quotient(&CellRecord::os, &StageRecord::communication),
+                                        quotient(&CellRecord::ic, &StageRecord::processing),
+                                        quotient(&CellRecord::ic, &StageRecord::communication),
+                                        of_v(&CellRecord::os, &StageRecord::ilp),
+                                        of_v(&CellRecord::ic, &StageRecord::ilp),
+                                        of_v(&CellRecord::os, &StageRecord::utilization),
+                                        of_v(&CellRecord::ic, &StageRecord::utilization)};
             std::vector<std::string> theirs(std::size(ours), kMissing);
             if (const PublishedVliw* p = find_published_vliw(paper_scene(scene)))
-                theirs = {format_range(p->os_processing), format_range(p->os_communication),
-                          format_range(p->ic_processing), format_range(p->ic_communication),
-                          format_range(p->os_ilp),        format_range(p->ic_ilp),
+                theirs = {format_range(p->os_processing),  format_range(p->os_communication),
+                          format_range(p->ic_processing),  format_range(p->ic_communication),
+                          format_range(p->os_ilp),         format_range(p->ic_ilp),
                           format_range(p->os_utilization), format_range(p->ic_utilization)};
             std::vector<std::string> row = {scene, std::to_string(g)};
             for (std::size_t i = 0; i < std::size(ours); ++i) {
@@ -144,8 +149,8 @@ Table table4(const PaperData& d) {
         }
     t.notes.insert(t.notes.begin(),
                    "proc/comm M/V: the stage's processing (communication) cycles in model M over model V. ILP: "
-                   "operations per bundle over processing cycles; util: ILP over the units (4 in OS and IC), of "
-                   "model V. The paper gives ranges over grids 20, 50 and 100 per scene.");
+                   "operations per bundle over processing cycles; util: ILP over the units (4 in OS and IC), of model "
+                   "V. The paper gives ranges over grids 20, 50 and 100 per scene.");
     return t;
 }
 

@@ -1,0 +1,163 @@
+// `nesshi paper`: re-run the paper's evaluation (scenes x grids x models S, M, V) and write Tables
+// 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
+#include "commands.hpp"
+
+#include "rt/paper.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <memory>
+#include <unistd.h>
+
+namespace nesshi::cli {
+
+namespace {
+
+namespace paper = rt::paper;
+
+struct PaperArgs {
+    int size = 512;
+    std::string scenes = "balls,mount,rings,tetra,tree";
+    std::string grids = "20,50,100";
+    std::string models = "S,M,V";
+    std::string out = "paper-out";
+    int threads = 0;
+    bool quiet = false;
+};
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = s.find(',', start)) != std::string::npos; start = comma + 1)
+        parts.push_back(s.substr(start, comma - start));
+    parts.push_back(s.substr(start));
+    return parts;
+}
+
+std::vector<int> parse_grids(const std::string& s) {
+    std::vector<int> grids;
+    for (const std::string& part : split(s)) {
+        int g = 0;
+        auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), g);
+        if (ec != std::errc() || p != part.data() + part.size())
+            throw paper::PaperError(fmt::format("bad grid '{}'", part));
+        grids.push_back(g); // range checked by paper::validate
+    }
+    return grids;
+}
+
+std::vector<rt::MachineModel> parse_models(const std::string& s) {
+    std::vector<rt::MachineModel> models;
+    for (const std::string& part : split(s)) {
+        rt::MachineModel m{};
+        if (!rt::parse_machine_model(part, m))
+            throw paper::PaperError(fmt::format("unknown model '{}' (available: S, M, V)", part));
+        models.push_back(m);
+    }
+    return models;
+}
+
+std::string duration(double seconds) {
+    const long s = std::lround(seconds);
+    return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+                     : fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+// Prints a line per finished cell; on a terminal also a bar with the time left, redrawn in place.
+class ProgressPrinter {
+  public:
+    ProgressPrinter(const paper::PaperOptions& o, bool tty) : out_(o.out_dir), size_(o.size), tty_(tty) {}
+
+    void operator()(const paper::PaperProgress& p) {
+        if (!started_) {
+            started_ = true;
+            fmt::print("paper: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n", p.cells_total,
+                       size_, size_, p.cells_loaded, out_, p.cells_to_run, p.threads);
+        }
+        if (p.finished) {
+            clear_status();
+            const paper::CellRecord& c = *p.finished;
+            fmt::print("  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
+                       rt::machine_model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
+                       c.wall_seconds, p.cells_run + p.cells_failed, p.cells_to_run, tty_ ? "" : "; " + timing(p));
+        }
+        if (tty_ && p.cells_to_run > 0) draw_status(p);
+        std::fflush(stdout);
+    }
+
+    void clear_status() {
+        if (status_shown_) fmt::print("\r\033[K");
+        status_shown_ = false;
+    }
+
+  private:
+    static std::string timing(const paper::PaperProgress& p) {
+        std::string t = fmt::format("{} elapsed", duration(p.elapsed_seconds));
+        if (p.fraction > 0.01 && p.fraction < 1)
+            t += fmt::format(", ~{} left", duration(p.elapsed_seconds / p.fraction * (1 - p.fraction)));
+        return t;
+    }
+
+    void draw_status(const paper::PaperProgress& p) {
+        const int pct = static_cast<int>(p.fraction * 100);
+        fmt::print("\r\033[K[{:<30}] {:3}%  {}/{} cells  {}",
+                   std::string(static_cast<std::size_t>(pct * 30 / 100), '#'), pct, p.cells_run + p.cells_failed,
+                   p.cells_to_run, timing(p));
+        status_shown_ = true;
+    }
+
+    std::string out_;
+    int size_;
+    bool tty_, started_ = false, status_shown_ = false;
+};
+
+void run_paper_command(const PaperArgs& a) {
+    paper::PaperOptions o;
+    o.size = a.size;
+    o.scenes = split(a.scenes);
+    o.grids = parse_grids(a.grids);
+    o.models = parse_models(a.models);
+    o.out_dir = a.out;
+    o.threads = a.threads;
+    paper::validate(o); // before any output
+    auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDOUT_FILENO) != 0);
+    if (!a.quiet) o.progress = [printer](const paper::PaperProgress& p) { (*printer)(p); };
+    try {
+        paper::PaperRun r = paper::run_paper(o);
+        printer->clear_status();
+        if (!a.quiet)
+            fmt::print("cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
+    } catch (...) {
+        printer->clear_status();
+        throw;
+    }
+}
+
+} // namespace
+
+void add_paper(CLI::App& app) {
+    auto* cmd = app.add_subcommand("paper", "Re-run the paper's evaluation: Tables 2-4, Fig. 6 and a summary");
+    auto a = std::make_shared<PaperArgs>();
+    cmd->add_option("--size", a->size, "image size N x N (default 512, the paper's)");
+    cmd->add_option("--scenes", a->scenes,
+                    "scenes, comma-separated (default balls,mount,rings,tetra,tree; NAME:SIZE or NFF)");
+    cmd->add_option("--grids", a->grids, "voxels per side, comma-separated (default 20,50,100)");
+    cmd->add_option("--models", a->models, "models, comma-separated (default S,M,V; S comes from the M run)");
+    cmd->add_option("--out", a->out, "output folder (default paper-out); cells kept in OUT/cells");
+    cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
+    cmd->callback([a] {
+        try {
+            run_paper_command(*a);
+        } catch (const std::exception& e) {
+            std::string msg = e.what();
+            if (msg.find(": error: ") == std::string::npos) msg = "nesshi paper: error: " + msg;
+            fmt::print(stderr, "{}\n", msg);
+            throw CLI::RuntimeError(1);
+        }
+    });
+}
+
+} // namespace nesshi::cli

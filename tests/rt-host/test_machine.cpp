@@ -1,0 +1,199 @@
+// The macropipeline host: models S, M, V against the native renderer, the cycle accounting,
+// determinism, FIFO capacity and deadlock, the cache, capacity errors, the stats golden file.
+#include "rt/machine.hpp"
+#include "rt/scene.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+using namespace nesshi::rt;
+
+namespace {
+
+RenderOptions small(int size) {
+    RenderOptions o;
+    o.width = o.height = size;
+    o.threads = 1;
+    o.id_buffer = o.t_buffer = true;
+    return o;
+}
+
+MachineOptions model(MachineModel m) {
+    MachineOptions mo;
+    mo.model = m;
+    mo.threads = 1;
+    return mo;
+}
+
+void require_same_result(const RenderResult& a, const RenderResult& b) {
+    REQUIRE(a.image.rgb == b.image.rgb);
+    REQUIRE(a.id_buffer == b.id_buffer);
+    REQUIRE(a.t_buffer == b.t_buffer);
+    REQUIRE(a.stats.rays == b.stats.rays);
+}
+
+void require_accounting(const MachineStats& m) {
+    REQUIRE(m.pe_cycles.size() >= 1);
+    std::uint64_t sum = 0;
+    for (std::uint64_t c : m.pe_cycles) sum += c;
+    // Each processor's clock runs to its PE's end: processing + communication + wait = elapsed.
+    CHECK(m.os.elapsed() == sum);
+    CHECK(m.ic.elapsed() == sum);
+    CHECK(m.sc.elapsed() == sum);
+    CHECK(m.os.processing > 0);
+    CHECK(m.ic.processing > 0);
+    CHECK(m.sc.processing > 0);
+}
+
+} // namespace
+
+TEST_CASE("Models S, M and V render exactly what the native renderer renders", "[unit][machine]") {
+    for (const char* name : {"tetra:1", "balls:1", "mount:1", "rings:1", "tree:1"}) {
+        const PreparedScene prep = prepare(load_scene(name), 6);
+        const RenderOptions opt = small(12);
+        const RenderResult native = render_native(prep, opt);
+        for (MachineModel m : {MachineModel::V, MachineModel::M, MachineModel::S}) {
+            INFO(name << " model " << machine_model_name(m));
+            const MachineResult r = render_machine(prep, opt, model(m));
+            require_same_result(native, r.render);
+            require_accounting(r.machine);
+            CHECK(r.machine.hits + r.machine.returns == r.machine.visits);
+        }
+    }
+}
+
+TEST_CASE("Model S equals the sum of model M's stage loads (derived S is exact)", "[unit][machine]") {
+    for (const char* name : {"mount:1", "rings:1"}) {
+        const PreparedScene prep = prepare(load_scene(name), 5);
+        const RenderOptions opt = small(10);
+        const MachineResult m = render_machine(prep, opt, model(MachineModel::M));
+        const MachineResult s = render_machine(prep, opt, model(MachineModel::S));
+        INFO(name);
+        CHECK(m.machine.s_cycles == m.machine.os.load() + m.machine.ic.load() + m.machine.sc.load());
+        CHECK(s.machine.total_cycles == m.machine.s_cycles);
+        // the same instruction streams: the same bundles and operations per stage
+        CHECK(s.machine.os.bundles == m.machine.os.bundles);
+        CHECK(s.machine.ic.ops == m.machine.ic.ops);
+        CHECK(s.machine.sc.processing == m.machine.sc.processing);
+        // a pipeline is never slower than one processor doing everything
+        CHECK(m.machine.total_cycles < s.machine.total_cycles);
+    }
+}
+
+TEST_CASE("The same cycles for any host thread count; PEs split the work", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("balls:1"), 6);
+    const RenderOptions opt = small(12);
+    const RenderResult native = render_native(prep, opt);
+    MachineOptions mo = model(MachineModel::V);
+    mo.pes = 3;
+    const MachineResult one = render_machine(prep, opt, mo);
+    mo.threads = 3;
+    const MachineResult three = render_machine(prep, opt, mo);
+    require_same_result(native, one.render);
+    require_same_result(native, three.render);
+    CHECK(one.machine.pe_cycles == three.machine.pe_cycles);
+    CHECK(one.machine.os.wait == three.machine.os.wait);
+    CHECK(one.machine.ic.processing == three.machine.ic.processing);
+    require_accounting(one.machine);
+    const MachineResult single = render_machine(prep, opt, model(MachineModel::V));
+    CHECK(one.machine.total_cycles < single.machine.total_cycles);
+}
+
+TEST_CASE("Bounded FIFOs, FIFO latency and a real cache change timing, never results", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("mount:1"), 6);
+    const RenderOptions opt = small(12);
+    const MachineResult ideal = render_machine(prep, opt, model(MachineModel::V));
+    MachineOptions bounded = model(MachineModel::V);
+    bounded.fifo_capacity = 64;
+    bounded.window = 2;
+    const MachineResult b = render_machine(prep, opt, bounded);
+    require_same_result(ideal.render, b.render);
+    CHECK(b.machine.max_fifo_words <= 64);
+    CHECK(ideal.machine.max_fifo_words > 64);
+    // One corner in flight: every FIFO hop is on the critical path, so latency adds up.
+    MachineOptions serial = model(MachineModel::V);
+    serial.window = 1;
+    const MachineResult s1 = render_machine(prep, opt, serial);
+    MachineOptions slow = serial;
+    slow.fifo_latency = 10;
+    const MachineResult l = render_machine(prep, opt, slow);
+    require_same_result(ideal.render, l.render);
+    CHECK(l.machine.total_cycles > s1.machine.total_cycles + 10 * (l.machine.visits + l.machine.hits));
+    CHECK(s1.machine.total_cycles > ideal.machine.total_cycles);
+    require_accounting(l.machine);
+    MachineOptions cached = model(MachineModel::V);
+    cached.cache.enabled = true;
+    cached.resident = false; // everything behind the cache
+    cached.cache.bytes = 1024; // tiny, so that it misses
+    cached.cache.ways = 2;
+    const MachineResult c = render_machine(prep, opt, cached);
+    require_same_result(ideal.render, c.render);
+    CHECK(c.machine.cache_misses > 0);
+    CHECK(c.machine.total_cycles > ideal.machine.total_cycles);
+}
+
+TEST_CASE("A FIFO cycle filled to capacity is reported as a deadlock", "[unit][machine]") {
+    // mount: a hit spawns a shadow, a reflection and a refraction ray (27 words) into the OS's
+    // FIFO, which IC returns and eye rays keep full, while the OS waits to send to a full SC FIFO.
+    const PreparedScene prep = prepare(load_scene("mount:1"), 6);
+    MachineOptions mo = model(MachineModel::V);
+    mo.fifo_capacity = 16;
+    try {
+        render_machine(prep, small(24), mo);
+        FAIL("no deadlock");
+    } catch (const std::runtime_error& e) {
+        const std::string msg = e.what();
+        CHECK(msg.find("deadlock") != std::string::npos);
+        CHECK(msg.find("full output") != std::string::npos);
+    }
+}
+
+TEST_CASE("Bad machine options and data that do not fit are clear errors", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("tetra:1"), 4);
+    MachineOptions mo = model(MachineModel::V);
+    mo.fifo_capacity = 8;
+    CHECK_THROWS_WITH(render_machine(prep, small(4), mo), Catch::Contains("at least 16 words"));
+    mo = model(MachineModel::V);
+    mo.pes = 0;
+    CHECK_THROWS_WITH(render_machine(prep, small(4), mo), Catch::Contains("at least one PE"));
+    mo = model(MachineModel::V);
+    mo.cache.enabled = true;
+    mo.cache.line = 24;
+    CHECK_THROWS_WITH(render_machine(prep, small(4), mo), Catch::Contains("power of two"));
+    mo = model(MachineModel::V);
+    mo.max_cycles = 1000;
+    CHECK_THROWS_WITH(render_machine(prep, small(8), mo), Catch::Contains("cycle limit"));
+    const PreparedScene big = prepare(load_scene("tetra:1"), 125); // 127^3 map bytes > SRAM
+    CHECK_THROWS_WITH(render_machine(big, small(2), model(MachineModel::V)), Catch::Contains("does not fit the OS SRAM"));
+}
+
+TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("tetra:1"), 6);
+    const RenderOptions opt = small(16);
+    MachineOptions mo = model(MachineModel::V);
+    mo.trace_json = "machine_test_trace.json";
+    const MachineResult r = render_machine(prep, opt, mo);
+    nlohmann::json j = nlohmann::json::parse(machine_stats_json(prep, opt, mo, r));
+    for (const char* stage : {"os", "ic", "sc"})
+        for (const char* key : {"processing", "communication", "wait", "bundles", "ops", "ilp", "utilization"})
+            CHECK(j["cycles"][stage].contains(key));
+    CHECK(j["host"].contains("bundles_per_second"));
+    CHECK(j["host"]["simulated_bundles"].get<std::uint64_t>() == r.machine.simulated_bundles);
+    // The golden part: everything but host timings.
+    j.erase("host");
+    j["grid"].erase("build_seconds");
+    const std::string got = j.dump(2) + "\n";
+    const std::string path = std::string(NESSHI_TEST_DATA) + "/machine-tetra1-V.json";
+    if (std::getenv("NESSHI_UPDATE_GOLDEN")) std::ofstream(path) << got;
+    std::ifstream f(path);
+    std::stringstream want;
+    want << f.rdbuf();
+    CHECK(got == want.str());
+    std::ifstream t("machine_test_trace.json");
+    const nlohmann::json trace = nlohmann::json::parse(t);
+    CHECK(trace["traceEvents"].size() > 10);
+}
