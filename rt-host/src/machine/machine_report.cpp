@@ -84,8 +84,8 @@ std::string format_machine(const MachineStats& m) {
                                                                static_cast<double>(m.cache_accesses),
                          m.cache_accesses);
     o += "\n";
-    o += fmt::format("host: {:.2f} s, {:.1f} M bundles simulated, {:.1f} M bundles/s ({} threads)\n", m.wall_seconds,
-                     millions(m.simulated_bundles), m.bundles_per_second() / 1e6, m.threads);
+    o += fmt::format("host: {:.2f} s, {:.1f} M bundles simulated, {:.1f} M bundles/s ({} thread{})\n", m.wall_seconds,
+                     millions(m.simulated_bundles), m.bundles_per_second() / 1e6, m.threads, m.threads == 1 ? "" : "s");
     return o;
 }
 
