@@ -42,6 +42,7 @@ test-asan: deps
 bench: build
 	@$(BUILD)/bench_iss
 	@$(BUILD)/bench_native_render
+	@$(BUILD)/bench_machine_render
 
 clean:
 	rm -rf build build-asan

@@ -1,0 +1,80 @@
+// Benchmark: the simulated machine's speed. Renders one scene through a model (default: balls,
+// model V, grid 50, 512 x 512, one PE on one host thread) and the same prepared scene with the native
+// tracer, and prints wall times, simulated bundles per second and their ratio, measured in one run.
+// --paper DIR also times the whole `nesshi paper` matrix into DIR (must not hold cells yet, else
+// the finished ones are loaded, not timed): the target is under 30 minutes on 2 cores.
+// Usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]
+#include "rt/machine.hpp"
+#include "rt/paper.hpp"
+#include "rt/render.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <string>
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    using namespace nesshi::rt;
+    std::string scene = "balls", model = "V", paper_dir;
+    int grid = 50, size = 512;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string a = argv[i], v = argv[i + 1];
+        if (a == "--scene") scene = v;
+        else if (a == "--model") model = v;
+        else if (a == "--grid") grid = std::atoi(v.c_str());
+        else if (a == "--size") size = std::atoi(v.c_str());
+        else if (a == "--paper") paper_dir = v;
+        else {
+            fmt::print(stderr, "usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]\n");
+            return 2;
+        }
+    }
+    try {
+        MachineOptions mo;
+        if (!parse_machine_model(model, mo.model)) throw std::runtime_error("unknown model " + model);
+        mo.threads = 1;
+        const PreparedScene prep = prepare(load_scene(scene), grid);
+        RenderOptions opt;
+        opt.width = opt.height = size;
+
+        opt.threads = 1;
+        const auto t_native = std::chrono::steady_clock::now();
+        const RenderResult native = render_native(prep, opt);
+        const double native_s = seconds_since(t_native);
+
+        const MachineResult m = render_machine(prep, opt, mo);
+        const MachineStats& s = m.machine;
+        fmt::print("{} {}x{} grid {}, model {}, 1 PE, 1 host thread\n", scene, size, size, grid, model);
+        fmt::print("  simulated cycles          {:>14}\n", s.total_cycles);
+        fmt::print("  simulated bundles         {:>14}   (OS + IC or seq; SC is modelled)\n", s.simulated_bundles);
+        fmt::print("  machine wall time         {:>12.2f} s\n", s.wall_seconds);
+        fmt::print("  simulated bundles/s       {:>12.1f} M\n", s.bundles_per_second() / 1e6);
+        fmt::print("  native wall time          {:>12.3f} s   (1 thread, same prepared scene)\n", native_s);
+        fmt::print("  machine / native          {:>12.0f} x\n", s.wall_seconds / native_s);
+        fmt::print("  images identical          {:>14}\n", native.image.rgb == m.render.image.rgb ? "yes" : "NO");
+        std::fflush(stdout);
+
+        if (!paper_dir.empty()) {
+            paper::PaperOptions po;
+            po.out_dir = paper_dir;
+            const auto t0 = std::chrono::steady_clock::now();
+            const paper::PaperRun r = paper::run_paper(po);
+            const double wall = seconds_since(t0);
+            fmt::print("nesshi paper {}x{}: {} cells run, {} loaded, {:.0f} s = {:.1f} min wall (target < 30 min)\n",
+                       po.size, po.size, r.run, r.loaded, wall, wall / 60);
+        }
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "bench_machine_render: {}\n", e.what());
+        return 1;
+    }
+    return 0;
+}
