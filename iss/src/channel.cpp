@@ -12,10 +12,10 @@
 
 namespace nesshi::iss {
 
-size_t QueueChannel::readable(uint64_t cycle) const {
+size_t QueueChannel::readable(uint64_t cycle, size_t enough) const {
     size_t n = 0;
     for (const Word& w : words_) {
-        if (w.ready > cycle) break;
+        if (w.ready > cycle || n == enough) break;
         ++n;
     }
     return n;

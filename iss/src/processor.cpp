@@ -162,7 +162,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
             for (uint32_t j = 0; j <= i; ++j)
                 need += ops[j].instr.info().kind == kind && ops[j].imm == ch;
             if (kind == isa::Kind::Recv) {
-                if (chan->readable(c.cycle) >= need) continue;
+                if (chan->readable(c.cycle, need) >= need) continue;
                 std::optional<uint64_t> ready = chan->front_ready();
                 if (ready && *ready > c.cycle) { // the word exists but arrives later: wait for it
                     wait_until(std::min(*ready, limit));

@@ -19,8 +19,10 @@ namespace nesshi::iss {
 class Channel {
   public:
     virtual ~Channel() = default;
-    // Number of words receivable at `cycle` (words whose ready cycle <= cycle).
-    virtual size_t readable(uint64_t cycle) const = 0;
+    // Number of words receivable at `cycle` (words whose ready cycle <= cycle), counted up to
+    // `enough`: the engine only asks whether a bundle's receives can all go, and a long queue
+    // must not cost a scan per receive.
+    virtual size_t readable(uint64_t cycle, size_t enough) const = 0;
     // Ready cycle of the front word; nullopt when the channel is empty.
     virtual std::optional<uint64_t> front_ready() const = 0;
     virtual uint32_t pop() = 0;
@@ -39,7 +41,7 @@ class QueueChannel : public Channel {
     explicit QueueChannel(size_t capacity = std::numeric_limits<size_t>::max(), uint32_t latency = 1)
         : capacity_(capacity), latency_(latency) {}
 
-    size_t readable(uint64_t cycle) const override;
+    size_t readable(uint64_t cycle, size_t enough) const override;
     std::optional<uint64_t> front_ready() const override;
     uint32_t pop() override;
     size_t writable() const override { return capacity_ - words_.size(); }

@@ -19,10 +19,10 @@ class Fifo final : public iss::Channel {
         : capacity_(capacity ? capacity : std::numeric_limits<std::size_t>::max()), latency_(1 + extra_latency) {}
 
     // iss::Channel (the simulated processors' side)
-    std::size_t readable(std::uint64_t cycle) const override {
+    std::size_t readable(std::uint64_t cycle, std::size_t enough) const override {
         std::size_t n = 0;
         for (const Word& w : words_) {
-            if (w.ready > cycle) break;
+            if (w.ready > cycle || n == enough) break;
             ++n;
         }
         return n;
