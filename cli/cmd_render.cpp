@@ -28,6 +28,7 @@ struct RenderArgs {
     // the simulated machine (models S, M, V)
     rt::MachineOptions mo;
     bool cache = false;
+    std::string balance = "interleaved";
 };
 
 const char* const kModels = "native, S, M, V";
@@ -46,6 +47,7 @@ void run_render(const RenderArgs& a) {
     if (!native && !rt::parse_machine_model(a.model, mo.model))
         throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     mo.cache.enabled = a.cache;
+    mo.dynamic_balance = a.balance == "dynamic";
     rt::RenderOptions opt;
     if (auto x = a.size.find('x'); x != std::string::npos) {
         opt.width = parse_int(a.size.substr(0, x), "width");
@@ -118,6 +120,10 @@ void add_render(CLI::App& app) {
     cmd->add_flag("-q,--quiet", a->quiet, "no report, no progress bar");
     auto* m = "Machine (models S, M, V)";
     cmd->add_option("--pes", a->mo.pes, "processing elements (default 1)")->check(CLI::PositiveNumber)->group(m);
+    cmd->add_option("--balance", a->balance, "DIS: interleaved (corner k to PE k mod N, default) or dynamic")
+        ->check(CLI::IsMember({"interleaved", "dynamic"}))->group(m);
+    cmd->add_option("--epoch", a->mo.epoch, "dynamic balancing: cycles between DIS hand-outs (default 20000)")
+        ->check(CLI::PositiveNumber)->group(m);
     cmd->add_option("--window", a->mo.window, "eye rays in flight per PE, the DIS's limit (default 64)")
         ->check(CLI::PositiveNumber)->group(m);
     cmd->add_option("--fifo-capacity", a->mo.fifo_capacity, "words per FIFO, 0 = unbounded (default)")->group(m);

@@ -38,7 +38,12 @@ struct CacheOptions {
 
 struct MachineOptions {
     MachineModel model = MachineModel::V;
-    int pes = 1;                      // processing elements; corner rays interleaved over them
+    int pes = 1;                      // processing elements
+    // How DIS distributes the pixel corners over PEs. Interleaved: corner k to PE k mod pes, all
+    // up front. Dynamic (the paper's load balancing): every `epoch` cycles DIS tops each PE up to
+    // 2 x window corners, the PE with the most room first, so faster PEs take more.
+    bool dynamic_balance = false;
+    std::uint64_t epoch = 20000;
     int threads = 0;                  // host threads (0 = all cores); never changes the cycles
     int window = 64;                  // eye rays (pixel corners) in flight per PE (the DIS's limit)
     std::size_t fifo_capacity = 0;    // words per FIFO; 0 = unbounded (the paper's ideal)

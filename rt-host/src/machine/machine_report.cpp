@@ -38,6 +38,7 @@ std::string machine_stats_json(const PreparedScene& prep, const RenderOptions& o
     if (mo.model == MachineModel::M) cycles["s_cycles"] = m.s_cycles;
     j["cycles"] = cycles;
     j["machine"] = {{"pes", mo.pes},
+                    {"balance", mo.dynamic_balance ? nlohmann::json{{"dynamic", {{"epoch", mo.epoch}}}} : "interleaved"},
                     {"window", mo.window},
                     {"fifo_capacity", mo.fifo_capacity},
                     {"fifo_latency", mo.fifo_latency},

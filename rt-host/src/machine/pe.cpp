@@ -95,6 +95,8 @@ StageCycles stage_cycles(const iss::Processor& p) {
     return c;
 }
 
+} // namespace
+
 class Pe {
   public:
     Pe(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo,
@@ -132,19 +134,29 @@ class Pe {
         }
     }
 
-    PeResult run(std::atomic<std::uint64_t>& corners_done) {
-        std::uint64_t reported = 0;
+    // Runs until every corner given so far is finished, or until the next action of every stage
+    // is at or past `until` (dynamic balancing: DIS may give more corners at `until`).
+    void run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done) {
         while (!sc_.done()) {
-            if (serial_) step_serial();
-            else step_pipelined();
-            if (sc_.corners_done() != reported) {
-                corners_done += sc_.corners_done() - reported;
-                reported = sc_.corners_done();
+            std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
+            int w = 0;
+            for (int i = 1; i < 3; ++i)
+                if (key[i] < key[w]) w = i;
+            if (key[w] == kNever) deadlock();
+            if ((serial_ ? std::max(key[w], now_) : key[w]) >= until) break;
+            if (serial_) step_serial(w, until);
+            else step_pipelined(key, w, until);
+            if (sc_.corners_done() != reported_) {
+                corners_done += sc_.corners_done() - reported_;
+                reported_ = sc_.corners_done();
             }
             if (!mo_.trace_json.empty()) sample();
         }
-        return finish();
     }
+
+    void give(std::uint32_t corner, std::uint64_t at) { sc_.give(corner, at); }
+    std::size_t room(std::size_t target) const { return sc_.room(target); }
+    bool done() const { return sc_.done(); }
 
   private:
     std::uint64_t clock_of(int i) const { return i == 0 ? os_.proc->cycle() : i == 1 ? ic_.proc->cycle() : sc_.clock(); }
@@ -178,27 +190,19 @@ class Pe {
         }
     }
 
-    void step_pipelined() {
-        std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
-        int w = 0;
-        for (int i = 1; i < 3; ++i)
-            if (key[i] < key[w]) w = i;
-        if (key[w] == kNever) deadlock();
+    // Runs stage w (the earliest key) up to `quantum` past the next stage, or alone for a while;
+    // never past `until` (where DIS may hand out more corners).
+    void step_pipelined(const std::uint64_t (&key)[3], int w, std::uint64_t until) {
         std::uint64_t second = kNever;
         for (int i = 0; i < 3; ++i)
             if (i != w) second = std::min(second, key[i]);
         std::uint64_t horizon = second == kNever ? key[w] + kSoloChunk : std::max(second, key[w]) + mo_.quantum;
         check_limit(key[w]);
-        run_stage(w, horizon);
+        run_stage(w, std::min(horizon, until));
     }
 
-    // Model S: one processor, one clock `now_`.
-    void step_serial() {
-        std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
-        int w = 0;
-        for (int i = 1; i < 3; ++i)
-            if (key[i] < key[w]) w = i;
-        if (key[w] == kNever) deadlock();
+    // Model S: one processor, one clock `now_`; stage w runs until it has no work.
+    void step_serial(int w, std::uint64_t until) {
         check_limit(now_);
         if (w == 2) {
             sc_.idle_until(now_);
@@ -207,7 +211,7 @@ class Pe {
         } else {
             Stage& s = w == 0 ? os_ : ic_;
             s.proc->idle_until(now_);
-            s.run(now_ + kSoloChunk);
+            s.run(std::min(now_ + kSoloChunk, until));
             now_ = s.proc->cycle();
         }
     }
@@ -234,6 +238,7 @@ class Pe {
         }
     }
 
+  public:
     PeResult finish() {
         // Every processor's clock runs to the PE's end, so processing + communication + wait = end.
         const std::uint64_t end = std::max({os_.proc->cycle(), ic_.proc->cycle(), sc_.clock()});
@@ -261,6 +266,7 @@ class Pe {
         return r;
     }
 
+  private:
     const MachineOptions& mo_;
     bool serial_;
     Fifo os_in_, ic_in_, sc_os_, sc_ic_;
@@ -268,17 +274,21 @@ class Pe {
     Stage os_, ic_;
     std::optional<SetAssocCache> cache_;
     std::uint64_t now_ = 0;
+    std::uint64_t reported_ = 0; // corners already added to the caller's count
     std::vector<Sample> samples_;
     std::uint64_t next_sample_ = 0, interval_ = 256;
 };
 
-} // namespace
-
-PeResult run_pe(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt,
-                const MachineOptions& mo, int, std::vector<std::uint32_t> corners, CornerSink sink,
-                std::atomic<std::uint64_t>& corners_done) {
-    Pe pe(setup, prep, opt, mo, std::move(corners), sink);
-    return pe.run(corners_done);
-}
+PeRun::PeRun(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt,
+             const MachineOptions& mo, std::vector<std::uint32_t> corners, CornerSink sink)
+    : pe_(std::make_unique<Pe>(setup, prep, opt, mo, std::move(corners), sink)) {}
+PeRun::~PeRun() = default;
+PeRun::PeRun(PeRun&&) noexcept = default;
+PeRun& PeRun::operator=(PeRun&&) noexcept = default;
+void PeRun::run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done) { pe_->run_until(until, corners_done); }
+void PeRun::give(std::uint32_t corner, std::uint64_t at) { pe_->give(corner, at); }
+std::size_t PeRun::room(std::size_t target) const { return pe_->room(target); }
+bool PeRun::done() const { return pe_->done(); }
+PeResult PeRun::finish() { return pe_->finish(); }
 
 } // namespace nesshi::rt::machine

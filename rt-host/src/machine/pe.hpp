@@ -54,9 +54,36 @@ struct PeResult {
     std::vector<Sample> samples;
 };
 
-PeResult run_pe(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt,
-                const MachineOptions& mo, int pe_index, std::vector<std::uint32_t> corners, CornerSink sink,
-                std::atomic<std::uint64_t>& corners_done);
+class Pe;
+
+// One PE, run in steps. Interleaved DIS: construct with the PE's corners, run_until(kNever),
+// finish(). Dynamic DIS: construct with none, then alternately give() corners and run_until()
+// the next epoch boundary; several PEs can run on different threads between boundaries.
+class PeRun {
+  public:
+    PeRun(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo,
+          std::vector<std::uint32_t> corners, CornerSink sink);
+    ~PeRun();
+    PeRun(PeRun&&) noexcept;
+    PeRun& operator=(PeRun&&) noexcept;
+    // Runs until all corners given so far are finished, or every stage's next action is at or
+    // past `until`. Adds finished corners to `corners_done`. Throws on deadlock or a fault.
+    void run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done);
+    void give(std::uint32_t corner, std::uint64_t at); // DIS hands over a corner at cycle `at`
+    std::size_t room(std::size_t target) const;        // corners it can take before holding `target`
+    bool done() const;                                  // every corner given is finished
+    PeResult finish();                                  // clocks to the PE's end; the statistics
+
+  private:
+    std::unique_ptr<Pe> pe_;
+};
+
+// DIS (dis.cpp): simulate the PEs with corners distributed interleaved or dynamically (see
+// MachineOptions); `threads` gets the host threads used.
+std::vector<PeResult> run_interleaved(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt,
+                                      const MachineOptions& mo, std::size_t ncorners, CornerSink sink, int& threads);
+std::vector<PeResult> run_dynamic(const MachineSetup& setup, const PreparedScene& prep, const RenderOptions& opt,
+                                  const MachineOptions& mo, std::size_t ncorners, CornerSink sink, int& threads);
 
 // Chrome/Perfetto trace-event JSON: per PE (pid), counter tracks of FIFO words and of each
 // stage's activity (fraction of the sample interval spent processing or communicating).

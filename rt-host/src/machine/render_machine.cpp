@@ -11,9 +11,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 namespace nesshi::rt {
 
@@ -88,48 +86,9 @@ MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt
     CornerSink sink{&colors, opt.id_buffer ? &res.render.id_buffer : nullptr,
                     opt.t_buffer ? &res.render.t_buffer : nullptr, W, H};
 
-    // DIS: corners interleaved over PEs (corner k goes to PE k mod pes), row-major order.
-    std::vector<std::vector<std::uint32_t>> work(static_cast<std::size_t>(mo.pes));
-    for (std::size_t k = 0; k < ncorners; ++k) work[k % work.size()].push_back(static_cast<std::uint32_t>(k));
-
-    std::vector<PeResult> results(work.size());
-    std::atomic<std::uint64_t> done{0};
-    std::atomic<std::size_t> next_pe{0};
-    std::mutex err_mu;
-    std::string error;
-    auto worker = [&] {
-        for (;;) {
-            const std::size_t i = next_pe.fetch_add(1);
-            if (i >= work.size()) return;
-            try {
-                results[i] = run_pe(setup, prep, opt, mo, static_cast<int>(i), std::move(work[i]), sink, done);
-            } catch (const std::exception& e) {
-                std::lock_guard lk(err_mu);
-                if (error.empty()) error = work.size() > 1 ? fmt::format("PE {}: {}", i, e.what()) : e.what();
-                next_pe = work.size(); // stop handing out PEs
-            }
-        }
-    };
-    int threads = mo.threads > 0 ? mo.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    threads = std::min<int>(threads, mo.pes);
-    std::vector<std::thread> pool;
-    std::atomic<int> finished{0};
-    const int extra = mo.progress ? threads : threads - 1; // with progress, the caller only reports
-    for (int t = 0; t < extra; ++t) pool.emplace_back([&] {
-        worker();
-        ++finished;
-    });
-    if (mo.progress) {
-        while (finished.load() < extra) {
-            mo.progress(done.load(), ncorners);
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        }
-    } else {
-        worker();
-    }
-    for (std::thread& t : pool) t.join();
-    if (!error.empty()) throw std::runtime_error(error);
-    if (mo.progress) mo.progress(ncorners, ncorners);
+    int threads = 1;
+    std::vector<PeResult> results = mo.dynamic_balance ? run_dynamic(setup, prep, opt, mo, ncorners, sink, threads)
+                                                       : run_interleaved(setup, prep, opt, mo, ncorners, sink, threads);
 
     MachineStats& ms = res.machine;
     ms.model = mo.model;

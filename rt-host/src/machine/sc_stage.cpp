@@ -27,7 +27,7 @@ ScStage::ScStage(const PreparedScene& prep, const RenderOptions& opt, const OpPr
                  std::vector<std::uint32_t> corners, int window, CornerSink sink, Fifo& from_os, Fifo& from_ic,
                  Fifo& to_os)
     : prep_(prep), opt_(opt), prices_(prices), intensity_(light_intensity(prep.scene.lights.size())),
-      corners_(std::move(corners)), window_(std::max(1, window)), sink_(sink),
+      pending_(corners.begin(), corners.end()), given_(corners.size()), window_(std::max(1, window)), sink_(sink),
       camera_(prep.scene.view, sink.width, sink.height), from_os_(from_os),
       from_ic_(from_ic), to_os_(to_os) {
     cycles.units = 1;
@@ -42,9 +42,10 @@ ScStage::ScStage(const PreparedScene& prep, const RenderOptions& opt, const OpPr
 // DIS: one eye ray per free window place, each 9 words on the DIS -> OS link.
 void ScStage::dis_fill(std::uint64_t at) {
     dis_clock_ = std::max(dis_clock_, at);
-    while (in_flight_ < window_ && next_corner_ < corners_.size() && !free_slots_.empty() &&
+    while (in_flight_ < window_ && !pending_.empty() && !free_slots_.empty() &&
            to_os_.writable() >= sc_cost::kNewRayWords) {
-        const std::uint32_t corner = corners_[next_corner_++];
+        const std::uint32_t corner = pending_.front();
+        pending_.pop_front();
         const int cw = sink_.width + 1;
         const Ray r = camera_.eye_ray(static_cast<int>(corner % static_cast<std::uint32_t>(cw)),
                                    static_cast<int>(corner / static_cast<std::uint32_t>(cw)));
@@ -69,6 +70,12 @@ void ScStage::dis_fill(std::uint64_t at) {
         slots_[slot] = SlotRec{t, 0, -1};
         send_ray(r, slot, dis_clock_, false);
     }
+}
+
+void ScStage::give(std::uint32_t corner, std::uint64_t at) {
+    pending_.push_back(corner);
+    ++given_;
+    dis_fill(at);
 }
 
 void ScStage::send_ray(const Ray& r, std::uint32_t slot, std::uint64_t& at, bool charge_sc) {

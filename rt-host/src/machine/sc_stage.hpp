@@ -53,7 +53,16 @@ class ScStage {
     void run(std::uint64_t horizon);
     // Model S: the one processor is busy elsewhere until `cycle`.
     void idle_until(std::uint64_t cycle);
-    bool done() const { return finished_ == corners_.size(); }
+    // Every corner given so far is finished (DIS may still give more: dynamic balancing).
+    bool done() const { return finished_ == given_; }
+    // DIS hands a corner to this PE at cycle `at`; it waits in DIS until a window place is free.
+    void give(std::uint32_t corner, std::uint64_t at);
+    // Corners this PE can take before it holds `target` (in flight plus waiting in DIS).
+    std::size_t room(std::size_t target) const {
+        const std::size_t held = static_cast<std::size_t>(in_flight_) + pending_.size();
+        return held < target ? target - held : 0;
+    }
+    int window() const { return window_; }
     std::uint64_t clock() const { return clock_; }
     const std::uint64_t& clock_ref() const { return clock_; }
     std::uint64_t corners_done() const { return finished_; }
@@ -111,8 +120,8 @@ class ScStage {
     const RenderOptions& opt_;
     OpPrices prices_;
     float intensity_;
-    std::vector<std::uint32_t> corners_;
-    std::size_t next_corner_ = 0, finished_ = 0;
+    std::deque<std::uint32_t> pending_; // given by DIS, eye ray not yet sent
+    std::size_t given_ = 0, finished_ = 0;
     int window_, in_flight_ = 0;
     CornerSink sink_;
     Camera camera_;
