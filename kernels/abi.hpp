@@ -33,7 +33,8 @@
 // IC memory (resident 0x00400000, 1 MB; global 0x10000000, cached; seq maps both):
 //   IC_HEADER (= resident base): word 0 address of the voxel table, word 1 address of the END
 //   record; IC_JUMPS_A/B: the kernel's dispatch tables. The host places the records, table and
-//   lists from IC_DATA (resident when they fit, else in global memory).
+//   lists from IC_DATA (all resident when they fit; else the most-referenced records resident and
+//   the rest in global memory: kernels/image.hpp).
 //   voxel table: one word per padded voxel: the byte address of its list. A list is the byte
 //   addresses of its shape records, ascending by shape index, closed by the END record's
 //   address (so the kernel needs no count and no end compare: END dispatches to `done`).

@@ -6,6 +6,7 @@
 #include "rt/shapes.hpp"
 #include "rt/twins/dda.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -80,7 +81,7 @@ inline MemImage os_image(const rt::twins::GridGeom& g, const std::vector<std::ui
 
 // IC memory image: header at IC_HEADER, then (from IC_DATA) the END record, the shape records,
 // the voxel table (one word per padded voxel) and the END-terminated lists. Everything goes to
-// resident memory when it fits, else to global memory (the header points at it either way).
+// resident memory when it fits; else the most-referenced records do (ic_image_lists).
 // `offsets`/`prims` are rt/grid.hpp's unpadded offsets and shape-index lists.
 struct IcImage {
     MemImage resident, global;
@@ -117,44 +118,83 @@ inline std::uint32_t shape_code(const rt::Shape& s) {
                                            : (s.two_sided() ? abi::get("CODE_TRI2") : abi::get("CODE_TRI1")));
 }
 
+// Writes the voxel table at `tab` and the END-terminated lists from `lists_at` into `d`;
+// addr[i] is the address of shape i's record.
+inline void put_lists(MemImage& d, std::uint32_t tab, std::uint32_t lists_at,
+                      const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<std::uint32_t>& addr,
+                      std::uint32_t end_record) {
+    std::uint32_t cursor = lists_at;
+    for (std::size_t v = 0; v < lists.size(); ++v) {
+        d.put32(tab + 4 * static_cast<std::uint32_t>(v), cursor);
+        for (std::uint32_t si : lists[v]) {
+            d.put32(cursor, addr[si]);
+            cursor += 4;
+        }
+        d.put32(cursor, end_record);
+        cursor += 4;
+    }
+    d.put32(cursor, end_record); // one readable word past the last list (the kernel reads ahead)
+}
+
+inline void put_record(MemImage& d, std::uint32_t r, const rt::Shape& s, std::uint32_t index) {
+    d.put32(r, shape_code(s));
+    d.put32(r + 4, static_cast<std::uint32_t>(s.entity));
+    for (int w = 0; w < 18; ++w) d.putf(r + 8 + 4 * static_cast<std::uint32_t>(w), s.w[static_cast<std::size_t>(w)]);
+    d.put32(r + static_cast<std::uint32_t>(abi::get("REC_INDEX")), index);
+}
+
 // Lists given directly: lists[v] = shape indices of padded voxel v (empty for the frame).
+// Placement: everything in resident memory when it fits (records in index order, then table and
+// lists); else, with `allow_resident`, the END record and the most-referenced shape records (by
+// the number of voxel lists holding them, ties to the lower index) fill resident memory and the
+// rest of the records, the table and the lists go to global memory; without it, all to global.
+// The kernel follows addresses only, so placement changes timing (with a cache), never results.
 inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<rt::Shape>& shapes,
                               bool allow_resident = true) {
     std::size_t refs = 0;
     for (const auto& l : lists) refs += l.size() + 1;
+    const std::uint32_t limit = static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
     const std::size_t bytes = (shapes.size() + 1) * abi::kRecBytes + lists.size() * 4 + refs * 4 + 4;
-    const bool resident =
-        allow_resident && abi::kIcData + bytes <= static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
+    const bool all_resident = allow_resident && abi::kIcData + bytes <= limit;
     IcImage im;
     im.resident.base = abi::kIcHeader;
     im.global.base = abi::kIcGlobal;
-    MemImage& d = resident ? im.resident : im.global;
-    const std::uint32_t at = resident ? abi::kIcData : abi::kIcGlobal;
-    im.end_record = at;
-    d.put32(at + static_cast<std::uint32_t>(abi::get("REC_CODE")), static_cast<std::uint32_t>(abi::get("CODE_END")));
-    d.put32(at + abi::kRecBytes - 4, 0);
-    im.records = at + abi::kRecBytes;
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-        const rt::Shape& s = shapes[i];
-        const auto r = im.records + static_cast<std::uint32_t>(i) * abi::kRecBytes;
-        d.put32(r, shape_code(s));
-        d.put32(r + 4, static_cast<std::uint32_t>(s.entity));
-        for (int w = 0; w < 18; ++w)
-            d.putf(r + 8 + 4 * static_cast<std::uint32_t>(w), s.w[static_cast<std::size_t>(w)]);
-        d.put32(r + static_cast<std::uint32_t>(abi::get("REC_INDEX")), static_cast<std::uint32_t>(i));
-    }
-    const std::uint32_t tab = im.records + static_cast<std::uint32_t>(shapes.size()) * abi::kRecBytes;
-    std::uint32_t cursor = tab + static_cast<std::uint32_t>(lists.size()) * 4;
-    for (std::size_t v = 0; v < lists.size(); ++v) {
-        d.put32(tab + 4 * static_cast<std::uint32_t>(v), cursor);
-        for (std::uint32_t si : lists[v]) {
-            d.put32(cursor, im.records + si * abi::kRecBytes);
-            cursor += 4;
+    std::uint32_t res = abi::kIcData, glob = abi::kIcGlobal;
+    MemImage& main = all_resident ? im.resident : im.global;
+    std::uint32_t& cursor = all_resident ? res : glob;
+    // END record: resident whenever resident memory is used at all (every list ends with it).
+    MemImage& end_image = allow_resident ? im.resident : im.global;
+    std::uint32_t& end_cursor = allow_resident ? res : glob;
+    im.end_record = end_cursor;
+    end_image.put32(end_cursor + static_cast<std::uint32_t>(abi::get("REC_CODE")),
+                    static_cast<std::uint32_t>(abi::get("CODE_END")));
+    end_image.put32(end_cursor + abi::kRecBytes - 4, 0);
+    end_cursor += abi::kRecBytes;
+    std::vector<std::uint32_t> addr(shapes.size());
+    if (allow_resident && !all_resident) { // hot records first
+        std::vector<std::uint32_t> count(shapes.size(), 0), order(shapes.size());
+        for (const auto& l : lists)
+            for (std::uint32_t si : l) ++count[si];
+        for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return count[a] > count[b]; });
+        for (std::uint32_t si : order) {
+            const bool fits = res + abi::kRecBytes <= limit;
+            std::uint32_t& c = fits ? res : glob;
+            addr[si] = c;
+            put_record(fits ? im.resident : im.global, c, shapes[si], si);
+            c += abi::kRecBytes;
         }
-        d.put32(cursor, im.end_record);
-        cursor += 4;
+    } else {
+        for (std::uint32_t i = 0; i < shapes.size(); ++i) {
+            addr[i] = cursor;
+            put_record(main, cursor, shapes[i], i);
+            cursor += abi::kRecBytes;
+        }
     }
-    d.put32(cursor, im.end_record); // one readable word past the last list (the kernel reads ahead)
+    im.records = shapes.empty() ? cursor : addr[0];
+    const std::uint32_t tab = cursor;
+    cursor += static_cast<std::uint32_t>(lists.size()) * 4;
+    put_lists(main, tab, cursor, lists, addr, im.end_record);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_VOXTAB")), tab);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_END_REC")), im.end_record);
     return im;

@@ -109,10 +109,9 @@ std::string format_grid(const Grid& g, std::size_t shapes) {
     o += fmt::format("         IC: offsets {} B + lists {} B + shapes {} B = {} against {} resident + {} cache ({})\n",
                      m.ic_offsets, m.ic_lists, m.ic_shapes, mib(m.ic_total()), mib(kIcResidentBytes),
                      mib(kIcCacheBytes),
-                     m.ic_resident_fits() ? "fits resident"
-                                          : (m.ic_total() <= kIcResidentBytes + kIcCacheBytes
-                                                 ? "exceeds resident, fits resident + cache size"
-                                                 : "exceeds resident + cache: lives in global memory"));
+                     m.ic_resident_fits()                                 ? "fits resident"
+                     : m.ic_total() <= kIcResidentBytes + kIcCacheBytes ? "exceeds resident: the most-referenced records go there"
+                                                                          : "exceeds resident + cache: the most-referenced records go to resident");
     return o;
 }
 

@@ -175,6 +175,23 @@ TEST_CASE("Bounded FIFOs, FIFO latency and a real cache change timing, never res
     CHECK(c.machine.total_cycles > ideal.machine.total_cycles);
 }
 
+TEST_CASE("IC data larger than resident memory: the most-referenced records stay resident", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("tetra:1"), 64); // voxel table: 66^3 words > 1 MiB
+    const RenderOptions opt = small(8);
+    const RenderResult native = render_native(prep, opt);
+    MachineOptions hot = model(MachineModel::V);
+    hot.cache.enabled = true;
+    MachineOptions global = hot;
+    global.resident = false;
+    const MachineResult h = render_machine(prep, opt, hot);
+    const MachineResult g = render_machine(prep, opt, global);
+    require_same_result(native, h.render);
+    require_same_result(native, g.render);
+    CHECK(h.machine.cache_accesses > 0);                       // table and lists: global memory
+    CHECK(h.machine.cache_accesses < g.machine.cache_accesses); // records: resident
+    CHECK(h.machine.cache_misses < g.machine.cache_misses);
+}
+
 TEST_CASE("A FIFO cycle filled to capacity is reported as a deadlock", "[unit][machine]") {
     // mount: a hit spawns a shadow, a reflection and a refraction ray (27 words) into the OS's
     // FIFO, which IC returns and eye rays keep full, while the OS waits to send to a full SC FIFO.

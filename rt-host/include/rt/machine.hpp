@@ -82,7 +82,8 @@ struct MachineStats {
     std::uint64_t total_cycles = 0;        // the slowest PE's finishing time
     // Model M runs also give model S's time: one processor executing the same instruction streams
     // takes the sum of the three stages' loads (processing + communication) per PE; the slowest
-    // PE's. Equal to a separate model-S run (tested). 0 for model V.
+    // PE's. Equal to a separate model-S run (tested) when the work does not depend on timing (no
+    // cache, unbounded FIFOs, interleaved DIS); 0 otherwise and for models S and V.
     std::uint64_t s_cycles = 0;
     StageCycles os, ic, sc;                // summed over PEs
     std::vector<std::uint64_t> pe_cycles;  // finishing time of each PE

@@ -35,7 +35,7 @@ std::string machine_stats_json(const PreparedScene& prep, const RenderOptions& o
                              {"ic", stage_json(m.ic)},
                              {"sc", stage_json(m.sc)},
                              {"pe", m.pe_cycles}};
-    if (mo.model == MachineModel::M) cycles["s_cycles"] = m.s_cycles;
+    if (m.s_cycles) cycles["s_cycles"] = m.s_cycles; // model M, when exact (render_machine.cpp)
     j["cycles"] = cycles;
     j["machine"] = {{"pes", mo.pes},
                     {"balance", mo.dynamic_balance ? nlohmann::json{{"dynamic", {{"epoch", mo.epoch}}}} : "interleaved"},

@@ -67,6 +67,13 @@ MachineSetup build_setup(const PreparedScene& prep, const MachineOptions& mo) {
     return s;
 }
 
+// Model S's time as the sum of an M run's stage loads is exact when the work does not depend on
+// timing: no cache (its misses follow the access order), unbounded FIFOs (no blocked sends), and
+// interleaved DIS (dynamic balancing hands corners out by timing).
+bool s_time_is_exact(const MachineOptions& mo) {
+    return !mo.cache.enabled && mo.fifo_capacity == 0 && !mo.dynamic_balance;
+}
+
 } // namespace
 
 MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo) {
@@ -99,7 +106,7 @@ MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt
         ms.os += r.os;
         ms.ic += r.ic;
         ms.sc += r.sc;
-        if (mo.model == MachineModel::M) ms.s_cycles = std::max(ms.s_cycles, r.os.load() + r.ic.load() + r.sc.load());
+        if (mo.model == MachineModel::M && s_time_is_exact(mo)) ms.s_cycles = std::max(ms.s_cycles, r.os.load() + r.ic.load() + r.sc.load());
         ms.visits += r.visits;
         ms.returns += r.returns;
         ms.misses += r.misses;
