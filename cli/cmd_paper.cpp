@@ -68,13 +68,15 @@ std::string duration(double seconds) {
 // Prints a line per finished cell; on a terminal also a bar with the time left, redrawn in place.
 class ProgressPrinter {
   public:
-    ProgressPrinter(const paper::PaperOptions& o, bool tty) : out_(o.out_dir), size_(o.size), tty_(tty) {}
+    ProgressPrinter(const paper::PaperOptions& o, bool tty) : out_(o.out_dir), tty_(tty) {}
 
     void operator()(const paper::PaperProgress& p) {
-        if (!started_) {
-            started_ = true;
-            fmt::print("paper: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n", p.cells_total,
-                       size_, size_, p.cells_loaded, out_, p.cells_to_run, p.threads);
+        if (p.size != size_) { // a new phase: the matrix, then the grid pre-pass
+            size_ = p.size;
+            clear_status();
+            fmt::print("{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n",
+                       phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
+                       p.cells_to_run, p.threads);
         }
         if (p.finished) {
             clear_status();
@@ -109,8 +111,8 @@ class ProgressPrinter {
     }
 
     std::string out_;
-    int size_;
-    bool tty_, started_ = false, status_shown_ = false;
+    int size_ = 0, phases_ = 0;
+    bool tty_, status_shown_ = false;
 };
 
 void run_paper_command(const PaperArgs& a) {

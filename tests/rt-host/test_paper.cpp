@@ -89,6 +89,9 @@ PaperData synthetic_data(int size, const std::vector<std::string>& scenes = {"te
     PaperData d = make_data(o, std::move(cells));
     d.auto_grid["tetra"] = 50;
     d.auto_grid["balls"] = 70;
+    d.prepass_grid["tetra"] = 50;
+    d.prepass_grid["balls"] = 50;
+    d.prepass_size = 100;
     return d;
 }
 
@@ -392,10 +395,12 @@ TEST_CASE("CSV quotes cells with commas and quotes", "[paper]") {
 
 TEST_CASE("Summary: best grid, automatic choice, crossover, M/V against the grid", "[paper]") {
     const std::string s = summary_markdown(synthetic_data(512));
-    CHECK(contains(s, "| tetra | 50 | 556.0 | 50 | 50 | yes |"));
+    CHECK(contains(s, "| tetra | 50 | 556.0 | 50 | 50 | yes | 50 | yes |"));
     CHECK(contains(s, "| balls | 100 |"));
-    CHECK(contains(s, "| 100 | 70 | not in the matrix |"));
+    CHECK(contains(s, "| 100 | 50 | no | 70 | not in the matrix |"));
     CHECK(contains(s, "agrees with the paper's best grid for 2 of 2 scenes"));
+    CHECK(contains(s, "The pre-pass picks the measured best grid for 1 of 2 scenes"));
+    CHECK(contains(s, "renders 100x100 through model V"));
     CHECK(contains(s, "| tetra | 100 (IC heavier at 50) | 50 (IC heavier at 20) |"));
     CHECK(contains(s, "| balls | none up to 100 (IC heavier) | 100 (IC heavier at 50) |"));
     CHECK(contains(s, "0% (roughly independent)"));

@@ -62,6 +62,7 @@ struct PaperProgress {
     const CellRecord* finished = nullptr; // the cell just finished; nullptr: start or a periodic update
     std::size_t cells_total = 0, cells_loaded = 0, cells_run = 0, cells_failed = 0;
     std::size_t cells_to_run = 0;
+    int size = 0;        // image size of these cells (the grid pre-pass follows the matrix, smaller)
     double fraction = 0; // of the cells to run, counting the partial progress of running ones
     double elapsed_seconds = 0;
     int threads = 1;
@@ -105,7 +106,12 @@ struct PaperData {
     std::vector<int> grids; // ascending
     std::vector<MachineModel> models;
     std::vector<CellRecord> cells;
-    std::map<std::string, int> auto_grid; // scene -> choose_grid_resolution's N (absent: not computed)
+    // Automatic grid choices, among `grids` (absent: not computed). auto_grid: the cost model of
+    // rt::choose_grid_resolution (a native 64x64 pre-pass). prepass_grid: the paper's suggestion,
+    // a low-resolution pre-pass on the machine: model V at prepass_size^2 pixels at each grid.
+    std::map<std::string, int> auto_grid;
+    std::map<std::string, int> prepass_grid;
+    int prepass_size = 0;
     const CellRecord* find(const std::string& scene, int grid, MachineModel m) const;
 };
 PaperData make_data(const PaperOptions& o, std::vector<CellRecord> cells);
@@ -143,7 +149,10 @@ struct PaperRun {
     std::vector<std::string> files;  // written into out_dir
     std::size_t loaded = 0, run = 0; // cells
 };
-// validate, run_matrix with simulate_cell, auto grid per scene, write_reports. Throws PaperError
+// The pre-pass image size: 100 x 100 for the paper's 512 x 512 (about 4% of the pixels).
+int prepass_size(int size);
+// validate, run_matrix with simulate_cell, the pre-pass (its cells kept like the others), the
+// automatic grid choices, write_reports. Throws PaperError
 // naming the failed cells after writing the reports of the others.
 PaperRun run_paper(const PaperOptions& o);
 

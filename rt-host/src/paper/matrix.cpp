@@ -64,6 +64,7 @@ struct MatrixRun {
         PaperProgress p;
         p.finished = finished;
         p.cells_total = keys.size();
+        p.size = options.size;
         p.cells_loaded = loaded;
         p.cells_run = run;
         p.cells_failed = failed;
