@@ -48,6 +48,7 @@ struct MatrixRun {
     std::vector<std::optional<CellRecord>> records; // by keys index
     std::vector<std::size_t> todo;                  // keys indices to run, longest first
     std::vector<double> partial;                    // by todo position: fraction done
+    std::vector<double> weight;                     // by todo position: expected share of the work
     std::vector<std::string> failures;
     std::size_t loaded = 0, run = 0, failed = 0;
     int threads = 1;
@@ -70,8 +71,8 @@ struct MatrixRun {
         p.cells_failed = failed;
         p.cells_to_run = todo.size();
         double sum = 0;
-        for (double f : partial) sum += f;
-        p.fraction = todo.empty() ? 1.0 : sum / static_cast<double>(todo.size());
+        for (std::size_t i = 0; i < partial.size(); ++i) sum += partial[i] * weight[i];
+        p.fraction = todo.empty() ? 1.0 : sum;
         p.elapsed_seconds = seconds_since(start);
         p.threads = threads;
         options.progress(p);
@@ -130,6 +131,22 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
         return estimated_cycles(m.keys[a]) > estimated_cycles(m.keys[b]);
     });
     m.partial.assign(m.todo.size(), 0.0);
+    // Weighted by the paper's time for the cell (cells differ 100-fold); a cell the paper has no
+    // time for counts as the mean of those it has (1 when it has none).
+    double known = 0, total_weight = 0;
+    std::size_t nknown = 0;
+    for (std::size_t i : m.todo)
+        if (const double c = estimated_cycles(m.keys[i]); c > 0) {
+            known += c;
+            ++nknown;
+        }
+    const double fallback = nknown ? known / static_cast<double>(nknown) : 1.0;
+    for (std::size_t i : m.todo) {
+        const double c = estimated_cycles(m.keys[i]);
+        m.weight.push_back(c > 0 ? c : fallback);
+        total_weight += m.weight.back();
+    }
+    for (double& w : m.weight) w /= total_weight;
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     m.threads =
         std::clamp(o.threads > 0 ? o.threads : cores, 1, static_cast<int>(std::max<std::size_t>(1, m.todo.size())));
