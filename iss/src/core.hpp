@@ -9,6 +9,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace nesshi::iss {
@@ -45,7 +46,8 @@ struct Core {
     std::array<uint16_t, isa::kMaxSlots> wb_reg;
     std::array<uint32_t, isa::kMaxSlots> wb_val;
     std::array<uint32_t, isa::kMaxSlots> wb_op;
-    std::array<uint32_t, 2> lat1_landed{}; // per file: latency-1 writes that landed this cycle
+    std::array<uint32_t, 2> lat1_landed{}; // per file: latency-1 writes of the bundle issued last
+    bool lat1_owed = false; // that bundle's landing cycle has not been through land() yet
     MemorySystem* mem = nullptr;
     Channel* const* channels = nullptr;
     uint64_t* words_received = nullptr;
@@ -83,27 +85,44 @@ struct Core {
         event |= kFault;
     }
 
-    // Memory access with range, alignment and stall accounting; false after a fault.
-    bool load(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t& out) {
+    // Memory access with range, alignment and stall accounting; false after a fault. An aligned
+    // access to a page in the TLB needs none of them (see MemorySystem::tlb_lookup), so it is
+    // inlined into the handler; everything else goes through the out-of-line checked path.
+    template <uint32_t Bytes> [[gnu::always_inline]] bool load(const DecodedOp& d, uint32_t addr, uint32_t& out) {
+        if (const uint8_t* p = mem->tlb_lookup(addr); p && !(addr & (Bytes - 1))) [[likely]] {
+            out = 0;
+            std::memcpy(&out, p, Bytes); // little-endian host assumed, as in PagedMemory
+            return true;
+        }
+        return load_checked(d, addr, Bytes, out);
+    }
+    template <uint32_t Bytes> [[gnu::always_inline]] bool store(const DecodedOp& d, uint32_t addr, uint32_t value) {
+        if (uint8_t* p = mem->tlb_lookup(addr); p && !(addr & (Bytes - 1))) [[likely]] {
+            std::memcpy(p, &value, Bytes);
+            return true;
+        }
+        return store_checked(d, addr, Bytes, value);
+    }
+    [[gnu::noinline]] bool load_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t& out) {
         const MemRegion* reg = mem->find(addr, bytes);
         if (!reg || (addr & (bytes - 1))) [[unlikely]] {
             mem_fault(d, reg ? MemError::Misaligned : MemError::OutOfRange, addr);
             return false;
         }
         out = reg->store->read(addr - reg->desc.base, bytes);
-        if (reg->desc.latency || reg->cache) [[unlikely]]
-            add_stall(*reg, addr, bytes, false);
+        if (reg->desc.latency || reg->cache) add_stall(*reg, addr, bytes, false);
+        else mem->fill_tlb(*reg, addr);
         return true;
     }
-    bool store(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t value) {
+    [[gnu::noinline]] bool store_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t value) {
         MemRegion* reg = const_cast<MemRegion*>(mem->find(addr, bytes));
         if (!reg || (addr & (bytes - 1))) [[unlikely]] {
             mem_fault(d, reg ? MemError::Misaligned : MemError::OutOfRange, addr);
             return false;
         }
         reg->store->write(addr - reg->desc.base, bytes, value);
-        if (reg->desc.latency || reg->cache) [[unlikely]]
-            add_stall(*reg, addr, bytes, true);
+        if (reg->desc.latency || reg->cache) add_stall(*reg, addr, bytes, true);
+        else mem->fill_tlb(*reg, addr);
         return true;
     }
     void add_stall(const MemRegion& reg, uint32_t addr, uint32_t bytes, bool write) {

@@ -51,12 +51,12 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
         put(eval(a, b, cc, d.imm));
     } else if constexpr (info.kind == Kind::Load) {
         uint32_t v;
-        if (!c.load(d, eval(a, b, cc, d.imm), info.mem_bytes, v)) return;
+        if (!c.load<info.mem_bytes>(d, eval(a, b, cc, d.imm), v)) return;
         if constexpr (info.mem_signed && info.mem_bytes == 1) v = uint32_t(int32_t(int8_t(v)));
         if constexpr (info.mem_signed && info.mem_bytes == 2) v = uint32_t(int32_t(int16_t(v)));
         put(v);
     } else if constexpr (info.kind == Kind::Store) {
-        c.store(d, eval(a, b, cc, d.imm), info.mem_bytes, b);
+        c.store<info.mem_bytes>(d, eval(a, b, cc, d.imm), b);
     } else if constexpr (info.kind == Kind::Branch) {
         if (eval(a, b, cc, d.imm)) {
             c.next_pc = d.imm;

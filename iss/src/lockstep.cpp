@@ -47,7 +47,7 @@ LockstepResult run_lockstep(Processor& fast, Processor& checked, uint64_t max_cy
         if (!diff && sf == Status::Halted) {
             if (fast.memory().hash() != checked.memory().hash()) diff = "memory contents differ";
             else if (fast.counters().exec != checked.counters().exec) diff = "bundle execution counts differ";
-            else if (fast.counters().write_hist != checked.counters().write_hist) diff = "write-port histograms differ";
+            else if (fast.write_histogram(0) != checked.write_histogram(0) || fast.write_histogram(1) != checked.write_histogram(1)) diff = "write-port histograms differ";
         }
         if (diff) {
             res.status = Status::Faulted;

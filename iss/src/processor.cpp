@@ -68,30 +68,51 @@ template <bool Checked, bool Traced> struct EngineLoop {
 
     // Land every write due up to and including the current cycle. Latency-1 writes were
     // committed at the end of their bundle; here they only count towards the port histogram.
+    //
+    // Port histogram: every issued bundle is credited, through its execution count, with one
+    // cycle in bucket lat1_writes (see Processor::write_histogram); that is exactly what the
+    // common case below would count, so it counts nothing. Counters::write_adjust holds only the
+    // exceptions: cycles in which no bundle's writes land, and cycles whose count differs
+    // because longer-latency writes land too (the credited bucket is then moved).
     [[gnu::always_inline]] void land() {
         if (!Traced && c.pending == 0 && c.land_next == c.cycle) { // the common case: nothing in the ring
-            ++k.write_hist[0][c.lat1_landed[0]];
-            ++k.write_hist[1][c.lat1_landed[1]];
-            c.lat1_landed = {0, 0};
+            if (!c.lat1_owed) [[unlikely]] { // nothing was issued in the cycle before: nothing lands
+                ++k.write_adjust[0][0];
+                ++k.write_adjust[1][0];
+            }
+            c.lat1_owed = false;
             c.land_next = c.cycle + 1;
             return;
         }
         land_slow();
     }
 
+    // The bundle issued last will not have its writes landed by land() (halt, control sent
+    // outside the code): withdraw its histogram credit.
+    void drop_credit() {
+        if (!c.lat1_owed) return;
+        --k.write_adjust[0][c.lat1_landed[0]];
+        --k.write_adjust[1][c.lat1_landed[1]];
+        c.lat1_owed = false;
+    }
+
     void land_slow() {
         while (c.land_next <= c.cycle) {
-            uint32_t n[2] = {c.lat1_landed[0], c.lat1_landed[1]};
-            c.lat1_landed = {0, 0};
+            const bool owed = c.lat1_owed;
+            uint32_t n[2] = {owed ? c.lat1_landed[0] : 0, owed ? c.lat1_landed[1] : 0};
+            c.lat1_owed = false;
             if (!Traced && c.pending == 0) {
-                ++k.write_hist[0][n[0]];
-                ++k.write_hist[1][n[1]];
+                if (!owed) {
+                    ++k.write_adjust[0][0];
+                    ++k.write_adjust[1][0];
+                }
                 uint64_t gap = c.cycle - c.land_next;
-                k.write_hist[0][0] += gap;
-                k.write_hist[1][0] += gap;
+                k.write_adjust[0][0] += gap;
+                k.write_adjust[1][0] += gap;
                 c.land_next = c.cycle + 1;
                 return;
             }
+            const uint32_t credited[2] = {n[0], n[1]};
             RingSlot& s = c.ring[c.land_next & c.mask];
             const uint32_t count = s.n;
             for (uint32_t i = 0; i < count; ++i) {
@@ -102,8 +123,11 @@ template <bool Checked, bool Traced> struct EngineLoop {
             }
             c.pending -= count;
             s.n = 0;
-            ++k.write_hist[0][n[0]];
-            ++k.write_hist[1][n[1]];
+            for (int f = 0; f < 2; ++f) {
+                if (owed && n[f] == credited[f]) continue; // the credit is right
+                if (owed) --k.write_adjust[f][credited[f]];
+                ++k.write_adjust[f][n[f]];
+            }
             if constexpr (Traced)
                 if (c.land_next < c.cycle) emit(gap_kind, c.land_next);
             ++c.land_next;
@@ -118,6 +142,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
             if constexpr (Traced) p.landed_.push_back({c.wb_reg[i], c.wb_val[i], c.cycle + 1, c.wb_op[i]});
         }
         c.lat1_landed = b.lat1_writes;
+        c.lat1_owed = true;
         c.nwb = 0;
     }
 
@@ -331,6 +356,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
                     gap_kind = CycleEvent::Bubble;
                 }
                 if (ev & kHalt) {
+                    drop_credit();
                     flush();
                     return Status::Halted;
                 }
@@ -342,6 +368,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
                 }
             }
             if (c.next_pc >= nb) [[unlikely]] {
+                drop_credit();
                 --c.cycle; // report at the cycle of the bundle that sent control away
                 Status s = fault(FaultKind::BadPc,
                                  c.next_pc == c.pc + 1
@@ -397,7 +424,7 @@ void Processor::reset() {
     counters_.wait.assign(n, 0);
     counters_.taken.assign(n, 0);
     counters_.stall.assign(n, 0);
-    for (auto& h : counters_.write_hist) h.assign(kRingCap + 1, 0);
+    for (auto& h : counters_.write_adjust) h.assign(kRingCap + 1, 0);
     status_ = Status::Running;
     fault_.reset();
 }
@@ -472,6 +499,13 @@ uint32_t Processor::pc() const { return core_->pc; }
 uint32_t Processor::reg(uint16_t flat) const { return flat < kNumRegs ? core_->r[flat] : 0; }
 void Processor::set_reg(uint16_t flat, uint32_t value) {
     if (flat < kNumRegs) core_->r[flat] = value;
+}
+
+std::vector<uint64_t> Processor::write_histogram(int file) const {
+    std::vector<uint64_t> h = counters_.write_adjust[file];
+    const auto& bundles = prog_->bundles();
+    for (size_t pc = 0; pc < bundles.size(); ++pc) h[bundles[pc].lat1_writes[file]] += counters_.exec[pc];
+    return h;
 }
 
 std::vector<PendingWrite> Processor::inflight() const {

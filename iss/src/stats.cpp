@@ -31,7 +31,7 @@ Stats compute_stats(const Processor& p, size_t hot) {
         ps.read_ports = m.regs[f].read_ports;
         ps.write_ports = m.regs[f].write_ports;
         ps.read_hist.assign(isa::kMaxSlots * 3 + 1, 0);
-        ps.write_hist = k.write_hist[f];
+        ps.write_hist = p.write_histogram(f);
         s.ports.push_back(std::move(ps));
     }
     const uint32_t penalty = m.branch_penalty;

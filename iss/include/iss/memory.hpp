@@ -10,6 +10,7 @@
 
 #include "isa/machine.hpp"
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -44,6 +45,12 @@ class PagedMemory {
         std::memcpy(p.get() + (off & (kPageSize - 1)), &v, bytes);
     }
     void write_bytes(uint32_t off, std::span<const uint8_t> bytes);
+    // The storage page holding offset `off`, or nullptr while it is unallocated. Allocated
+    // pages never move or go away, so the pointer stays valid for the storage's lifetime.
+    uint8_t* page_data(uint32_t off) const {
+        uint32_t page = off >> kPageBits;
+        return page < pages_.size() ? pages_[page].get() : nullptr;
+    }
     size_t pages_in_use() const;
     // FNV-1a over the contents (zero pages and missing pages hash alike).
     uint64_t hash() const;
@@ -72,9 +79,24 @@ class MemorySystem {
   public:
     explicit MemorySystem(const isa::Machine& m);
 
-    std::vector<MemRegion>& regions() { return regions_; }
+    // Mutable access may change a region's storage or cache, so it empties the TLB.
+    std::vector<MemRegion>& regions() {
+        flush_tlb();
+        return regions_;
+    }
     const std::vector<MemRegion>& regions() const { return regions_; }
     MemRegion* region(std::string_view name);
+
+    // A small direct-mapped translation cache for the engines' loads and stores: 4 KiB address
+    // pages that lie wholly in one region with no latency and no cache model, whose storage
+    // page exists. Such an access needs no region search and adds no stall, so a hit goes
+    // straight to host memory; everything else takes the checked path (find, then fill_tlb).
+    uint8_t* tlb_lookup(uint32_t addr) const {
+        const TlbEntry& e = tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)];
+        return e.page == addr >> PagedMemory::kPageBits ? e.data + (addr & (PagedMemory::kPageSize - 1)) : nullptr;
+    }
+    void fill_tlb(const MemRegion& r, uint32_t addr) const;
+    void flush_tlb() { tlb_.fill(TlbEntry{}); }
 
     // The region holding [addr, addr+bytes), or nullptr.
     const MemRegion* find(uint32_t addr, uint32_t bytes) const {
@@ -94,7 +116,13 @@ class MemorySystem {
     uint64_t hash() const;
 
   private:
+    struct TlbEntry {
+        uint32_t page = UINT32_MAX; // address >> kPageBits; never a real page (addresses are 32-bit)
+        uint8_t* data = nullptr;
+    };
+    static constexpr uint32_t kTlbEntries = 64;
     std::vector<MemRegion> regions_;
+    mutable std::array<TlbEntry, kTlbEntries> tlb_{};
 };
 
 } // namespace nesshi::iss

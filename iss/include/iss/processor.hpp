@@ -56,8 +56,11 @@ struct Counters {
     std::vector<uint64_t> stall;  // per bundle: memory stall cycles (extra latency, cache)
     uint64_t wait_cycles = 0, bubble_cycles = 0, stall_cycles = 0;
     uint64_t words_received = 0, words_sent = 0;
-    // write_hist[file][n]: cycles in which n writes landed in that file.
-    std::array<std::vector<uint64_t>, isa::kNumRegFiles> write_hist;
+    // The write-port histogram less what the execution counts imply: each issued bundle counts
+    // as one cycle in which its latency-1 writes land (exact unless longer-latency writes land
+    // in the same cycle, or nothing was issued the cycle before); this holds the corrections,
+    // modulo 2^64. Use Processor::write_histogram for the histogram itself.
+    std::array<std::vector<uint64_t>, isa::kNumRegFiles> write_adjust;
 };
 
 // Observer of every cycle (trace.hpp implements text and Chrome trace-event writers).
@@ -95,6 +98,8 @@ class Processor {
     // Throws std::invalid_argument when the region does not exist or the sizes differ.
     void attach_memory(std::string_view region, std::shared_ptr<PagedMemory> store);
     void attach_cache(std::string_view region, CacheModel* cache);
+    // write_histogram(file)[n]: cycles in which n writes landed in that register file.
+    std::vector<uint64_t> write_histogram(int file) const;
     MemorySystem& memory() { return *mem_; }
     const MemorySystem& memory() const { return *mem_; }
 
