@@ -160,6 +160,22 @@ inline constexpr std::uint32_t kRecBytes = get("REC_BYTES");
 inline constexpr std::uint32_t kIcJumpsA = get("IC_JUMPS_A");
 inline constexpr std::uint32_t kIcJumpsB = get("IC_JUMPS_B");
 static_assert(get("OS_STATE") + get("OS_SLOTS") * get("OS_STATE_BYTES") <= get("OS_OCC"));
+
+// OS SRAM capacity, the one rule for it: the machine (rt-host's render_machine, os_image below
+// in image.hpp) and the memory report (rt::Grid::footprint, `nesshi scene info`, the stats JSON's
+// os_fits) all call these, so they cannot disagree. A grid of nx x ny x nz voxels needs the
+// OS_OCC bytes below the map (geometry, ray state table) plus the padded occupancy map,
+// (nx+2)(ny+2)(nz+2) bytes: 112^3 fits, 113^3 does not. 64-bit, so no grid size wraps around.
+constexpr std::uint64_t os_padded_map_bytes(int nx, int ny, int nz) {
+    return static_cast<std::uint64_t>(nx + 2) * static_cast<std::uint64_t>(ny + 2) * static_cast<std::uint64_t>(nz + 2);
+}
+constexpr std::uint64_t os_sram_bytes(int nx, int ny, int nz) {
+    return static_cast<std::uint64_t>(get("OS_OCC")) + os_padded_map_bytes(nx, ny, nz);
+}
+constexpr bool os_sram_fits(int nx, int ny, int nz) {
+    return os_sram_bytes(nx, ny, nz) <= static_cast<std::uint64_t>(get("OS_OCC_LIMIT"));
+}
+static_assert(os_sram_fits(112, 112, 112) && !os_sram_fits(113, 113, 113));
 static_assert(get("OS_STATE_BYTES") == (1 << get("OS_STATE_SHIFT")));
 static_assert(get("ST_TIN") + 4 <= get("OS_STATE_BYTES"));
 

@@ -53,7 +53,7 @@ inline PaddedGrid padded(const rt::twins::GridGeom& g) {
 // `occupancy` is the unpadded map of rt/grid.hpp (x fastest).
 inline MemImage os_image(const rt::twins::GridGeom& g, const std::vector<std::uint8_t>& occupancy) {
     const PaddedGrid p = padded(g);
-    if (abi::kOsOcc + p.voxels() > abi::kOsOccLimit) throw std::runtime_error("grid too large for OS SRAM");
+    if (!abi::os_sram_fits(g.n[0], g.n[1], g.n[2])) throw std::runtime_error("grid too large for OS SRAM");
     MemImage m;
     m.base = 0;
     m.bytes.assign(abi::kOsOcc + p.voxels(), 0);

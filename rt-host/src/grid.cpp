@@ -1,6 +1,8 @@
 // Uniform grid builder: exact (padded) overlap tests, counting pass then fill pass.
 #include "rt/grid.hpp"
 
+#include "abi.hpp" // kernels/: the OS SRAM layout and its capacity rule
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -61,10 +63,17 @@ Box Grid::voxel_box(int ix, int iy, int iz) const {
     return b;
 }
 
+static_assert(kOsSramBytes == kernels::abi::kOsOccLimit);
+
 MemoryFootprint Grid::footprint(std::size_t shape_count) const {
+    namespace abi = kernels::abi;
+    const int* n = geom.n;
     MemoryFootprint m;
     m.os_voxel_map = occupancy.size();
-    m.os_geometry = 16 * 4;
+    m.os_padded_map = abi::os_padded_map_bytes(n[0], n[1], n[2]);
+    m.os_below_map = abi::kOsOcc;
+    m.os_used = abi::os_sram_bytes(n[0], n[1], n[2]);
+    m.os_sram_fits = abi::os_sram_fits(n[0], n[1], n[2]);
     m.ic_offsets = offsets.size() * 4;
     m.ic_lists = prims.size() * 4;
     m.ic_shapes = shape_count * kShapeWords * 4;

@@ -21,7 +21,8 @@ nlohmann::json grid_json(const Grid& g, std::size_t shapes) {
         {"box", {{"lo", {g.box.lo.x, g.box.lo.y, g.box.lo.z}}, {"hi", {g.box.hi.x, g.box.hi.y, g.box.hi.z}}}},
         {"memory",
          {{"os_voxel_map_bytes", m.os_voxel_map},
-          {"os_geometry_bytes", m.os_geometry},
+          {"os_padded_map_bytes", m.os_padded_map},
+          {"os_below_map_bytes", m.os_below_map},
           {"os_total_bytes", m.os_total()},
           {"os_sram_bytes", kOsSramBytes},
           {"os_fits", m.os_fits()},
@@ -104,8 +105,9 @@ std::string format_grid(const Grid& g, std::size_t shapes) {
                      g.stats.n[0], g.stats.n[1], g.stats.n[2], g.stats.voxels, g.stats.empty_voxels,
                      g.stats.voxels ? 100.0 * static_cast<double>(g.stats.empty_voxels) / static_cast<double>(g.stats.voxels) : 0.0,
                      g.stats.references, g.stats.refs_per_nonempty, g.stats.build_seconds);
-    o += fmt::format("memory   OS SRAM: voxel map {} B + geometry {} B = {} of {} ({})\n", m.os_voxel_map, m.os_geometry,
-                     mib(m.os_total()), mib(kOsSramBytes), m.os_fits() ? "fits" : "DOES NOT FIT");
+    o += fmt::format("memory   OS SRAM: geometry + ray states {} B + padded voxel map {}x{}x{} {} B = {} of {} ({})\n",
+                     m.os_below_map, g.geom.n[0] + 2, g.geom.n[1] + 2, g.geom.n[2] + 2, m.os_padded_map,
+                     mib(m.os_total()), mib(kOsSramBytes), m.os_fits() ? "fits" : "DOES NOT FIT: use a coarser grid");
     o += fmt::format("         IC: offsets {} B + lists {} B + shapes {} B = {} against {} resident + {} cache ({})\n",
                      m.ic_offsets, m.ic_lists, m.ic_shapes, mib(m.ic_total()), mib(kIcResidentBytes),
                      mib(kIcCacheBytes),

@@ -146,6 +146,8 @@ TEST_CASE("Grid memory footprint at 100^3 fits the OS SRAM", "[grid]") {
     Grid g = build_grid(sc, set, 100);
     MemoryFootprint m = g.footprint(set.shapes.size());
     CHECK(m.os_voxel_map == 1000000);
+    CHECK(m.os_padded_map == 102 * 102 * 102); // the machine's map has a one-voxel frame
+    CHECK(m.os_total() == 0x90000 + 102 * 102 * 102);
     CHECK(m.os_fits());
     CHECK(m.ic_offsets == 4 * 1000001);
     CHECK(m.ic_shapes == 2 * 80);

@@ -227,6 +227,30 @@ TEST_CASE("Bad machine options and data that do not fit are clear errors", "[uni
     CHECK_THROWS_WITH(render_machine(big, small(2), model(MachineModel::V)), Catch::Contains("does not fit the OS SRAM"));
 }
 
+TEST_CASE("The memory report says the voxel map fits the OS SRAM exactly when the machine takes it", "[unit][machine]") {
+    // The padded map sits at 0x90000: 112^3 is the largest grid that fits (an unpadded count
+    // against 2 MiB said 128^3). 113..128 are the grids where report and machine used to disagree.
+    for (int n : {112, 113, 120, 128}) {
+        INFO("tetra:1 grid " << n);
+        const PreparedScene prep = prepare(load_scene("tetra:1"), n);
+        const MemoryFootprint m = prep.grid.footprint(prep.shapes.shapes.size());
+        CHECK(m.os_fits() == (n <= 112));
+        CHECK(m.os_padded_map == static_cast<std::size_t>(n + 2) * (n + 2) * (n + 2));
+        CHECK(m.os_total() == 0x90000 + m.os_padded_map);
+        bool machine_takes_it = true;
+        try {
+            render_machine(prep, small(1), model(MachineModel::V));
+        } catch (const std::runtime_error& e) {
+            CHECK_THAT(e.what(), Catch::Contains("does not fit the OS SRAM"));
+            machine_takes_it = false;
+        }
+        CHECK(machine_takes_it == m.os_fits());
+        const nlohmann::json j = nlohmann::json::parse(stats_json(prep, small(1), render_native(prep, small(1)), "native"));
+        CHECK(j["grid"]["memory"]["os_fits"].get<bool>() == m.os_fits());
+        CHECK(j["grid"]["memory"]["os_total_bytes"].get<std::size_t>() == m.os_total());
+    }
+}
+
 TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machine]") {
     const PreparedScene prep = prepare(load_scene("tetra:1"), 6);
     const RenderOptions opt = small(16);

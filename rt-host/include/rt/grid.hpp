@@ -1,8 +1,9 @@
 // Uniform grid over the scene's box, laid out as the OS and IC memories will hold it.
 //
 // OS SRAM: the voxel occupancy map, 1 byte per voxel (0 empty, 1 holds primitives), x fastest, then
-// y, then z (address = (iz*ny + iy)*nx + ix), plus the 16-word grid geometry of twins/dda.hpp.
-// 100^3 voxels = 1,000,000 bytes, within the OS's 2 MB.
+// y, then z (address = (iz*ny + iy)*nx + ix), plus the grid geometry of twins/dda.hpp. The machine
+// holds it with a one-voxel frame, (nx+2)(ny+2)(nz+2) bytes from 0x90000, after the geometry and
+// the ray state table (kernels/abi.hpp): up to 112^3 voxels fit the OS's 2 MB.
 // IC memory: per-voxel list offsets (nx*ny*nz + 1 words, uint32: the list of voxel v is
 // prims[offsets[v] .. offsets[v+1])), the lists (uint32 shape indices, ascending), and the shape
 // records (20 words each, shapes.hpp). IC has 1 MB resident memory + 1 MB cache over global memory.
@@ -28,15 +29,20 @@ struct GridStats {
     double build_seconds = 0;
 };
 
+// OS figures are the machine's layout, from the capacity rule of kernels/abi.hpp (os_sram_fits),
+// which render_machine applies too: the report says "fits" exactly when the machine takes the grid.
 struct MemoryFootprint {
-    std::size_t os_voxel_map = 0;   // occupancy bytes
-    std::size_t os_geometry = 0;    // grid geometry words
+    std::size_t os_voxel_map = 0;   // occupancy bytes, unpadded (nx ny nz)
+    std::size_t os_padded_map = 0;  // the map as the OS holds it, with its frame: (nx+2)(ny+2)(nz+2)
+    std::size_t os_below_map = 0;   // geometry and ray state table, below the map (OS_OCC)
+    std::size_t os_used = 0;        // os_below_map + os_padded_map: the end of the map in OS SRAM
+    bool os_sram_fits = false;      // kernels::abi::os_sram_fits
     std::size_t ic_offsets = 0;
     std::size_t ic_lists = 0;
     std::size_t ic_shapes = 0;
-    std::size_t os_total() const { return os_voxel_map + os_geometry; }
+    std::size_t os_total() const { return os_used; }
     std::size_t ic_total() const { return ic_offsets + ic_lists + ic_shapes; }
-    bool os_fits() const { return os_total() <= kOsSramBytes; }
+    bool os_fits() const { return os_sram_fits; }
     bool ic_resident_fits() const { return ic_total() <= kIcResidentBytes; }
 };
 

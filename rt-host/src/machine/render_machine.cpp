@@ -48,12 +48,12 @@ MachineSetup build_setup(const PreparedScene& prep, const MachineOptions& mo) {
     s.os_prog = kernels::assemble_kernel(dir + (vliw ? "/os/dda.s" : "/seq/dda.s"), vliw ? "os" : "seq");
     s.ic_prog = kernels::assemble_kernel(dir + (vliw ? "/ic/intersect.s" : "/seq/intersect.s"), vliw ? "ic" : "seq");
     const Grid& g = prep.grid;
-    const kernels::PaddedGrid pg = kernels::padded(g.geom);
-    if (abi::kOsOcc + pg.voxels() > abi::kOsOccLimit)
+    if (!abi::os_sram_fits(g.geom.n[0], g.geom.n[1], g.geom.n[2]))
         throw std::runtime_error(fmt::format(
             "grid {}x{}x{} does not fit the OS SRAM: its padded occupancy map takes {} bytes from 0x{:x}, the SRAM "
             "ends at 0x{:x} (use a coarser grid)",
-            g.geom.n[0], g.geom.n[1], g.geom.n[2], pg.voxels(), abi::kOsOcc, abi::kOsOccLimit));
+            g.geom.n[0], g.geom.n[1], g.geom.n[2], abi::os_padded_map_bytes(g.geom.n[0], g.geom.n[1], g.geom.n[2]),
+            abi::kOsOcc, abi::kOsOccLimit));
     s.os_image = kernels::os_image(g.geom, g.occupancy);
     kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes, mo.resident);
     constexpr std::uint32_t kGlobalBytes = 0x04000000;
