@@ -263,6 +263,15 @@ TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machi
             CHECK(j["cycles"][stage].contains(key));
     CHECK(j["host"].contains("bundles_per_second"));
     CHECK(j["host"]["simulated_bundles"].get<std::uint64_t>() == r.machine.simulated_bundles);
+    // Traversal: the machine counts rays per kind, not voxel steps or tests: only `rays`, no fake 0s.
+    const nlohmann::json native = nlohmann::json::parse(stats_json(prep, opt, render_native(prep, opt), "native"));
+    REQUIRE(j["traversal"].size() == 4);
+    for (const auto& [kind, counters] : j["traversal"].items()) {
+        INFO(kind);
+        CHECK(counters == nlohmann::json{{"rays", native["traversal"][kind]["rays"]}});
+        CHECK(native["traversal"][kind].contains("voxel_steps"));
+    }
+    CHECK(j["traversal"]["eye"]["rays"].get<std::uint64_t>() == 17 * 17);
     // The golden part: everything but host timings.
     j.erase("host");
     j["grid"].erase("build_seconds");

@@ -108,7 +108,8 @@ MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt
 // The folder with the kernel sources: NESSHI_KERNELS, else the source tree's kernels/ (built in).
 std::string kernels_directory();
 
-// Stats JSON: render's stats_json plus "cycles" and "host" for the machine (see README.md).
+// Stats JSON: render's stats_json plus "cycles", "machine" and "host" for the machine; "traversal"
+// keeps only `rays` per kind (the machine counts no voxel steps or tests). See rt-host/README.md.
 std::string machine_stats_json(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo,
                                const MachineResult& r);
 // The Table 2 row of this run and the per-stage summary, for the terminal.

@@ -29,6 +29,9 @@ double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
 std::string machine_stats_json(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo,
                                const MachineResult& r) {
     nlohmann::json j = nlohmann::json::parse(stats_json(prep, opt, r.render, machine_model_name(mo.model)));
+    // The kernels count no voxel steps or intersection tests, so of the native tracer's traversal
+    // counters only `rays` (counted by SC) is known; the others are left out rather than given as 0.
+    for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};
     const MachineStats& m = r.machine;
     nlohmann::json cycles = {{"total", m.total_cycles},
                              {"os", stage_json(m.os)},
