@@ -1,4 +1,4 @@
-// `nesshi render`: render a scene with a chosen model (native for now) to PNG, stats and buffers.
+// `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
 
 #include "rt/machine.hpp"
@@ -29,6 +29,10 @@ struct RenderArgs {
     rt::MachineOptions mo;
     bool cache = false;
     std::string balance = "interleaved";
+    // For checking combinations: every option of the machine group, and the ones that need another.
+    std::vector<const CLI::Option*> machine_only;
+    std::vector<const CLI::Option*> cache_params; // --cache-size, --cache-ways, --cache-line, --miss-cycles
+    const CLI::Option *epoch = nullptr, *fifo_latency = nullptr, *quantum = nullptr, *no_resident = nullptr;
 };
 
 const char* const kModels = "native, S, M, V";
@@ -41,11 +45,37 @@ int parse_int(const std::string& s, const char* what) {
     return v;
 }
 
+// Options that would be silently ignored are errors: machine options with --model native, and
+// options without the one that gives them a meaning.
+void check_combinations(const RenderArgs& a, bool native, rt::MachineModel model) {
+    auto given = [](const CLI::Option* o) { return o && o->count() > 0; };
+    if (native)
+        for (const CLI::Option* o : a.machine_only)
+            if (given(o))
+                throw std::runtime_error(fmt::format("{} needs --model S, M or V (the simulated machine); --model native "
+                                                     "is the C++ tracer",
+                                                     o->get_name()));
+    for (const CLI::Option* o : a.cache_params)
+        if (given(o) && !a.cache)
+            throw std::runtime_error(
+                fmt::format("{} needs --cache (without it the IC cache is ideal: every access hits)", o->get_name()));
+    if (given(a.no_resident) && !a.cache)
+        throw std::runtime_error("--no-resident needs --cache (with the ideal cache global memory costs what resident "
+                                 "memory does, so it would change nothing)");
+    if (given(a.epoch) && a.balance != "dynamic") throw std::runtime_error("--epoch needs --balance dynamic");
+    if (model == rt::MachineModel::S)
+        for (const CLI::Option* o : {a.fifo_latency, a.quantum})
+            if (given(o))
+                throw std::runtime_error(fmt::format(
+                    "{} has no effect on model S (one processor runs the three stages on one clock)", o->get_name()));
+}
+
 void run_render(const RenderArgs& a) {
     const bool native = a.model == "native";
     rt::MachineOptions mo = a.mo;
     if (!native && !rt::parse_machine_model(a.model, mo.model))
         throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
+    check_combinations(a, native, mo.model);
     mo.cache.enabled = a.cache;
     mo.dynamic_balance = a.balance == "dynamic";
     rt::RenderOptions opt;
@@ -116,7 +146,8 @@ void add_render(CLI::App& app) {
     cmd->add_option("--stats-json", a->stats_json, "statistics as JSON");
     cmd->add_option("--id-buffer", a->id_buffer, "eye-ray primitive ids: raw int32 LE, (H+1) x (W+1)");
     cmd->add_option("--t-buffer", a->t_buffer, "eye-ray hit distances: raw float32 LE, (H+1) x (W+1)");
-    cmd->add_option("--cutoff", a->cutoff, "contribution cut-off for secondary rays (0 = off, SPD mode)");
+    cmd->add_option("--cutoff", a->cutoff, "contribution cut-off for secondary rays (0 = off, SPD mode)")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("-q,--quiet", a->quiet, "no report, no progress bar");
     auto* m = "Machine (models S, M, V)";
     cmd->add_option("--pes", a->mo.pes, "processing elements (default 1)")->check(CLI::PositiveNumber)->group(m);
@@ -141,6 +172,14 @@ void add_render(CLI::App& app) {
     cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);
     cmd->add_option("--trace-json", a->mo.trace_json, "Chrome/Perfetto trace of stage activity and FIFO words")->group(m);
     cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);
+    for (const CLI::Option* o : cmd->get_options())
+        if (o->get_group() == m) a->machine_only.push_back(o);
+    for (const char* name : {"--cache-size", "--cache-ways", "--cache-line", "--miss-cycles"})
+        a->cache_params.push_back(cmd->get_option(name));
+    a->epoch = cmd->get_option("--epoch");
+    a->fifo_latency = cmd->get_option("--fifo-latency");
+    a->quantum = cmd->get_option("--quantum");
+    a->no_resident = cmd->get_option("--no-resident");
     cmd->callback([a] {
         try {
             run_render(*a);
