@@ -164,7 +164,7 @@ void add_render(CLI::App& app) {
     cmd->add_option("--cache-ways", a->mo.cache.ways, "IC cache ways (default 4)")->group(m);
     cmd->add_option("--cache-line", a->mo.cache.line, "IC cache line bytes (default 32)")->group(m);
     cmd->add_option("--miss-cycles", a->mo.cache.miss_cycles, "IC cache miss penalty (default 20)")->group(m);
-    cmd->add_flag("!--no-resident", a->mo.resident, "IC data in global memory even when it fits the resident memory")
+    cmd->add_flag("!--no-resident", a->mo.resident, "all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
         ->group(m);
     cmd->add_option("--quantum", a->mo.quantum, "scheduling slack between a PE's stages, cycles (default 32)")
         ->check(CLI::PositiveNumber)->group(m);

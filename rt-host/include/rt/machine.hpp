@@ -50,8 +50,10 @@ struct MachineOptions {
     std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
     std::uint64_t quantum = 32;       // scheduling slack between a PE's processors (cycles)
     CacheOptions cache;
-    // IC data placement: the records, voxel table and lists go to the resident memory when they
-    // fit in it, else all to global memory (behind the cache). false: always global memory.
+    // IC data placement (kernels/image.hpp): the records, voxel table and lists go to the resident
+    // memory when they all fit in it; else the most-referenced shape records (by the number of voxel
+    // lists holding them) fill it and the other records, the table and the lists go to global
+    // memory (behind the cache). false: everything in global memory.
     bool resident = true;
     bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
     std::string kernels_dir;          // empty: the kernels/ folder found by kernels_directory()
