@@ -79,6 +79,13 @@ struct StageCycles {
     StageCycles& operator+=(const StageCycles& o);
 };
 
+// One PE's stages. Each processor's clock runs to the PE's end: processing + communication +
+// wait = end for each of os, ic and sc.
+struct PeCycles {
+    std::uint64_t end = 0;
+    StageCycles os, ic, sc;
+};
+
 struct MachineStats {
     MachineModel model = MachineModel::V;
     std::uint64_t total_cycles = 0;        // the slowest PE's finishing time
@@ -89,6 +96,7 @@ struct MachineStats {
     std::uint64_t s_cycles = 0;
     StageCycles os, ic, sc;                // summed over PEs
     std::vector<std::uint64_t> pe_cycles;  // finishing time of each PE
+    std::vector<PeCycles> per_pe;          // each PE's own stage cycles (os, ic, sc are their sums)
     std::uint64_t visits = 0, returns = 0, misses = 0, hits = 0; // FIFO messages
     std::uint64_t cache_accesses = 0, cache_misses = 0;
     std::uint64_t max_fifo_words = 0;      // highest occupancy seen on any FIFO

@@ -103,6 +103,7 @@ MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt
     for (const PeResult& r : results) {
         ms.total_cycles = std::max(ms.total_cycles, r.end);
         ms.pe_cycles.push_back(r.end);
+        ms.per_pe.push_back({r.end, r.os, r.ic, r.sc});
         ms.os += r.os;
         ms.ic += r.ic;
         ms.sc += r.sc;
