@@ -33,6 +33,7 @@ struct RenderArgs {
     std::vector<const CLI::Option*> machine_only;
     std::vector<const CLI::Option*> cache_params; // --cache-size, --cache-ways, --cache-line, --miss-cycles
     const CLI::Option *epoch = nullptr, *fifo_latency = nullptr, *quantum = nullptr, *no_resident = nullptr;
+    const CLI::Option *window = nullptr, *ray_slots = nullptr;
 };
 
 const char* const kModels = "native, S, M, V";
@@ -76,6 +77,10 @@ void run_render(const RenderArgs& a) {
     if (!native && !rt::parse_machine_model(a.model, mo.model))
         throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
+    // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
+    // (rt::MachineOptions::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
+    const bool auto_slots = mo.fifo_capacity > 0 && a.window->count() == 0 && a.ray_slots->count() == 0;
+    if (auto_slots) mo.ray_slots = rt::deadlock_free_ray_slots(mo.fifo_capacity);
     mo.cache.enabled = a.cache;
     mo.dynamic_balance = a.balance == "dynamic";
     rt::RenderOptions opt;
@@ -126,6 +131,10 @@ void run_render(const RenderArgs& a) {
             fmt::print("{}", rt::format_rays(r.stats));
         } else {
             fmt::print("{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
+            if (auto_slots)
+                fmt::print("ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
+                           "so no FIFO fills (--ray-slots or --window to choose)\n",
+                           mo.ray_slots, mo.ray_slots, mo.fifo_capacity, rt::kLongestMessageWords);
             fmt::print("{}", rt::format_machine(mr.machine));
             fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
         }
@@ -157,7 +166,15 @@ void add_render(CLI::App& app) {
         ->check(CLI::PositiveNumber)->group(m);
     cmd->add_option("--window", a->mo.window, "eye rays in flight per PE, the DIS's limit (default 64)")
         ->check(CLI::PositiveNumber)->group(m);
-    cmd->add_option("--fifo-capacity", a->mo.fifo_capacity, "words per FIFO, 0 = unbounded (default)")->group(m);
+    cmd->add_option("--fifo-capacity", a->mo.fifo_capacity,
+                    "words per FIFO, 0 = unbounded (default); without --window it also sets --ray-slots to capacity/12, "
+                    "which cannot deadlock")
+        ->group(m);
+    cmd->add_option("--ray-slots", a->mo.ray_slots,
+                    "rays in flight per PE (default 4096, the OS's ray state table); at most capacity/12 never fills a "
+                    "FIFO")
+        ->check(CLI::Range(1, 4096))
+        ->group(m);
     cmd->add_option("--fifo-latency", a->mo.fifo_latency, "extra cycles per FIFO hop (default 0)")->group(m);
     cmd->add_flag("--cache", a->cache, "a real IC cache over global memory instead of 100% hits")->group(m);
     cmd->add_option("--cache-size", a->mo.cache.bytes, "IC cache bytes (default 1 MiB)")->group(m);
@@ -180,6 +197,8 @@ void add_render(CLI::App& app) {
     a->fifo_latency = cmd->get_option("--fifo-latency");
     a->quantum = cmd->get_option("--quantum");
     a->no_resident = cmd->get_option("--no-resident");
+    a->window = cmd->get_option("--window");
+    a->ray_slots = cmd->get_option("--ray-slots");
     cmd->callback([a] {
         try {
             run_render(*a);

@@ -66,6 +66,11 @@ void require_accounting(const MachineStats& m) {
     CHECK(m.total_cycles == *std::max_element(m.pe_cycles.begin(), m.pe_cycles.end()));
 }
 
+std::string fmt_slots(std::size_t cap) {
+    const int n = deadlock_free_ray_slots(cap);
+    return "no FIFO can fill: limit them with --ray-slots " + std::to_string(n);
+}
+
 } // namespace
 
 TEST_CASE("Models S, M and V render exactly what the native renderer renders", "[unit][machine]") {
@@ -241,6 +246,51 @@ TEST_CASE("A FIFO cycle filled to capacity is reported as a deadlock", "[unit][m
     }
 }
 
+TEST_CASE("Rays in flight limited to capacity / 12: small FIFOs never fill, never deadlock", "[unit][machine]") {
+    CHECK(deadlock_free_ray_slots(0) == 0);
+    CHECK(deadlock_free_ray_slots(16) == 1);
+    CHECK(deadlock_free_ray_slots(64) == 5);
+    CHECK(deadlock_free_ray_slots(1024) == 85);
+    // The audit's case: balls at the default window of 64 corners deadlocks with 64- and 256-word
+    // FIFOs (a ray has one message in flight, but a corner many rays); with the limit it cannot.
+    const PreparedScene balls = prepare(load_scene("balls:1"), 50);
+    const RenderOptions opt = small(24);
+    const RenderResult native = render_native(balls, opt);
+    for (std::size_t cap : {64, 256}) {
+        INFO("balls:1, capacity " << cap);
+        MachineOptions mo = model(MachineModel::V);
+        mo.fifo_capacity = cap;
+        CHECK_THROWS_WITH(render_machine(balls, opt, mo), Catch::Contains("deadlock") &&
+                                                            Catch::Contains(fmt_slots(cap)));
+        mo.ray_slots = deadlock_free_ray_slots(cap);
+        const MachineResult r = render_machine(balls, opt, mo);
+        require_same_result(native, r.render);
+        require_accounting(r.machine);
+        CHECK(r.machine.max_fifo_words <= 12 * static_cast<std::size_t>(mo.ray_slots));
+    }
+    // Refraction (mount) and big ray trees (gears): at the smallest capacity both deadlock even
+    // with a window of 1 corner, so no window works there; the ray limit does, on every model.
+    for (const char* name : {"mount:1", "gears:1"}) {
+        const PreparedScene prep = prepare(load_scene(name), 20);
+        const RenderOptions o = small(12);
+        const RenderResult nat = render_native(prep, o);
+        MachineOptions one_corner = model(MachineModel::V);
+        one_corner.fifo_capacity = 16;
+        one_corner.window = 1;
+        CHECK_THROWS_WITH(render_machine(prep, o, one_corner), Catch::Contains("deadlock"));
+        for (MachineModel m : {MachineModel::V, MachineModel::M, MachineModel::S})
+            for (std::size_t cap : {16, 64}) {
+                INFO(name << " model " << machine_model_name(m) << ", capacity " << cap);
+                MachineOptions mo = model(m);
+                mo.fifo_capacity = cap;
+                mo.ray_slots = deadlock_free_ray_slots(cap);
+                const MachineResult r = render_machine(prep, o, mo);
+                require_same_result(nat, r.render);
+                CHECK(r.machine.max_fifo_words <= cap);
+            }
+    }
+}
+
 TEST_CASE("Bad machine options and data that do not fit are clear errors", "[unit][machine]") {
     const PreparedScene prep = prepare(load_scene("tetra:1"), 4);
     MachineOptions mo = model(MachineModel::V);
@@ -253,6 +303,9 @@ TEST_CASE("Bad machine options and data that do not fit are clear errors", "[uni
     mo.cache.enabled = true;
     mo.cache.line = 24;
     CHECK_THROWS_WITH(render_machine(prep, small(4), mo), Catch::Contains("power of two"));
+    mo = model(MachineModel::V);
+    mo.ray_slots = 5000;
+    CHECK_THROWS_WITH(render_machine(prep, small(4), mo), Catch::Contains("ray slots must be 1 to 4096"));
     mo = model(MachineModel::V);
     mo.max_cycles = 1000;
     CHECK_THROWS_WITH(render_machine(prep, small(8), mo), Catch::Contains("cycle limit"));

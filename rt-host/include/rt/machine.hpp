@@ -47,6 +47,12 @@ struct MachineOptions {
     int threads = 0;                  // host threads (0 = all cores); never changes the cycles
     int window = 64;                  // eye rays (pixel corners) in flight per PE (the DIS's limit)
     std::size_t fifo_capacity = 0;    // words per FIFO; 0 = unbounded (the paper's ideal)
+    // Rays in flight per PE: the ray slots SC hands out (each ray it or DIS sends to the OS holds
+    // one until its MISS or HIT comes back); 0 = all OS_SLOTS (4096). The window bounds corners,
+    // not rays: every hit spawns shadow, reflection and refraction rays. A ray has one message in
+    // the FIFOs at a time, at most 12 words (a VISIT), so with at most fifo_capacity / 12 rays in
+    // flight no FIFO ever fills and bounded FIFOs cannot deadlock (deadlock_free_ray_slots).
+    int ray_slots = 0;
     std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
     std::uint64_t quantum = 32;       // scheduling slack between a PE's processors (cycles)
     CacheOptions cache;
@@ -114,6 +120,11 @@ struct MachineResult {
 // Throws std::runtime_error on a deadlock (bounded FIFOs), a kernel fault, a memory-capacity
 // error (grid too large for the OS SRAM, data too large for IC memory) or max_cycles exceeded.
 MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo);
+
+// The most rays in flight with which FIFOs of `fifo_capacity` words never fill: capacity / 12 (the
+// longest message, a VISIT), at least 1; 0 (no limit needed) for unbounded FIFOs.
+inline constexpr std::size_t kLongestMessageWords = 12; // kernels/abi.hpp MSG_VISIT
+int deadlock_free_ray_slots(std::size_t fifo_capacity);
 
 // The folder with the kernel sources: NESSHI_KERNELS, else the source tree's kernels/ (built in).
 std::string kernels_directory();

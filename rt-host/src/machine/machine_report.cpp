@@ -56,6 +56,7 @@ std::string machine_stats_json(const PreparedScene& prep, const RenderOptions& o
                     {"messages", {{"visit", m.visits}, {"return", m.returns}, {"miss", m.misses}, {"hit", m.hits}}},
                     {"max_fifo_words", m.max_fifo_words},
                     {"sc", "modelled: counted operations x seq latencies (rt-host/src/machine/sc_cost.hpp)"}};
+    if (mo.ray_slots) j["machine"]["ray_slots"] = mo.ray_slots; // limited rays in flight (0: all 4096)
     j["host"]["wall_seconds"] = m.wall_seconds;
     j["host"]["simulated_bundles"] = m.simulated_bundles;
     j["host"]["bundles_per_second"] = m.bundles_per_second();

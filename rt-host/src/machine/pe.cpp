@@ -104,7 +104,7 @@ class Pe {
         : mo_(mo), serial_(mo.model == MachineModel::S),
           os_in_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency), ic_in_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency),
           sc_os_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency), sc_ic_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency),
-          sc_(prep, opt, setup.sc_prices, std::move(corners), mo.window, sink, sc_os_, sc_ic_, os_in_) {
+          sc_(prep, opt, setup.sc_prices, std::move(corners), mo.window, mo.ray_slots, sink, sc_os_, sc_ic_, os_in_) {
         const iss::Engine engine = mo.checked ? iss::Engine::Checked : iss::Engine::Fast;
         os_.name = "OS";
         os_.proc = std::make_unique<iss::Processor>(setup.os_prog, engine);
@@ -170,11 +170,17 @@ class Pe {
             return fmt::format("blocked on channel {} ({}) at cycle {}", s.proc->blocked_channel(),
                                s.proc->blocked_channel() == abi::kChIn ? "empty input" : "full output", s.proc->cycle());
         };
+        const int safe = deadlock_free_ray_slots(mo_.fifo_capacity);
         throw std::runtime_error(fmt::format(
             "deadlock: every stage waits on another (FIFO capacity {} words)\n  OS: {}\n  IC: {}\n  SC: at cycle {}, "
-            "{} corners done\n  FIFO words: OS in {}, IC in {}, SC from OS {}, SC from IC {}",
-            mo_.fifo_capacity, state(os_), state(ic_), sc_.clock(), sc_.corners_done(), os_in_.size(), ic_in_.size(), sc_os_.size(),
-            sc_ic_.size()));
+            "{} corners done, {} rays in flight\n  FIFO words: OS in {}, IC in {}, SC from OS {}, SC from IC {}\n"
+            "  The window ({} corners) bounds corners, not rays: each hit spawns shadow, reflection and refraction "
+            "rays. A ray has one message in the FIFOs at a time, at most {} words (a VISIT), so with at most {} / {} = "
+            "{} ray{} in flight no FIFO can fill: limit them with --ray-slots {} (nesshi render's default when "
+            "--fifo-capacity is given without --window)",
+            mo_.fifo_capacity, state(os_), state(ic_), sc_.clock(), sc_.corners_done(), sc_.rays_in_flight(),
+            os_in_.size(), ic_in_.size(), sc_os_.size(), sc_ic_.size(), mo_.window, kLongestMessageWords,
+            mo_.fifo_capacity, kLongestMessageWords, safe, safe == 1 ? "" : "s", safe));
     }
 
     void check_limit(std::uint64_t t) const {

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -76,11 +77,21 @@ bool s_time_is_exact(const MachineOptions& mo) {
 
 } // namespace
 
+static_assert(kLongestMessageWords == abi::get("MSG_VISIT") && abi::get("MSG_VISIT") >= abi::get("MSG_NEW") &&
+              abi::get("MSG_VISIT") >= abi::get("MSG_HIT"));
+
+int deadlock_free_ray_slots(std::size_t fifo_capacity) {
+    if (fifo_capacity == 0) return 0;
+    return static_cast<int>(std::clamp<std::size_t>(fifo_capacity / kLongestMessageWords, 1, abi::kOsSlots));
+}
+
 MachineResult render_machine(const PreparedScene& prep, const RenderOptions& opt, const MachineOptions& mo) {
     if (mo.pes < 1) throw std::invalid_argument("the machine needs at least one PE");
     if (mo.fifo_capacity != 0 && mo.fifo_capacity < 16)
         throw std::invalid_argument("FIFO capacity must be 0 (unbounded) or at least 16 words (a VISIT is 12)");
     if (mo.window < 1) throw std::invalid_argument("the DIS window must be at least 1 corner");
+    if (mo.ray_slots < 0 || mo.ray_slots > static_cast<int>(abi::kOsSlots))
+        throw std::invalid_argument(fmt::format("ray slots must be 1 to {} (0: all)", abi::kOsSlots));
     const auto t0 = std::chrono::steady_clock::now();
     const MachineSetup setup = build_setup(prep, mo);
 

@@ -24,16 +24,18 @@ abi::Kind tag_kind(RayKind k) {
 } // namespace
 
 ScStage::ScStage(const PreparedScene& prep, const RenderOptions& opt, const OpPrices& prices,
-                 std::vector<std::uint32_t> corners, int window, CornerSink sink, Fifo& from_os, Fifo& from_ic,
-                 Fifo& to_os)
+                 std::vector<std::uint32_t> corners, int window, int ray_slots, CornerSink sink, Fifo& from_os,
+                 Fifo& from_ic, Fifo& to_os)
     : prep_(prep), opt_(opt), prices_(prices), intensity_(light_intensity(prep.scene.lights.size())),
       pending_(corners.begin(), corners.end()), given_(corners.size()), window_(std::max(1, window)), sink_(sink),
       camera_(prep.scene.view, sink.width, sink.height), from_os_(from_os),
       from_ic_(from_ic), to_os_(to_os) {
     cycles.units = 1;
     cycles.modelled = true;
-    slots_.resize(abi::kOsSlots);
-    free_slots_.resize(abi::kOsSlots);
+    ray_slots_ = ray_slots > 0 ? std::min<std::size_t>(static_cast<std::size_t>(ray_slots), abi::kOsSlots) : abi::kOsSlots;
+    limited_ = ray_slots_ < abi::kOsSlots;
+    slots_.resize(ray_slots_);
+    free_slots_.resize(ray_slots_);
     // Lowest slot first, so runs are easy to read in traces.
     std::iota(free_slots_.rbegin(), free_slots_.rend(), 0u);
     dis_fill(0);
@@ -70,6 +72,7 @@ void ScStage::dis_fill(std::uint64_t at) {
         slots_[slot] = SlotRec{t, 0, -1};
         send_ray(r, slot, dis_clock_, false);
     }
+    dis_held_ = limited_ && free_slots_.empty() && in_flight_ < window_ && !pending_.empty();
 }
 
 void ScStage::give(std::uint32_t corner, std::uint64_t at) {
@@ -154,6 +157,7 @@ void ScStage::run(std::uint64_t horizon) {
             on_hit(w);
         }
         flush_sends();
+        if (dis_held_ && !free_slots_.empty()) dis_fill(clock_);
     }
 }
 

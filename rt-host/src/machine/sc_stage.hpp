@@ -5,7 +5,10 @@
 // rays to the OS, and when a pixel corner's whole ray tree is resolved combines it and sends the
 // colour to COL. It is modelled, not simulated: each step costs the cycles of sc_cost.hpp.
 // DIS keeps at most `window` corners of this PE in flight and sends a new eye ray (9 words,
-// one per cycle on its link, no SC cycles) when one finishes.
+// one per cycle on its link, no SC cycles) when one finishes. Every ray sent to the OS holds one
+// of `ray_slots` slots (0: all OS_SLOTS) until its MISS or HIT; a ray waits for a free slot (SC's
+// own rays first; with a limited pool DIS also tops up when a slot frees, not only when a corner
+// finishes).
 #pragma once
 
 #include "fifo.hpp"
@@ -44,7 +47,7 @@ struct CornerSink {
 class ScStage {
   public:
     ScStage(const PreparedScene& prep, const RenderOptions& opt, const OpPrices& prices, std::vector<std::uint32_t> corners,
-            int window, CornerSink sink, Fifo& from_os, Fifo& from_ic, Fifo& to_os);
+            int window, int ray_slots, CornerSink sink, Fifo& from_os, Fifo& from_ic, Fifo& to_os);
 
     // Earliest cycle at which SC can act (a complete message arrived, or a send waiting for room);
     // kNever when it has nothing to do.
@@ -66,6 +69,7 @@ class ScStage {
     std::uint64_t clock() const { return clock_; }
     const std::uint64_t& clock_ref() const { return clock_; }
     std::uint64_t corners_done() const { return finished_; }
+    std::size_t rays_in_flight() const { return ray_slots_ - free_slots_.size(); }
 
     StageCycles cycles;  // processing, communication, wait, words, units = 1, modelled
     RayStats rays;
@@ -131,6 +135,9 @@ class ScStage {
     std::vector<int> free_trees_;
     std::vector<SlotRec> slots_;
     std::vector<std::uint32_t> free_slots_;
+    std::size_t ray_slots_ = 0;
+    bool limited_ = false;          // ray_slots below OS_SLOTS
+    bool dis_held_ = false;         // limited, and DIS has a corner and window room but no slot
     std::deque<Outgoing> outgoing_;
 };
 
