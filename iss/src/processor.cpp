@@ -112,21 +112,24 @@ template <bool Checked, bool Traced> struct EngineLoop {
                 c.land_next = c.cycle + 1;
                 return;
             }
-            const uint32_t credited[2] = {n[0], n[1]};
             RingSlot& s = c.ring[c.land_next & c.mask];
             const uint32_t count = s.n;
+            uint32_t ring_float = 0; // of the ring writes landing now, those to the FPRF
             for (uint32_t i = 0; i < count; ++i) {
                 const RingWrite w = s.w[i];
                 c.r[w.reg] = w.value;
-                ++n[(w.reg >> 7) & 1];
+                ring_float += (w.reg >> 7) & 1;
                 if constexpr (Traced) p.landed_.push_back({w.reg, w.value, c.land_next, w.op});
             }
             c.pending -= count;
             s.n = 0;
-            for (int f = 0; f < 2; ++f) {
-                if (owed && n[f] == credited[f]) continue; // the credit is right
-                if (owed) --k.write_adjust[f][credited[f]];
-                ++k.write_adjust[f][n[f]];
+            if (count || !owed) [[unlikely]] { // else the credit is right: only latency-1 writes land
+                const uint32_t ring[2] = {count - ring_float, ring_float};
+                for (int f = 0; f < 2; ++f) {
+                    if (owed && !ring[f]) continue;
+                    if (owed) --k.write_adjust[f][n[f]];
+                    ++k.write_adjust[f][n[f] + ring[f]];
+                }
             }
             if constexpr (Traced)
                 if (c.land_next < c.cycle) emit(gap_kind, c.land_next);
