@@ -176,6 +176,20 @@ constexpr bool os_sram_fits(int nx, int ny, int nz) {
     return os_sram_bytes(nx, ny, nz) <= static_cast<std::uint64_t>(get("OS_OCC_LIMIT"));
 }
 static_assert(os_sram_fits(112, 112, 112) && !os_sram_fits(113, 113, 113));
+
+// IC resident memory, the one rule for it (image.hpp's placement and rt::Grid::footprint use it):
+// the bytes the host places from IC_DATA for `shapes` shape records, `padded_voxels` voxel lists
+// and `references` list entries: the END record and the shape records (REC_BYTES each), the
+// voxel table (a word per padded voxel), the lists (a word per reference and an END word per
+// list) and one read-ahead word. All of it goes to resident memory when it fits.
+constexpr std::uint64_t ic_data_bytes(std::uint64_t shapes, std::uint64_t padded_voxels, std::uint64_t references) {
+    return (shapes + 1) * static_cast<std::uint64_t>(get("REC_BYTES")) + padded_voxels * 4 +
+           (references + padded_voxels) * 4 + 4;
+}
+constexpr bool ic_data_fit_resident(std::uint64_t shapes, std::uint64_t padded_voxels, std::uint64_t references) {
+    return static_cast<std::uint64_t>(get("IC_DATA")) + ic_data_bytes(shapes, padded_voxels, references) <=
+           static_cast<std::uint64_t>(get("IC_RESIDENT_LIMIT"));
+}
 static_assert(get("OS_STATE_BYTES") == (1 << get("OS_STATE_SHIFT")));
 static_assert(get("ST_TIN") + 4 <= get("OS_STATE_BYTES"));
 

@@ -152,10 +152,9 @@ inline void put_record(MemImage& d, std::uint32_t r, const rt::Shape& s, std::ui
 inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<rt::Shape>& shapes,
                               bool allow_resident = true) {
     std::size_t refs = 0;
-    for (const auto& l : lists) refs += l.size() + 1;
+    for (const auto& l : lists) refs += l.size();
     const std::uint32_t limit = static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
-    const std::size_t bytes = (shapes.size() + 1) * abi::kRecBytes + lists.size() * 4 + refs * 4 + 4;
-    const bool all_resident = allow_resident && abi::kIcData + bytes <= limit;
+    const bool all_resident = allow_resident && abi::ic_data_fit_resident(shapes.size(), lists.size(), refs);
     IcImage im;
     im.resident.base = abi::kIcHeader;
     im.global.base = abi::kIcGlobal;

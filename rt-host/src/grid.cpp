@@ -64,6 +64,7 @@ Box Grid::voxel_box(int ix, int iy, int iz) const {
 }
 
 static_assert(kOsSramBytes == kernels::abi::kOsOccLimit);
+static_assert(kIcResidentBytes == kernels::abi::get("IC_RESIDENT_LIMIT") - kernels::abi::kIcHeader);
 
 MemoryFootprint Grid::footprint(std::size_t shape_count) const {
     namespace abi = kernels::abi;
@@ -74,9 +75,12 @@ MemoryFootprint Grid::footprint(std::size_t shape_count) const {
     m.os_below_map = abi::kOsOcc;
     m.os_used = abi::os_sram_bytes(n[0], n[1], n[2]);
     m.os_sram_fits = abi::os_sram_fits(n[0], n[1], n[2]);
-    m.ic_offsets = offsets.size() * 4;
-    m.ic_lists = prims.size() * 4;
-    m.ic_shapes = shape_count * kShapeWords * 4;
+    const std::size_t padded = m.os_padded_map; // one list per padded voxel
+    m.ic_header = abi::kIcData - abi::kIcHeader;
+    m.ic_offsets = padded * 4;
+    m.ic_lists = (prims.size() + padded + 1) * 4;
+    m.ic_shapes = (shape_count + 1) * abi::kRecBytes;
+    m.ic_data_resident = abi::ic_data_fit_resident(shape_count, padded, prims.size());
     return m;
 }
 

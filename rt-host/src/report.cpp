@@ -26,6 +26,7 @@ nlohmann::json grid_json(const Grid& g, std::size_t shapes) {
           {"os_total_bytes", m.os_total()},
           {"os_sram_bytes", kOsSramBytes},
           {"os_fits", m.os_fits()},
+          {"ic_header_bytes", m.ic_header},
           {"ic_offsets_bytes", m.ic_offsets},
           {"ic_lists_bytes", m.ic_lists},
           {"ic_shapes_bytes", m.ic_shapes},
@@ -108,12 +109,13 @@ std::string format_grid(const Grid& g, std::size_t shapes) {
     o += fmt::format("memory   OS SRAM: geometry + ray states {} B + padded voxel map {}x{}x{} {} B = {} of {} ({})\n",
                      m.os_below_map, g.geom.n[0] + 2, g.geom.n[1] + 2, g.geom.n[2] + 2, m.os_padded_map,
                      mib(m.os_total()), mib(kOsSramBytes), m.os_fits() ? "fits" : "DOES NOT FIT: use a coarser grid");
-    o += fmt::format("         IC: offsets {} B + lists {} B + shapes {} B = {} against {} resident + {} cache ({})\n",
-                     m.ic_offsets, m.ic_lists, m.ic_shapes, mib(m.ic_total()), mib(kIcResidentBytes),
+    o += fmt::format("         IC: header {} B + voxel table {} B + lists {} B + records {} B = {} against {} resident + {} "
+                     "cache ({})\n",
+                     m.ic_header, m.ic_offsets, m.ic_lists, m.ic_shapes, mib(m.ic_total()), mib(kIcResidentBytes),
                      mib(kIcCacheBytes),
-                     m.ic_resident_fits()                                 ? "fits resident"
-                     : m.ic_total() <= kIcResidentBytes + kIcCacheBytes ? "exceeds resident: the most-referenced records go there"
-                                                                          : "exceeds resident + cache: the most-referenced records go to resident");
+                     m.ic_resident_fits() ? "fits resident"
+                                          : "exceeds resident: the most-referenced records go there, the other records, "
+                                            "the voxel table and the lists to global memory");
     return o;
 }
 

@@ -6,7 +6,8 @@
 // the ray state table (kernels/abi.hpp): up to 112^3 voxels fit the OS's 2 MB.
 // IC memory: per-voxel list offsets (nx*ny*nz + 1 words, uint32: the list of voxel v is
 // prims[offsets[v] .. offsets[v+1])), the lists (uint32 shape indices, ascending), and the shape
-// records (20 words each, shapes.hpp). IC has 1 MB resident memory + 1 MB cache over global memory.
+// records (20 words each, shapes.hpp). IC has 1 MB resident memory + 1 MB cache over global memory;
+// the machine's tables are over the padded grid (kernels/image.hpp).
 #pragma once
 #include "rt/shapes.hpp"
 #include "rt/twins/dda.hpp"
@@ -29,21 +30,24 @@ struct GridStats {
     double build_seconds = 0;
 };
 
-// OS figures are the machine's layout, from the capacity rule of kernels/abi.hpp (os_sram_fits),
-// which render_machine applies too: the report says "fits" exactly when the machine takes the grid.
+// The machine's layout, from the capacity rules of kernels/abi.hpp that the machine applies too
+// (os_sram_fits, ic_data_fit_resident): the report says "fits" exactly when the machine takes the
+// grid, and "fits resident" exactly when it puts all IC data in resident memory.
 struct MemoryFootprint {
     std::size_t os_voxel_map = 0;   // occupancy bytes, unpadded (nx ny nz)
     std::size_t os_padded_map = 0;  // the map as the OS holds it, with its frame: (nx+2)(ny+2)(nz+2)
     std::size_t os_below_map = 0;   // geometry and ray state table, below the map (OS_OCC)
     std::size_t os_used = 0;        // os_below_map + os_padded_map: the end of the map in OS SRAM
     bool os_sram_fits = false;      // kernels::abi::os_sram_fits
-    std::size_t ic_offsets = 0;
-    std::size_t ic_lists = 0;
-    std::size_t ic_shapes = 0;
+    std::size_t ic_header = 0;      // header and dispatch tables below IC_DATA
+    std::size_t ic_offsets = 0;     // voxel table: a list address per padded voxel
+    std::size_t ic_lists = 0;       // a word per reference, an END word per list, one read-ahead word
+    std::size_t ic_shapes = 0;      // the END record and the shape records, 80 B each
+    bool ic_data_resident = false;  // kernels::abi::ic_data_fit_resident
     std::size_t os_total() const { return os_used; }
-    std::size_t ic_total() const { return ic_offsets + ic_lists + ic_shapes; }
+    std::size_t ic_total() const { return ic_header + ic_offsets + ic_lists + ic_shapes; }
     bool os_fits() const { return os_sram_fits; }
-    bool ic_resident_fits() const { return ic_total() <= kIcResidentBytes; }
+    bool ic_resident_fits() const { return ic_data_resident; }
 };
 
 struct Grid {
