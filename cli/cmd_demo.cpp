@@ -118,12 +118,16 @@ void run_machine_demo(const DemoArgs& a) {
 void add_demo(CLI::App& app) {
     auto* cmd = app.add_subcommand("demo", "Render a scene through the simulated machine (model V); --isa: the ISA examples");
     auto a = std::make_shared<DemoArgs>();
-    cmd->add_option("--scene", a->scene, "SPD name, NAME:SIZE or NFF file")->capture_default_str();
-    cmd->add_option("--size", a->size, "image size N x N")->capture_default_str()->check(CLI::Range(1, 4096));
-    cmd->add_option("-o,--output", a->out, "PNG image")->capture_default_str();
-    cmd->add_flag("--isa", a->isa, "instead: assemble and simulate the bundled examples, print ILP and utilisation");
-    cmd->add_option("--examples", a->examples, "with --isa: folder of example .s files (default: examples/)");
-    cmd->add_option("--detail", a->detail, "with --isa: example whose full statistics are printed")->capture_default_str();
+    auto* scene = cmd->add_option("--scene", a->scene, "SPD name, NAME:SIZE or NFF file")->capture_default_str();
+    auto* size = cmd->add_option("--size", a->size, "image size N x N")->capture_default_str()->check(CLI::Range(1, 4096));
+    auto* out = cmd->add_option("-o,--output", a->out, "PNG image")->capture_default_str();
+    auto* isa = cmd->add_flag("--isa", a->isa, "instead: assemble and simulate the bundled examples, print ILP and utilisation");
+    // Options of the other demo are errors, not ignored.
+    isa->excludes(scene)->excludes(size)->excludes(out);
+    cmd->add_option("--examples", a->examples, "with --isa: folder of example .s files (default: examples/)")->needs(isa);
+    cmd->add_option("--detail", a->detail, "with --isa: example whose full statistics are printed")
+        ->capture_default_str()
+        ->needs(isa);
     cmd->callback([a] {
         if (a->isa) {
             run_demo(a->examples, a->detail);
