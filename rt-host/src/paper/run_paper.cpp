@@ -59,10 +59,13 @@ PaperRun run_paper(const PaperOptions& o) {
         const int g = cheapest(r.data.grids, model_cost);
         r.data.auto_grid[scene] = g ? g : choice.n;
     }
+    const std::size_t matrix_failures = m.failures.size(), prepass_failures = p.failures.size();
     m.failures.insert(m.failures.end(), p.failures.begin(), p.failures.end());
     r.files = write_reports(r.data, o.out_dir);
     if (!m.failures.empty())
-        throw PaperError(fmt::format("{} cell(s) failed (the reports show the others):\n  {}", m.failures.size(),
+        throw PaperError(fmt::format("{} cell(s) failed: {} of the matrix, {} of the grid pre-pass at {}x{} (the reports "
+                                     "show the others):\n  {}",
+                                     m.failures.size(), matrix_failures, prepass_failures, pre.size, pre.size,
                                      fmt::join(m.failures, "\n  ")));
     return r;
 }
