@@ -56,8 +56,9 @@ std::string isa_reference_markdown() {
            "- A taken branch redirects the next bundle (plus the machine's `branch_penalty` "
            "bubble cycles). Branch targets are absolute bundle addresses.\n"
            "- Memory is byte-addressed; accesses must be aligned to their width.\n"
-           "- `fmin`/`fmax` return the second operand when either is NaN; `ftoi` truncates, "
-           "saturates and maps NaN to 0.\n\n";
+           "- `fadd`, `fsub`, `fmul`, `fdiv` and `fsqrt` return the canonical quiet NaN 0x7fc00000 "
+           "whenever the result is NaN (the host's NaN payload depends on operand order); `fmin`/`fmax` "
+           "return the second operand when either is NaN; `ftoi` truncates, saturates and maps NaN to 0.\n\n";
     out += "## Encoding\n\nEach operation is a 64-bit word; a bundle is a run of words whose "
            "last has bit 63 set.\n\n"
            "| bits | field |\n|---|---|\n| 63 | end of bundle |\n| 62..56 | opcode |\n"

@@ -16,6 +16,8 @@ namespace {
 
 float fl(uint32_t x) { return std::bit_cast<float>(x); }
 uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
+// Arithmetic results: a NaN is always the canonical quiet NaN (the ISA's rule).
+uint32_t arith(float x) { return std::isnan(x) ? 0x7fc00000u : bits(x); }
 int32_t sg(uint32_t x) { return int32_t(x); }
 
 // The reference: written independently of isa::kOps, one plain statement per operation.
@@ -46,11 +48,11 @@ std::optional<uint32_t> reference(std::string_view m, uint32_t a, uint32_t b, ui
     if (m == "mov" || m == "fmov" || m == "movif" || m == "movfi") return a;
     if (m == "sel" || m == "fsel") return a != 0 ? b : c;
     if (m == "mul") return uint32_t(uint64_t(a) * uint64_t(b));
-    if (m == "fadd") return bits(fl(a) + fl(b));
-    if (m == "fsub") return bits(fl(a) - fl(b));
-    if (m == "fmul") return bits(fl(a) * fl(b));
-    if (m == "fdiv") return bits(fl(a) / fl(b));
-    if (m == "fsqrt") return bits(std::sqrt(fl(a)));
+    if (m == "fadd") return arith(fl(a) + fl(b));
+    if (m == "fsub") return arith(fl(a) - fl(b));
+    if (m == "fmul") return arith(fl(a) * fl(b));
+    if (m == "fdiv") return arith(fl(a) / fl(b));
+    if (m == "fsqrt") return arith(std::sqrt(fl(a)));
     if (m == "fmin") return fl(a) < fl(b) ? a : b;
     if (m == "fmax") return fl(a) > fl(b) ? a : b;
     if (m == "fabs") return a & 0x7fffffffu;

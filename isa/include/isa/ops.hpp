@@ -72,6 +72,10 @@ namespace detail {
 constexpr float f(uint32_t x) { return std::bit_cast<float>(x); }
 constexpr uint32_t u(float x) { return std::bit_cast<uint32_t>(x); }
 constexpr int32_t s(uint32_t x) { return static_cast<int32_t>(x); }
+// An arithmetic result: any NaN becomes the canonical quiet NaN. The host's NaN payload depends
+// on operand order, which the compiler may change, so the ISA defines it (as RISC-V does).
+inline constexpr uint32_t kCanonicalNaN = 0x7fc00000u;
+constexpr uint32_t q(float x) { return x != x ? kCanonicalNaN : std::bit_cast<uint32_t>(x); }
 
 // float -> int32: truncate toward zero, saturate out-of-range values, NaN gives 0.
 inline uint32_t ftoi(uint32_t a) {
@@ -148,8 +152,8 @@ inline constexpr auto kOps = [] {
     op("sel",  C::Alu, K::Compute, {RD, RS1, RS2, RS3}, 4, [](uint32_t a, uint32_t b, uint32_t c, uint32_t) { return a ? b : c; }, "rd = rs1 != 0 ? rs2 : rs3"),
     op("mul",  C::Mul, K::Compute, {RD, RS1, RS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return a * b; }, "rd = low 32 bits of rs1 * rs2"),
     // ---- floating point (binary32, round to nearest even, subnormals kept) -----------------
-    op("fadd", C::FAdd, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return u(f(a) + f(b)); }, "fd = fs1 + fs2"),
-    op("fsub", C::FAdd, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return u(f(a) - f(b)); }, "fd = fs1 - fs2"),
+    op("fadd", C::FAdd, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return q(f(a) + f(b)); }, "fd = fs1 + fs2"),
+    op("fsub", C::FAdd, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return q(f(a) - f(b)); }, "fd = fs1 - fs2"),
     op("fmin", C::FAdd, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return f(a) < f(b) ? a : b; }, "fd = fs1 < fs2 ? fs1 : fs2 (NaN gives fs2)"),
     op("fmax", C::FAdd, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return f(a) > f(b) ? a : b; }, "fd = fs1 > fs2 ? fs1 : fs2 (NaN gives fs2)"),
     op("fabs", C::FAdd, K::Compute, {FD, FS1},      2, [](uint32_t a, uint32_t, uint32_t, uint32_t) { return a & 0x7fffffffu; }, "fd = |fs1| (clears the sign bit)"),
@@ -164,9 +168,9 @@ inline constexpr auto kOps = [] {
     op("ftoi", C::FAdd, K::Compute, {RD, FS1},      2, [](uint32_t a, uint32_t, uint32_t, uint32_t) { return ftoi(a); }, "rd = (int)fs1, toward zero; saturates; NaN gives 0"),
     op("movif",C::FAdd, K::Compute, {FD, RS1},      2, [](uint32_t a, uint32_t, uint32_t, uint32_t) { return a; }, "fd = bits of rs1"),
     op("movfi",C::FAdd, K::Compute, {RD, FS1},      2, [](uint32_t a, uint32_t, uint32_t, uint32_t) { return a; }, "rd = bits of fs1"),
-    op("fmul", C::FMul, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return u(f(a) * f(b)); }, "fd = fs1 * fs2"),
-    op("fdiv", C::FDiv, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return u(f(a) / f(b)); }, "fd = fs1 / fs2"),
-    op("fsqrt",C::FDiv, K::Compute, {FD, FS1},      2, [](uint32_t a, uint32_t, uint32_t, uint32_t) { return u(std::sqrt(f(a))); }, "fd = sqrt(fs1), correctly rounded"),
+    op("fmul", C::FMul, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return q(f(a) * f(b)); }, "fd = fs1 * fs2"),
+    op("fdiv", C::FDiv, K::Compute, {FD, FS1, FS2}, 3, [](uint32_t a, uint32_t b, uint32_t, uint32_t) { return q(f(a) / f(b)); }, "fd = fs1 / fs2"),
+    op("fsqrt",C::FDiv, K::Compute, {FD, FS1},      2, [](uint32_t a, uint32_t, uint32_t, uint32_t) { return q(std::sqrt(f(a))); }, "fd = sqrt(fs1), correctly rounded"),
     // ---- memory: byte addresses, base + offset; accesses must be aligned -------------------
     mem("lw",  C::Load,  K::Load,  {RD, MEM}, 4, false, "rd = mem32[rs1 + imm]"),
     mem("lh",  C::Load,  K::Load,  {RD, MEM}, 2, true,  "rd = sign-extended mem16[rs1 + imm]"),
