@@ -28,6 +28,7 @@ struct RenderArgs {
     // the simulated machine (models S, M, V)
     rt::MachineOptions mo;
     bool cache = false;
+    bool all_global = false; // --no-resident
     std::string balance = "interleaved";
     // For checking combinations: every option of the machine group, and the ones that need another.
     std::vector<const CLI::Option*> machine_only;
@@ -74,6 +75,7 @@ void check_combinations(const RenderArgs& a, bool native, rt::MachineModel model
 void run_render(const RenderArgs& a) {
     const bool native = a.model == "native";
     rt::MachineOptions mo = a.mo;
+    mo.resident = !a.all_global;
     if (!native && !rt::parse_machine_model(a.model, mo.model))
         throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
@@ -147,7 +149,7 @@ void add_render(CLI::App& app) {
     auto* cmd = app.add_subcommand("render", "Render a scene (NFF file or built-in SPD name) to PNG");
     auto a = std::make_shared<RenderArgs>();
     cmd->add_option("scene", a->scene, "NFF file or built-in name (balls mount rings tetra tree gears, NAME:SIZE)")->required();
-    cmd->add_option("--model", a->model, "native (C++ tracer), V (VLIW OS + IC), M (sequential pipeline), S (one sequential processor)");
+    cmd->add_option("--model", a->model, "native (C++ tracer, the default), V (VLIW OS + IC), M (sequential pipeline), S (one sequential processor)");
     cmd->add_option("--size", a->size, "image size W or WxH (default 512)");
     cmd->add_option("--grid", a->grid, "voxels per axis, or 'auto' (default 50)");
     cmd->add_option("--threads", a->threads, "host threads (default: all cores); never changes the cycles")->check(CLI::NonNegativeNumber);
@@ -181,7 +183,7 @@ void add_render(CLI::App& app) {
     cmd->add_option("--cache-ways", a->mo.cache.ways, "IC cache ways (default 4)")->group(m);
     cmd->add_option("--cache-line", a->mo.cache.line, "IC cache line bytes (default 32)")->group(m);
     cmd->add_option("--miss-cycles", a->mo.cache.miss_cycles, "IC cache miss penalty (default 20)")->group(m);
-    cmd->add_flag("!--no-resident", a->mo.resident, "all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
+    cmd->add_flag("--no-resident", a->all_global, "all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
         ->group(m);
     cmd->add_option("--quantum", a->mo.quantum, "scheduling slack between a PE's stages, cycles (default 32)")
         ->check(CLI::PositiveNumber)->group(m);
