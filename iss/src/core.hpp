@@ -104,26 +104,33 @@ struct Core {
         return store_checked(d, addr, Bytes, value);
     }
     [[gnu::noinline]] bool load_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t& out) {
-        const MemRegion* reg = mem->find(addr, bytes);
-        if (!reg || (addr & (bytes - 1))) [[unlikely]] {
-            mem_fault(d, reg ? MemError::Misaligned : MemError::OutOfRange, addr);
-            return false;
-        }
+        MemRegion* reg = checked_region(d, addr, bytes);
+        if (!reg) return false;
         out = reg->store->read(addr - reg->desc.base, bytes);
-        if (reg->desc.latency || reg->cache) add_stall(*reg, addr, bytes, false);
-        else mem->fill_tlb(*reg, addr);
+        account(*reg, addr, bytes, false);
         return true;
     }
     [[gnu::noinline]] bool store_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t value) {
+        MemRegion* reg = checked_region(d, addr, bytes);
+        if (!reg) return false;
+        reg->store->write(addr - reg->desc.base, bytes, value);
+        account(*reg, addr, bytes, true);
+        return true;
+    }
+    // The region of an in-range, aligned access; nullptr (and a fault raised) otherwise.
+    MemRegion* checked_region(const DecodedOp& d, uint32_t addr, uint32_t bytes) {
         MemRegion* reg = const_cast<MemRegion*>(mem->find(addr, bytes));
         if (!reg || (addr & (bytes - 1))) [[unlikely]] {
             mem_fault(d, reg ? MemError::Misaligned : MemError::OutOfRange, addr);
-            return false;
+            return nullptr;
         }
-        reg->store->write(addr - reg->desc.base, bytes, value);
-        if (reg->desc.latency || reg->cache) add_stall(*reg, addr, bytes, true);
-        else mem->fill_tlb(*reg, addr);
-        return true;
+        return reg;
+    }
+    // After a checked access: its stall cycles, and the page into the TLB when it may go there
+    // (MemorySystem::fill_tlb decides).
+    void account(const MemRegion& reg, uint32_t addr, uint32_t bytes, bool write) {
+        if (reg.desc.latency || reg.cache) add_stall(reg, addr, bytes, write);
+        mem->fill_tlb(reg, addr);
     }
     void add_stall(const MemRegion& reg, uint32_t addr, uint32_t bytes, bool write) {
         uint32_t extra = reg.desc.latency + (reg.cache ? reg.cache->access(addr, bytes, write) : 0);

@@ -47,7 +47,9 @@ LockstepResult run_lockstep(Processor& fast, Processor& checked, uint64_t max_cy
         if (!diff && sf == Status::Halted) {
             if (fast.memory().hash() != checked.memory().hash()) diff = "memory contents differ";
             else if (fast.counters().exec != checked.counters().exec) diff = "bundle execution counts differ";
-            else if (fast.write_histogram(0) != checked.write_histogram(0) || fast.write_histogram(1) != checked.write_histogram(1)) diff = "write-port histograms differ";
+            else
+                for (int f = 0; f < isa::kNumRegFiles && !diff; ++f)
+                    if (fast.write_histogram(f) != checked.write_histogram(f)) diff = "write-port histograms differ";
         }
         if (diff) {
             res.status = Status::Faulted;
