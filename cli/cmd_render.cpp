@@ -28,7 +28,6 @@ struct RenderArgs {
     // the simulated machine (models S, M, V)
     rt::MachineOptions mo;
     bool cache = false;
-    bool all_global = false; // --no-resident
     std::string balance = "interleaved";
     // For checking combinations: every option of the machine group, and the ones that need another.
     std::vector<const CLI::Option*> machine_only;
@@ -75,7 +74,7 @@ void check_combinations(const RenderArgs& a, bool native, rt::MachineModel model
 void run_render(const RenderArgs& a) {
     const bool native = a.model == "native";
     rt::MachineOptions mo = a.mo;
-    mo.resident = !a.all_global;
+    mo.resident = a.no_resident->count() == 0;
     if (!native && !rt::parse_machine_model(a.model, mo.model))
         throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
@@ -183,7 +182,8 @@ void add_render(CLI::App& app) {
     cmd->add_option("--cache-ways", a->mo.cache.ways, "IC cache ways (default 4)")->group(m);
     cmd->add_option("--cache-line", a->mo.cache.line, "IC cache line bytes (default 32)")->group(m);
     cmd->add_option("--miss-cycles", a->mo.cache.miss_cycles, "IC cache miss penalty (default 20)")->group(m);
-    cmd->add_flag("--no-resident", a->all_global, "all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
+    cmd->add_flag("--no-resident")
+        ->description("all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
         ->group(m);
     cmd->add_option("--quantum", a->mo.quantum, "scheduling slack between a PE's stages, cycles (default 32)")
         ->check(CLI::PositiveNumber)->group(m);

@@ -182,9 +182,15 @@ static_assert(os_sram_fits(112, 112, 112) && !os_sram_fits(113, 113, 113));
 // and `references` list entries: the END record and the shape records (REC_BYTES each), the
 // voxel table (a word per padded voxel), the lists (a word per reference and an END word per
 // list) and one read-ahead word. All of it goes to resident memory when it fits.
+constexpr std::uint64_t ic_records_bytes(std::uint64_t shapes) {
+    return (shapes + 1) * static_cast<std::uint64_t>(get("REC_BYTES"));
+}
+constexpr std::uint64_t ic_table_bytes(std::uint64_t padded_voxels) { return padded_voxels * 4; }
+constexpr std::uint64_t ic_lists_bytes(std::uint64_t padded_voxels, std::uint64_t references) {
+    return (references + padded_voxels) * 4 + 4;
+}
 constexpr std::uint64_t ic_data_bytes(std::uint64_t shapes, std::uint64_t padded_voxels, std::uint64_t references) {
-    return (shapes + 1) * static_cast<std::uint64_t>(get("REC_BYTES")) + padded_voxels * 4 +
-           (references + padded_voxels) * 4 + 4;
+    return ic_records_bytes(shapes) + ic_table_bytes(padded_voxels) + ic_lists_bytes(padded_voxels, references);
 }
 constexpr bool ic_data_fit_resident(std::uint64_t shapes, std::uint64_t padded_voxels, std::uint64_t references) {
     return static_cast<std::uint64_t>(get("IC_DATA")) + ic_data_bytes(shapes, padded_voxels, references) <=

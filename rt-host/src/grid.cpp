@@ -77,9 +77,9 @@ MemoryFootprint Grid::footprint(std::size_t shape_count) const {
     m.os_sram_fits = abi::os_sram_fits(n[0], n[1], n[2]);
     const std::size_t padded = m.os_padded_map; // one list per padded voxel
     m.ic_header = abi::kIcData - abi::kIcHeader;
-    m.ic_offsets = padded * 4;
-    m.ic_lists = (prims.size() + padded + 1) * 4;
-    m.ic_shapes = (shape_count + 1) * abi::kRecBytes;
+    m.ic_offsets = abi::ic_table_bytes(padded);
+    m.ic_lists = abi::ic_lists_bytes(padded, prims.size());
+    m.ic_shapes = abi::ic_records_bytes(shape_count);
     m.ic_data_resident = abi::ic_data_fit_resident(shape_count, padded, prims.size());
     return m;
 }
