@@ -4,8 +4,8 @@
 // --paper DIR also times the whole `nesshi paper` matrix into DIR (must not hold cells yet, else
 // the finished ones are loaded, not timed): the target is under 30 minutes on 2 cores.
 // Usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]
-#include "rt/machine.hpp"
-#include "rt/paper.hpp"
+#include "machine/machine.hpp"
+#include "paper/paper.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/format.h>
@@ -23,6 +23,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 } // namespace
 
 int main(int argc, char** argv) {
+    using namespace nesshi;
     using namespace nesshi::rt;
     std::string scene = "balls", model = "V", paper_dir;
     int grid = 50, size = 512;
@@ -39,8 +40,8 @@ int main(int argc, char** argv) {
         }
     }
     try {
-        MachineOptions mo;
-        if (!parse_machine_model(model, mo.model)) throw std::runtime_error("unknown model " + model);
+        machine::Options mo;
+        if (!machine::parse_model(model, mo.model)) throw std::runtime_error("unknown model " + model);
         mo.threads = 1;
         const PreparedScene prep = prepare(load_scene(scene), grid);
         RenderOptions opt;
@@ -51,8 +52,8 @@ int main(int argc, char** argv) {
         const RenderResult native = render_native(prep, opt);
         const double native_s = seconds_since(t_native);
 
-        const MachineResult m = render_machine(prep, opt, mo);
-        const MachineStats& s = m.machine;
+        const machine::Result m = machine::render(prep, opt, mo);
+        const machine::Stats& s = m.machine;
         fmt::print("{} {}x{} grid {}, model {}, 1 PE, 1 host thread\n", scene, size, size, grid, model);
         fmt::print("  simulated cycles          {:>14}\n", s.total_cycles);
         fmt::print("  simulated bundles         {:>14}   (OS + IC or seq; SC is modelled)\n", s.simulated_bundles);

@@ -7,7 +7,7 @@
 
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
-#include "rt/machine.hpp"
+#include "machine/machine.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/core.h>
@@ -87,8 +87,8 @@ void run_machine_demo(const DemoArgs& a) {
                rt::format_grid(prep.grid, prep.shapes.shapes.size()), seconds_since(t_prep));
     rt::RenderOptions opt;
     opt.width = opt.height = a.size;
-    rt::MachineOptions mo;
-    mo.model = rt::MachineModel::V;
+    machine::Options mo;
+    mo.model = machine::Model::V;
     if (isatty(STDERR_FILENO)) {
         mo.progress = [](std::uint64_t done, std::uint64_t total) {
             const std::uint64_t pct = total ? done * 100 / total : 100;
@@ -96,10 +96,10 @@ void run_machine_demo(const DemoArgs& a) {
             if (done == total) fmt::print(stderr, "\n");
         };
     }
-    const rt::MachineResult mr = rt::render_machine(prep, opt, mo);
+    const machine::Result mr = machine::render(prep, opt, mo);
     rt::write_png(a.out, mr.render.image);
     const std::string rays = rt::format_rays(mr.render.stats);
-    fmt::print("{}{}", rays.substr(0, rays.find("traversal")), rt::format_machine(mr.machine));
+    fmt::print("{}{}", rays.substr(0, rays.find("traversal")), machine::format_stats(mr.machine));
     fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
 
     const auto t_native = std::chrono::steady_clock::now();

@@ -8,7 +8,7 @@
 // (longest latency path from a live-in read of a register to the region's last write of it).
 #include "commands.hpp"
 
-#include "../kernels/runner.hpp"
+#include "machine/runner.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -16,7 +16,7 @@
 #include "iss/processor.hpp"
 #include "iss/program.hpp"
 #include "iss/stats.hpp"
-#include "rt/twins/dda.hpp"
+#include "kernels/twins/dda.hpp"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -46,25 +46,9 @@ struct Row {
     std::string note;
 };
 
-std::string find_kernels_dir(const std::string& given, const char* argv0) {
-    std::vector<fs::path> cands;
-    if (!given.empty()) cands.emplace_back(given);
-    if (const char* e = std::getenv("NESSHI_KERNELS")) cands.emplace_back(e);
-    cands.emplace_back("kernels");
-    std::error_code ec;
-    fs::path exe = fs::canonical("/proc/self/exe", ec);
-    if (!ec)
-        for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path())
-            cands.push_back(p / "kernels");
-    (void)argv0;
-    for (const auto& c : cands)
-        if (fs::exists(c / "abi.inc")) return c.string();
-    throw CLI::RuntimeError("cannot find the kernels/ source folder (use --kernels DIR)", 1);
-}
-
-struct Run : kernels::KernelRunner {
-    Run(const std::string& dir, const std::string& rel, const std::string& machine)
-        : KernelRunner(kernels::assemble_kernel(dir + "/" + rel, machine)) {}
+struct Run : machine::KernelRunner {
+    Run(const kernels::SourceSet& dir, const std::string& rel, const std::string& machine)
+        : KernelRunner(machine::assemble_kernel(dir, rel, machine)) {}
 };
 
 // Cycles and ops issued in the named regions, and how many times their first bundles issued.
@@ -227,7 +211,7 @@ Row make_row(const std::string& metric, const std::string& machine, const Run& r
 // ---- workloads -----------------------------------------------------------------------------
 
 struct Grid {
-    rt::twins::GridGeom g;
+    kernels::twins::GridGeom g;
     std::vector<std::uint8_t> occ;
 };
 Grid make_grid(int n, double density, std::mt19937& rng) {
@@ -249,9 +233,9 @@ Grid make_grid(int n, double density, std::mt19937& rng) {
 void drive_dda(Run& run, std::mt19937& rng, int rays) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     for (int i = 0; i < rays; ++i) {
-        rt::Vec3f o{u(rng) * 30.0f, u(rng) * 30.0f, u(rng) * 30.0f};
-        rt::Vec3f tgt{u(rng) * 8.0f, u(rng) * 8.0f, u(rng) * 8.0f};
-        rt::Vec3f d = rt::normalize(tgt - o);
+        base::Vec3f o{u(rng) * 30.0f, u(rng) * 30.0f, u(rng) * 30.0f};
+        base::Vec3f tgt{u(rng) * 8.0f, u(rng) * 8.0f, u(rng) * 8.0f};
+        base::Vec3f d = base::normalize(tgt - o);
         kernels::abi::NewRay nr{kernels::abi::Tag{static_cast<std::uint32_t>(i % 4096), kernels::abi::Kind::eye, 1}.word(),
                                 {o.x, o.y, o.z}, {d.x, d.y, d.z}, 0.0f, std::numeric_limits<float>::infinity()};
         run.feed(nr.words());
@@ -265,27 +249,27 @@ void drive_dda(Run& run, std::mt19937& rng, int rays) {
     }
 }
 
-rt::Shape tri_shape(std::mt19937& rng, bool two) {
+kernels::Shape tri_shape(std::mt19937& rng, bool two) {
     std::uniform_real_distribution<double> p(-3.0, 3.0);
-    rt::Vec3d v0{p(rng), p(rng), p(rng)}, v1{p(rng), p(rng), p(rng)}, v2{p(rng), p(rng), p(rng)};
-    const rt::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = rt::cross(e1, e2);
-    const double det = rt::dot(nn, nn);
-    const rt::Vec3d rows[3] = {nn * (1.0 / det), rt::cross(e2, nn) * (1.0 / det), rt::cross(nn, e1) * (1.0 / det)};
-    rt::Shape s;
-    s.kind_flags = rt::kShapeTriangle | (two ? rt::kShapeTwoSided : 0u);
+    base::Vec3d v0{p(rng), p(rng), p(rng)}, v1{p(rng), p(rng), p(rng)}, v2{p(rng), p(rng), p(rng)};
+    const base::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = base::cross(e1, e2);
+    const double det = base::dot(nn, nn);
+    const base::Vec3d rows[3] = {nn * (1.0 / det), base::cross(e2, nn) * (1.0 / det), base::cross(nn, e1) * (1.0 / det)};
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeTriangle | (two ? kernels::kShapeTwoSided : 0u);
     for (std::size_t i = 0; i < 3; ++i) {
         s.w[4 * i] = static_cast<float>(rows[i].x);
         s.w[4 * i + 1] = static_cast<float>(rows[i].y);
         s.w[4 * i + 2] = static_cast<float>(rows[i].z);
-        s.w[4 * i + 3] = static_cast<float>(-rt::dot(rows[i], v0));
+        s.w[4 * i + 3] = static_cast<float>(-base::dot(rows[i], v0));
     }
     return s;
 }
 
-rt::Shape sphere_shape(std::mt19937& rng, bool two) {
+kernels::Shape sphere_shape(std::mt19937& rng, bool two) {
     std::uniform_real_distribution<float> p(-2.0f, 2.0f);
-    rt::Shape s;
-    s.kind_flags = rt::kShapeQuadric | (two ? rt::kShapeTwoSided : 0u);
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeQuadric | (two ? kernels::kShapeTwoSided : 0u);
     s.w[0] = p(rng) * 0.2f, s.w[1] = p(rng) * 0.2f, s.w[2] = p(rng) * 0.2f;
     s.w[3] = s.w[4] = s.w[5] = 1.0f;
     s.w[12] = -1.0f;
@@ -293,8 +277,8 @@ rt::Shape sphere_shape(std::mt19937& rng, bool two) {
 }
 
 // A cylinder of radius 1 along z through a point near the origin, length 4 (one-sided).
-rt::Shape cylinder_shape(std::mt19937& rng) {
-    rt::Shape s = sphere_shape(rng, false);
+kernels::Shape cylinder_shape(std::mt19937& rng) {
+    kernels::Shape s = sphere_shape(rng, false);
     s.w[5] = 0.0f;  // C: no z term
     s.w[2] = -2.0f; // from z = -2
     s.w[15] = 1.0f; // axis z
@@ -303,10 +287,10 @@ rt::Shape cylinder_shape(std::mt19937& rng) {
 }
 
 // One voxel whose list holds `count` shapes of one kind; rays aimed at the origin.
-std::unique_ptr<Run> run_ic(const std::string& dir, const std::string& file, const std::string& machine, int kind, int count, int rays,
+std::unique_ptr<Run> run_ic(const kernels::SourceSet& dir, const std::string& file, const std::string& machine, int kind, int count, int rays,
            bool miss) {
     std::mt19937 rng(7);
-    std::vector<rt::Shape> shapes;
+    std::vector<kernels::Shape> shapes;
     for (int i = 0; i < count; ++i)
         shapes.push_back(kind == 0   ? tri_shape(rng, false)
                          : kind == 1 ? sphere_shape(rng, false)
@@ -321,9 +305,9 @@ std::unique_ptr<Run> run_ic(const std::string& dir, const std::string& file, con
     run->run();
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     for (int i = 0; i < rays; ++i) {
-        rt::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
-        rt::Vec3f tgt = miss ? rt::Vec3f{30.0f, 30.0f, 0.0f} : rt::Vec3f{u(rng) * 0.3f, u(rng) * 0.3f, 0.0f};
-        rt::Vec3f d = rt::normalize(tgt - o);
+        base::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
+        base::Vec3f tgt = miss ? base::Vec3f{30.0f, 30.0f, 0.0f} : base::Vec3f{u(rng) * 0.3f, u(rng) * 0.3f, 0.0f};
+        base::Vec3f d = base::normalize(tgt - o);
         kernels::abi::Visit v;
         v.tag = kernels::abi::Tag{static_cast<std::uint32_t>(i), kernels::abi::Kind::eye, 1}.word() | kernels::abi::kTagReturn;
         v.voxel = 0;
@@ -338,7 +322,7 @@ std::unique_ptr<Run> run_ic(const std::string& dir, const std::string& file, con
     return run;
 }
 
-std::vector<Row> collect(const std::string& dir) {
+std::vector<Row> collect(const kernels::SourceSet& dir) {
     std::vector<Row> rows;
     for (const std::string machine : {"os", "seq"}) {
         const std::string file = machine + "/dda.s";
@@ -482,10 +466,9 @@ void add_kernels(CLI::App& app) {
     auto json = std::make_shared<std::string>();
     auto dir = std::make_shared<std::string>();
     cmd->add_option("--json", *json, "Also write the table as JSON to FILE");
-    cmd->add_option("--kernels", *dir, "The kernels/ source folder (default: found from the working or executable dir)");
+    cmd->add_option("--kernels", *dir, "A folder of kernel sources to measure instead of the built-in ones");
     cmd->callback([json, dir] {
-        const std::string kd = find_kernels_dir(*dir, nullptr);
-        const std::vector<Row> rows = collect(kd);
+        const std::vector<Row> rows = collect(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir));
         print(rows);
         if (!json->empty()) {
             nlohmann::json j;

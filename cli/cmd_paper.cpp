@@ -2,7 +2,7 @@
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
 
-#include "rt/paper.hpp"
+#include "paper/paper.hpp"
 
 #include <fmt/format.h>
 
@@ -15,7 +15,6 @@ namespace nesshi::cli {
 
 namespace {
 
-namespace paper = rt::paper;
 
 struct PaperArgs {
     int size = 512;
@@ -48,11 +47,11 @@ std::vector<int> parse_grids(const std::string& s) {
     return grids;
 }
 
-std::vector<rt::MachineModel> parse_models(const std::string& s) {
-    std::vector<rt::MachineModel> models;
+std::vector<machine::Model> parse_models(const std::string& s) {
+    std::vector<machine::Model> models;
     for (const std::string& part : split(s)) {
-        rt::MachineModel m{};
-        if (!rt::parse_machine_model(part, m))
+        machine::Model m{};
+        if (!machine::parse_model(part, m))
             throw paper::PaperError(fmt::format("unknown model '{}' (available: S, M, V)", part));
         models.push_back(m);
     }
@@ -82,7 +81,7 @@ class ProgressPrinter {
             clear_status();
             const paper::CellRecord& c = *p.finished;
             fmt::print("  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
-                       rt::machine_model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
+                       machine::model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
                        c.wall_seconds, p.cells_run + p.cells_failed, p.cells_to_run, tty_ ? "" : "; " + timing(p));
         }
         if (tty_ && p.cells_to_run > 0) draw_status(p);

@@ -1,7 +1,7 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
 
-#include "rt/machine.hpp"
+#include "machine/machine.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/format.h>
@@ -26,7 +26,7 @@ struct RenderArgs {
     double cutoff = 0;
     bool quiet = false;
     // the simulated machine (models S, M, V)
-    rt::MachineOptions mo;
+    machine::Options mo;
     bool cache = false;
     std::string balance = "interleaved";
     // For checking combinations: every option of the machine group, and the ones that need another.
@@ -48,7 +48,7 @@ int parse_int(const std::string& s, const char* what) {
 
 // Options that would be silently ignored are errors: machine options with --model native, and
 // options without the one that gives them a meaning.
-void check_combinations(const RenderArgs& a, bool native, rt::MachineModel model) {
+void check_combinations(const RenderArgs& a, bool native, machine::Model model) {
     auto given = [](const CLI::Option* o) { return o && o->count() > 0; };
     if (native)
         for (const CLI::Option* o : a.machine_only)
@@ -64,7 +64,7 @@ void check_combinations(const RenderArgs& a, bool native, rt::MachineModel model
         throw std::runtime_error("--no-resident needs --cache (with the ideal cache global memory costs what resident "
                                  "memory does, so it would change nothing)");
     if (given(a.epoch) && a.balance != "dynamic") throw std::runtime_error("--epoch needs --balance dynamic");
-    if (model == rt::MachineModel::S)
+    if (model == machine::Model::S)
         for (const CLI::Option* o : {a.fifo_latency, a.quantum})
             if (given(o))
                 throw std::runtime_error(fmt::format(
@@ -73,15 +73,15 @@ void check_combinations(const RenderArgs& a, bool native, rt::MachineModel model
 
 void run_render(const RenderArgs& a) {
     const bool native = a.model == "native";
-    rt::MachineOptions mo = a.mo;
+    machine::Options mo = a.mo;
     mo.resident = a.no_resident->count() == 0;
-    if (!native && !rt::parse_machine_model(a.model, mo.model))
+    if (!native && !machine::parse_model(a.model, mo.model))
         throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
-    // (rt::MachineOptions::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
+    // (machine::Options::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
     const bool auto_slots = mo.fifo_capacity > 0 && a.window->count() == 0 && a.ray_slots->count() == 0;
-    if (auto_slots) mo.ray_slots = rt::deadlock_free_ray_slots(mo.fifo_capacity);
+    if (auto_slots) mo.ray_slots = machine::deadlock_free_ray_slots(mo.fifo_capacity);
     mo.cache.enabled = a.cache;
     mo.dynamic_balance = a.balance == "dynamic";
     rt::RenderOptions opt;
@@ -111,9 +111,9 @@ void run_render(const RenderArgs& a) {
     }
 
     rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), grid);
-    rt::MachineResult mr;
+    machine::Result mr;
     if (native) mr.render = rt::render_native(prep, opt);
-    else mr = rt::render_machine(prep, opt, mo);
+    else mr = machine::render(prep, opt, mo);
     const rt::RenderResult& r = mr.render;
 
     if (!a.out.empty()) rt::write_png(a.out, r.image);
@@ -121,7 +121,7 @@ void run_render(const RenderArgs& a) {
     if (opt.t_buffer) rt::write_t_buffer(a.t_buffer, r.t_buffer);
     if (!a.stats_json.empty()) {
         std::ofstream f(a.stats_json);
-        f << (native ? rt::stats_json(prep, opt, r, a.model) : rt::machine_stats_json(prep, opt, mo, mr));
+        f << (native ? rt::stats_json(prep, opt, r, a.model) : machine::stats_json(prep, opt, mo, mr));
         if (!f) throw std::runtime_error(fmt::format("{}: cannot write", a.stats_json));
     }
     if (!a.quiet) {
@@ -135,8 +135,8 @@ void run_render(const RenderArgs& a) {
             if (auto_slots)
                 fmt::print("ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
                            "so no FIFO fills (--ray-slots or --window to choose)\n",
-                           mo.ray_slots, mo.ray_slots, mo.fifo_capacity, rt::kLongestMessageWords);
-            fmt::print("{}", rt::format_machine(mr.machine));
+                           mo.ray_slots, mo.ray_slots, mo.fifo_capacity, machine::kLongestMessageWords);
+            fmt::print("{}", machine::format_stats(mr.machine));
             fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
         }
     }

@@ -34,7 +34,7 @@ void scene_info(const std::string& what, const std::vector<int>& grids) {
         fmt::print("bounding box ({:g} {:g} {:g}) - ({:g} {:g} {:g})\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     if (grids.empty()) return;
     rt::ShapeSet set = rt::build_shapes(s);
-    fmt::print("shape records {} ({} bytes in IC memory)\n", set.shapes.size(), set.shapes.size() * rt::kShapeWords * 4);
+    fmt::print("shape records {} ({} bytes in IC memory)\n", set.shapes.size(), set.shapes.size() * kernels::kShapeWords * 4);
     for (int n : grids) {
         rt::Grid g = rt::build_grid(s, set, n);
         fmt::print("{}", rt::format_grid(g, set.shapes.size()));

@@ -7,7 +7,7 @@ function(nesshi_add_golden name)
     set(G_WORKDIR "${CMAKE_SOURCE_DIR}")
   endif()
   add_test(NAME ${name}
-           COMMAND bash "${CMAKE_SOURCE_DIR}/tests/golden.sh" "${G_EXPECTED}" ${G_COMMAND}
+           COMMAND bash "${CMAKE_SOURCE_DIR}/tests/cli/golden.sh" "${G_EXPECTED}" ${G_COMMAND}
            WORKING_DIRECTORY "${G_WORKDIR}")
   set(labels golden ${G_LABELS})
   set_tests_properties(${name} PROPERTIES LABELS "${labels}")

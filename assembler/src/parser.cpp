@@ -247,8 +247,13 @@ void Parser::include(const Token& name, Loc loc, int file, int depth) {
             candidates.push_back(d.empty() || d.back() == '/' ? d + name.text : d + "/" + name.text);
     }
     std::string text;
-    for (const auto& path : candidates) {
-        if (!read_text(path, text)) continue;
+    for (auto path : candidates) {
+        if (opts_.read_file) {
+            path = std::filesystem::path(path).lexically_normal().generic_string();
+            if (!opts_.read_file(path, text)) continue;
+        } else if (!read_text(path, text)) {
+            continue;
+        }
         // The bundle state belongs to the including file.
         bool saved_in = in_bundle_;
         in_bundle_ = false;

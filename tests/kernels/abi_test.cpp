@@ -1,20 +1,45 @@
 // kernels/abi.inc must be exactly the text generated from kernels/abi.hpp, so the assembly and
-// C++ sides of the ABI cannot drift; the failure message carries the text to paste.
+// C++ sides of the ABI cannot drift; the failure message carries the text to paste. The ABI's
+// memory limits must be the machine descriptions' memories, which are their one source.
 #include "support.hpp"
 
-#include <fstream>
-#include <sstream>
+#include "kernels/messages.hpp"
+#include "kernels/sources.hpp"
 
+using namespace nesshi;
 using namespace nesshi::kernels;
 
 TEST_CASE("abi.inc is generated from abi.hpp", "[unit][kernels][abi]") {
-    std::ifstream f(test::kernel_path("abi.inc"));
-    REQUIRE(f.good());
-    std::stringstream ss;
-    ss << f.rdbuf();
     const std::string want = abi::inc_text();
     INFO("kernels/abi.inc is stale; replace it with:\n" << want);
-    CHECK(ss.str() == want);
+    CHECK(embedded().text("abi.inc") == want);
+}
+
+namespace {
+const isa::MemoryDesc& region(const isa::Machine& m, const std::string& name) {
+    for (const isa::MemoryDesc& r : m.memories)
+        if (r.name == name) return r;
+    FAIL("machine " << m.name << " has no memory '" << name << "'");
+    throw;
+}
+} // namespace
+
+TEST_CASE("the ABI's memory limits are the presets' [[memory]] regions", "[unit][kernels][abi]") {
+    for (const char* os : {"os", "os-real", "seq", "seq-real"}) {
+        INFO(os);
+        const isa::MemoryDesc& sram = region(isa::load_machine(os), "sram");
+        CHECK(sram.base == abi::get("OS_GEOM"));
+        CHECK(std::uint64_t{sram.base} + sram.size == abi::get("OS_OCC_LIMIT"));
+    }
+    for (const char* ic : {"ic", "ic-real", "seq", "seq-real"}) {
+        INFO(ic);
+        const isa::Machine m = isa::load_machine(ic);
+        const isa::MemoryDesc& res = region(m, "resident");
+        CHECK(res.base == abi::get("IC_HEADER"));
+        CHECK(std::uint64_t{res.base} + res.size == abi::get("IC_RESIDENT_LIMIT"));
+        CHECK(region(m, "global").base == abi::get("IC_GLOBAL"));
+        CHECK(region(m, "global").cached);
+    }
 }
 
 TEST_CASE("abi constants are consistent", "[unit][kernels][abi]") {
@@ -22,12 +47,11 @@ TEST_CASE("abi constants are consistent", "[unit][kernels][abi]") {
     CHECK(abi::Tag::from(abi::Tag{77, abi::Kind::shadow, 3}.word()).kind == abi::Kind::shadow);
     CHECK(abi::Tag::from(abi::Tag{77, abi::Kind::shadow, 3}.word()).depth == 3);
     CHECK((abi::Tag{65535, abi::Kind::refract, 63}.word() & abi::kTagReturn) == 0);
-    CHECK(abi::get("MSG_VISIT") == 12);
-    CHECK(abi::get("NO_SUCH_NAME") == -1);
+    static_assert(abi::get("MSG_VISIT") == 12); // an unknown name does not build: abi_probe.cpp
 }
 
 TEST_CASE("the padded occupancy map frames the grid with OCC_BORDER", "[unit][kernels][abi]") {
-    nesshi::rt::twins::GridGeom g;
+    nesshi::kernels::twins::GridGeom g;
     g.n[0] = 3, g.n[1] = 2, g.n[2] = 1;
     std::vector<std::uint8_t> occ(6, 0);
     occ[4] = 1; // (1, 1, 0)

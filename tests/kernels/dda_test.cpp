@@ -3,7 +3,7 @@
 // state after each VISIT, and a MISS at the same point, on random grids and rays.
 #include "support.hpp"
 
-#include "rt/twins/dda.hpp"
+#include "kernels/twins/dda.hpp"
 
 #include "iss/trace.hpp"
 
@@ -13,12 +13,12 @@
 
 using namespace nesshi;
 using namespace nesshi::kernels;
-using nesshi::rt::Vec3f;
+using nesshi::base::Vec3f;
 
 namespace {
 
 struct TestGrid {
-    rt::twins::GridGeom g;
+    kernels::twins::GridGeom g;
     std::vector<std::uint8_t> occ;
 };
 
@@ -44,7 +44,7 @@ struct TestRay {
     float tmin, tmax;
 };
 
-TestRay random_ray(std::mt19937& rng, const rt::twins::GridGeom& g, int i) {
+TestRay random_ray(std::mt19937& rng, const kernels::twins::GridGeom& g, int i) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     auto in_box = [&](float margin) {
         Vec3f p;
@@ -83,19 +83,19 @@ TestRay random_ray(std::mt19937& rng, const rt::twins::GridGeom& g, int i) {
 struct Visit {
     std::uint32_t voxel; // padded index
     float t_in, t_out;
-    rt::twins::DdaState s;
+    kernels::twins::DdaState s;
 };
 
 // The reference: what the OS must send for this ray, as a list of VISITs followed by a MISS.
 std::vector<Visit> reference(const TestGrid& t, const TestRay& r) {
     std::vector<Visit> out;
-    rt::twins::DdaState s;
+    kernels::twins::DdaState s;
     const PaddedGrid p = padded(t.g);
-    if (!rt::twins::dda_setup(t.g, r.o, r.d, r.tmin, r.tmax, s)) return out;
+    if (!kernels::twins::dda_setup(t.g, r.o, r.d, r.tmin, r.tmax, s)) return out;
     do {
         if (!t.occ[static_cast<std::size_t>(s.addr)]) continue;
         out.push_back({p.index(s.i[0], s.i[1], s.i[2]), s.t_in, s.voxel_exit(), s});
-    } while (rt::twins::dda_step(s));
+    } while (kernels::twins::dda_step(s));
     return out;
 }
 

@@ -3,41 +3,41 @@
 // same HIT or RETURN, same shape, bit-identical t, u, v and front, on random primitives and rays.
 #include "support.hpp"
 
-#include "rt/twins/quadric.hpp"
-#include "rt/twins/triangle.hpp"
+#include "kernels/twins/quadric.hpp"
+#include "kernels/twins/triangle.hpp"
 
 #include <algorithm>
 #include <limits>
 
 using namespace nesshi;
 using namespace nesshi::kernels;
-using nesshi::rt::Vec3d;
-using nesshi::rt::Vec3f;
+using nesshi::base::Vec3d;
+using nesshi::base::Vec3f;
 
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-rt::Shape triangle(Vec3d v0, Vec3d v1, Vec3d v2, bool two_sided) {
-    const Vec3d e1 = v1 - v0, e2 = v2 - v0, n = rt::cross(e1, e2);
-    const double det = rt::dot(n, n);
-    const Vec3d r0 = rt::cross(e2, n) * (1.0 / det), r1 = rt::cross(n, e1) * (1.0 / det), r2 = n * (1.0 / det);
-    rt::Shape s;
-    s.kind_flags = rt::kShapeTriangle | (two_sided ? rt::kShapeTwoSided : 0u);
+kernels::Shape triangle(Vec3d v0, Vec3d v1, Vec3d v2, bool two_sided) {
+    const Vec3d e1 = v1 - v0, e2 = v2 - v0, n = base::cross(e1, e2);
+    const double det = base::dot(n, n);
+    const Vec3d r0 = base::cross(e2, n) * (1.0 / det), r1 = base::cross(n, e1) * (1.0 / det), r2 = n * (1.0 / det);
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeTriangle | (two_sided ? kernels::kShapeTwoSided : 0u);
     const Vec3d rows[3] = {r2, r0, r1};
     for (int i = 0; i < 3; ++i) {
         s.w[static_cast<std::size_t>(4 * i)] = static_cast<float>(rows[i].x);
         s.w[static_cast<std::size_t>(4 * i + 1)] = static_cast<float>(rows[i].y);
         s.w[static_cast<std::size_t>(4 * i + 2)] = static_cast<float>(rows[i].z);
-        s.w[static_cast<std::size_t>(4 * i + 3)] = static_cast<float>(-rt::dot(rows[i], v0));
+        s.w[static_cast<std::size_t>(4 * i + 3)] = static_cast<float>(-base::dot(rows[i], v0));
     }
     return s;
 }
 
-rt::Shape quadric(std::mt19937& rng, bool two_sided) {
+kernels::Shape quadric(std::mt19937& rng, bool two_sided) {
     std::uniform_real_distribution<double> u(-1.0, 1.0), pos(-4.0, 4.0), rad(0.2, 1.5);
-    rt::Shape s;
-    s.kind_flags = rt::kShapeQuadric | (two_sided ? rt::kShapeTwoSided : 0u);
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeQuadric | (two_sided ? kernels::kShapeTwoSided : 0u);
     const int kind = static_cast<int>(rng() % 4);
     const Vec3d c{pos(rng), pos(rng), pos(rng)};
     const double r = rad(rng);
@@ -45,7 +45,7 @@ rt::Shape quadric(std::mt19937& rng, bool two_sided) {
     Vec3d a{0, 0, 0};
     double len = 0;
     if (kind == 1 || kind == 2) { // cylinder / cone along a random axis
-        a = rt::normalize(Vec3d{u(rng), u(rng), u(rng)});
+        a = base::normalize(Vec3d{u(rng), u(rng), u(rng)});
         len = rad(rng) * 3.0;
         if (kind == 1) {
             m[0] = 1 - a.x * a.x, m[1] = 1 - a.y * a.y, m[2] = 1 - a.z * a.z;
@@ -82,19 +82,19 @@ struct Ray {
 };
 
 // The native rules: rt/trace.cpp's nearest_hit inner loop (eye and secondary rays) and any_hit.
-Expect reference(const std::vector<rt::Shape>& shapes, const std::vector<std::uint32_t>& list, const Ray& r) {
+Expect reference(const std::vector<kernels::Shape>& shapes, const std::vector<std::uint32_t>& list, const Ray& r) {
     Expect best;
     float best_t = kInf;
     for (std::uint32_t si : list) {
-        const rt::Shape& s = shapes[si];
+        const kernels::Shape& s = shapes[si];
         bool hit;
         float t, u = 0, v = 0;
         bool front = true;
-        if (s.kind() == rt::kShapeTriangle) {
-            const auto h = rt::twins::intersect_triangle(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
+        if (s.kind() == kernels::kShapeTriangle) {
+            const auto h = kernels::twins::intersect_triangle(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
             hit = h.hit, t = h.t, u = h.a, v = h.b;
         } else {
-            const auto h = rt::twins::intersect_quadric(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
+            const auto h = kernels::twins::intersect_quadric(s.w.data(), s.two_sided(), r.o, r.d, r.tmin);
             hit = h.hit, t = h.t, front = h.front;
         }
         // shadow rays: any hit before tmax kills the ray (rt::any_hit, no voxel bound); the
@@ -115,7 +115,7 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
     std::uniform_real_distribution<float> uf(0.0f, 1.0f);
     long tests = 0, hits = 0, tri_tests = 0, quad_tests = 0;
     for (int sc = 0; sc < scenes; ++sc) {
-        std::vector<rt::Shape> shapes;
+        std::vector<kernels::Shape> shapes;
         std::vector<std::array<Vec3d, 3>> verts;
         const int nshapes = 30;
         const double quad_share = sc % 3 == 0 ? 0.0 : (sc % 3 == 1 ? 1.0 : 0.4);
@@ -149,23 +149,23 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
         rig.run();
         for (int ri = 0; ri < rays; ++ri) {
             Ray r;
-            r.o = rt::to_float(Vec3d{pos(rng) * 2, pos(rng) * 2, pos(rng) * 2});
+            r.o = base::to_float(Vec3d{pos(rng) * 2, pos(rng) * 2, pos(rng) * 2});
             const std::uint32_t target_shape = static_cast<std::uint32_t>(rng() % shapes.size());
             Vec3d target{pos(rng), pos(rng), pos(rng)};
-            if (shapes[target_shape].kind() == rt::kShapeTriangle) { // aim at the triangle, its edges, its vertices
+            if (shapes[target_shape].kind() == kernels::kShapeTriangle) { // aim at the triangle, its edges, its vertices
                 const auto& v = verts[target_shape];
                 double a = u01(rng), b = u01(rng) * (1 - a);
                 if (ri % 5 == 0) b = 1 - a;     // on an edge: grazing
                 if (ri % 7 == 0) a = 0, b = 0;  // at a vertex
                 target = v[0] + (v[1] - v[0]) * a + (v[2] - v[0]) * b;
             } else {
-                const rt::Shape& q = shapes[target_shape];
+                const kernels::Shape& q = shapes[target_shape];
                 target = Vec3d{q.w[0] + pos(rng) * 0.3, q.w[1] + pos(rng) * 0.3, q.w[2] + pos(rng) * 0.3};
             }
-            Vec3d d = target - rt::to_double(r.o);
+            Vec3d d = target - base::to_double(r.o);
             if (ri % 11 == 0) d = Vec3d{0, 0, d.z}; // axis-parallel
-            if (!(rt::dot(d, d) > 0)) d = {0, 0, 1};
-            r.d = test::flush(rt::to_float(rt::normalize(d)));
+            if (!(base::dot(d, d) > 0)) d = {0, 0, 1};
+            r.d = test::flush(base::to_float(base::normalize(d)));
             r.tmin = ri % 2 ? 0.0f : uf(rng) * 0.01f;
             r.tmax = ri % 3 == 0 ? kInf : uf(rng) * 30.0f;
             r.t_out = ri % 4 == 0 ? r.tmax : uf(rng) * 30.0f;
@@ -173,7 +173,7 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
             r.shadow = ri % 5 == 3;
             const std::uint32_t voxel = static_cast<std::uint32_t>(ri % static_cast<int>(lists.size()));
             const Expect e = reference(shapes, lists[voxel], r);
-            for (std::uint32_t si : lists[voxel]) (shapes[si].kind() == rt::kShapeTriangle ? tri_tests : quad_tests)++;
+            for (std::uint32_t si : lists[voxel]) (shapes[si].kind() == kernels::kShapeTriangle ? tri_tests : quad_tests)++;
             abi::Tag tag{static_cast<std::uint32_t>(ri), r.shadow ? abi::Kind::shadow : abi::Kind::eye, 1};
             abi::Visit vis;
             vis.tag = tag.word() | abi::kTagReturn;

@@ -82,17 +82,17 @@ void run_scene(const std::string& name, int grid_n, int pixels, bool seq) {
             ++hits;
             CHECK(got->shape == static_cast<std::uint32_t>(h.shape));
             CHECK(test::fbits(got->t) == test::fbits(h.t));
-            if (set.shapes[static_cast<std::size_t>(h.shape)].kind() == rt::kShapeTriangle) {
+            if (set.shapes[static_cast<std::size_t>(h.shape)].kind() == kernels::kShapeTriangle) {
                 CHECK(test::fbits(got->u) == test::fbits(h.a));
                 CHECK(test::fbits(got->v) == test::fbits(h.b));
             }
             CHECK(got->front == (h.front ? 1u : 0u));
             // a shadow ray from the hit point to each light
-            const rt::Vec3f hp = r.o + r.d * h.t;
+            const base::Vec3f hp = r.o + r.d * h.t;
             for (const rt::Light& l : scene.lights) {
-                const rt::Vec3f lp = rt::to_float(l.pos);
-                const rt::Vec3f to = lp - hp;
-                const float dist = std::sqrt(rt::dot(to, to));
+                const base::Vec3f lp = base::to_float(l.pos);
+                const base::Vec3f to = lp - hp;
+                const float dist = std::sqrt(base::dot(to, to));
                 if (!(dist > 0)) continue;
                 rt::Ray s;
                 s.o = hp;

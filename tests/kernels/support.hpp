@@ -1,9 +1,11 @@
 // Test support for the kernels: assemble a kernel file, run it on the ISS, random inputs.
 #pragma once
 
-#include "abi.hpp"
-#include "image.hpp"
-#include "runner.hpp"
+#include "kernels/abi.hpp"
+#include "kernels/messages.hpp"
+#include "kernels/image.hpp"
+#include "kernels/sources.hpp"
+#include "machine/runner.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -23,21 +25,19 @@
 
 namespace nesshi::kernels::test {
 
-inline std::string kernel_path(const std::string& rel) { return std::string(NESSHI_KERNELS_DIR) + "/" + rel; }
-
-// Assembles kernels/<rel> for `machine` once per process and shares the program.
+// Assembles the built-in kernel <rel> for `machine` once per process and shares the program.
 inline std::shared_ptr<const iss::Program> kernel_program(const std::string& rel, const std::string& machine) {
     static std::map<std::string, std::shared_ptr<const iss::Program>> cache;
     const std::string key = rel + "@" + machine;
     auto it = cache.find(key);
     if (it != cache.end()) return it->second;
-    auto prog = assemble_kernel(kernel_path(rel), machine);
+    auto prog = machine::assemble_kernel(embedded(), rel, machine);
     cache.emplace(key, prog);
     return prog;
 }
 
 // One processor running a kernel, with its input channel 0 and output channels 1 and 2.
-struct Rig : KernelRunner {
+struct Rig : machine::KernelRunner {
     Rig(const std::string& rel, const std::string& machine, iss::Engine engine)
         : KernelRunner(kernel_program(rel, machine), engine) {}
     // Runs until the kernel waits for input; fails the test on a fault or halt.
@@ -52,7 +52,7 @@ struct Rig : KernelRunner {
 inline std::uint32_t fbits(float f) { return abi::bits(f); }
 
 // Directions: components below 2^-60 are flushed to zero (the ABI's rule).
-inline rt::Vec3f flush(rt::Vec3f d) {
+inline base::Vec3f flush(base::Vec3f d) {
     for (int k = 0; k < 3; ++k)
         if (std::fabs(d[k]) < 0x1p-60f) d[k] = 0.0f;
     return d;

@@ -9,6 +9,7 @@
 #include "isa/machine.hpp"
 #include "isa/object.hpp"
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,9 @@ namespace nesshi::assembler {
 struct AsmOptions {
     std::vector<std::string> include_dirs; // searched by .include after the including file's dir
     bool listing = false;                  // fill AsmResult::listing
+    // Reads an .include file (the path lexically normalised, e.g. "kernels/abi.inc") into `text`;
+    // false when absent. Empty: the file system. Lets embedded sources include each other.
+    std::function<bool(const std::string& path, std::string& text)> read_file;
 };
 
 struct AsmResult {

@@ -1,0 +1,135 @@
+// The simulated machine: a scene rendered through PEs whose OS and IC stages are ISS instances
+// running the kernels of kernels/, with the SC stage in C++ under a counted cycle-cost model.
+//
+//   rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 20);
+//   machine::Options mo;  mo.model = machine::Model::V;
+//   machine::Result r = machine::render(prep, render_options, mo);
+//   r.render.image ... r.machine.total_cycles, r.machine.os.processing ...
+//
+// Models change timing, never results: S, M, V and render_native give identical images, ID
+// buffers and ray counts. Deterministic: the same inputs give the same cycles for any thread
+// count (each PE is simulated by one host thread from start to end; PEs share only read-only
+// data). See machine/README.md for the scheduling and cost models.
+#pragma once
+#include "iss/cache.hpp"
+#include "rt/render.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace nesshi::machine {
+
+enum class Model : std::uint8_t {
+    S, // one seq processor runs OS, IC and SC in turn (one clock)
+    M, // OS, IC, SC each on a seq processor, pipelined through FIFOs
+    V, // VLIW OS (os) and IC (ic), SC on seq, pipelined through FIFOs
+};
+const char* model_name(Model m);
+bool parse_model(const std::string& s, Model& out);
+
+// The IC cache over global memory (iss::SetAssocCache) when enabled; else the paper's ideal 100% hits.
+struct CacheOptions : iss::CacheGeometry {
+    bool enabled = false;
+};
+
+struct Options {
+    Model model = Model::V;
+    int pes = 1;                      // processing elements
+    // How DIS distributes the pixel corners over PEs. Interleaved: corner k to PE k mod pes, all
+    // up front. Dynamic (the paper's load balancing): every `epoch` cycles DIS tops each PE up to
+    // 2 x window corners, the PE with the most room first, so faster PEs take more.
+    bool dynamic_balance = false;
+    std::uint64_t epoch = 20000;
+    int threads = 0;                  // host threads (0 = all cores); never changes the cycles
+    int window = 64;                  // eye rays (pixel corners) in flight per PE (the DIS's limit)
+    std::size_t fifo_capacity = 0;    // words per FIFO; 0 = unbounded (the paper's ideal)
+    // Rays in flight per PE: the ray slots SC hands out (each ray it or DIS sends to the OS holds
+    // one until its MISS or HIT comes back); 0 = all OS_SLOTS (4096). The window bounds corners,
+    // not rays: every hit spawns shadow, reflection and refraction rays. A ray has one message in
+    // the FIFOs at a time, at most 12 words (a VISIT), so with at most fifo_capacity / 12 rays in
+    // flight no FIFO ever fills and bounded FIFOs cannot deadlock (deadlock_free_ray_slots).
+    int ray_slots = 0;
+    std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
+    std::uint64_t quantum = 32;       // scheduling slack between a PE's processors (cycles)
+    CacheOptions cache;
+    // IC data placement (kernels/image.hpp): the records, voxel table and lists go to the resident
+    // memory when they all fit in it; else the most-referenced shape records (by the number of voxel
+    // lists holding them) fill it and the other records, the table and the lists go to global
+    // memory (behind the cache). false: everything in global memory.
+    bool resident = true;
+    bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
+    std::string kernels_dir;          // a folder of kernel sources overriding the built-in ones ("" = built in)
+    std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
+    std::uint64_t max_cycles = 0;     // per PE; 0 = no limit. Exceeding it is an error.
+    // Called from the calling thread about 10 times a second with (corner rays done, total).
+    std::function<void(std::uint64_t, std::uint64_t)> progress;
+};
+
+// One stage's cycles, summed over PEs. processing + communication + wait = elapsed for each
+// processor (elapsed = that processor's clock when its PE finished).
+struct StageCycles {
+    std::uint64_t processing = 0, communication = 0, wait = 0;
+    std::uint64_t bundles = 0, ops = 0;     // processing_ops over processing cycles gives ilp
+    std::uint64_t processing_ops = 0;
+    std::uint64_t units = 1;                // issue slots of the machine
+    std::uint64_t words_received = 0, words_sent = 0;
+    bool modelled = false;                  // SC: counted operations, not simulated
+    double ilp() const { return processing ? static_cast<double>(processing_ops) / static_cast<double>(processing) : 0; }
+    double utilization() const { return ilp() / static_cast<double>(units); }
+    std::uint64_t load() const { return processing + communication; } // the paper's Table 2 "load"
+    std::uint64_t elapsed() const { return processing + communication + wait; }
+    StageCycles& operator+=(const StageCycles& o);
+};
+
+// One PE's stages. Each processor's clock runs to the PE's end: processing + communication +
+// wait = end for each of os, ic and sc.
+struct PeCycles {
+    std::uint64_t end = 0;
+    StageCycles os, ic, sc;
+};
+
+struct Stats {
+    Model model = Model::V;
+    std::uint64_t total_cycles = 0;        // the slowest PE's finishing time
+    // Model M runs also give model S's time: one processor executing the same instruction streams
+    // takes the sum of the three stages' loads (processing + communication) per PE; the slowest
+    // PE's. Equal to a separate model-S run (tested) when the work does not depend on timing (no
+    // cache, unbounded FIFOs, interleaved DIS); 0 otherwise and for models S and V.
+    std::uint64_t s_cycles = 0;
+    StageCycles os, ic, sc;                // summed over PEs
+    std::vector<std::uint64_t> pe_cycles;  // finishing time of each PE
+    std::vector<PeCycles> per_pe;          // each PE's own stage cycles (os, ic, sc are their sums)
+    std::uint64_t visits = 0, returns = 0, misses = 0, hits = 0; // FIFO messages
+    std::uint64_t cache_accesses = 0, cache_misses = 0;
+    std::uint64_t max_fifo_words = 0;      // highest occupancy seen on any FIFO
+    double wall_seconds = 0;               // host time of the simulation
+    std::uint64_t simulated_bundles = 0;   // bundles issued by every ISS instance
+    int threads = 1;
+    double bundles_per_second() const { return wall_seconds > 0 ? static_cast<double>(simulated_bundles) / wall_seconds : 0; }
+};
+
+struct Result {
+    rt::RenderResult render; // image, buffers, ray counts (traversal counters: only `rays` is filled)
+    Stats machine;
+};
+
+// Throws std::runtime_error on a deadlock (bounded FIFOs), a kernel fault, a memory-capacity
+// error (grid too large for the OS SRAM, data too large for IC memory) or max_cycles exceeded.
+Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo);
+
+// The most rays in flight with which FIFOs of `fifo_capacity` words never fill: capacity / 12 (the
+// longest message, a VISIT), at least 1; 0 (no limit needed) for unbounded FIFOs.
+inline constexpr std::size_t kLongestMessageWords = 12; // kernels/abi.hpp MSG_VISIT
+int deadlock_free_ray_slots(std::size_t fifo_capacity);
+
+
+// Stats JSON: render's stats_json plus "cycles", "machine" and "host" for the machine; "traversal"
+// keeps only `rays` per kind (the machine counts no voxel steps or tests). See rt-host/README.md.
+std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
+                               const Result& r);
+// The Table 2 row of this run and the per-stage summary, for the terminal.
+std::string format_stats(const Stats& s);
+
+} // namespace nesshi::machine

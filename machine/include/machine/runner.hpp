@@ -1,0 +1,54 @@
+// One kernel on one simulated processor: assemble it, load its memory images, feed its input
+// channel and run it until it waits for more. Shared by the machine, the kernel report and the
+// kernel tests.
+//
+//   kernels::SourceSet src = kernels::embedded();
+//   machine::KernelRunner run(machine::assemble_kernel(src, "os/dda.s", "os"));
+//   run.load(kernels::os_image(geom, occupancy));  run.run();  run.feed(ray.words());  run.run();
+#pragma once
+
+#include "kernels/image.hpp"
+#include "kernels/sources.hpp"
+
+#include "isa/machine.hpp"
+#include "iss/channel.hpp"
+#include "iss/processor.hpp"
+#include "iss/program.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace nesshi::machine {
+
+// Assembles kernel `path` of `sources` ("os/dda.s") for machine `m`; its .include of
+// "../abi.inc" resolves inside `sources`. Throws std::runtime_error with the diagnostics.
+std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
+                                                    const isa::Machine& m);
+std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
+                                                    const std::string& machine);
+
+// A processor with the ABI's channels: input 0, outputs 1 and 2. Neither copyable nor movable:
+// the processor holds the channels' addresses.
+class KernelRunner {
+  public:
+    std::shared_ptr<const iss::Program> prog;
+    std::unique_ptr<iss::Processor> proc;
+    iss::QueueChannel in, out1, out2;
+
+    explicit KernelRunner(std::shared_ptr<const iss::Program> program, iss::Engine engine = iss::Engine::Fast);
+    KernelRunner(const KernelRunner&) = delete;
+    KernelRunner& operator=(const KernelRunner&) = delete;
+
+    void load(const kernels::MemImage& m) {
+        if (!m.bytes.empty()) proc->memory().load_data(m.base, m.bytes);
+    }
+    template <class Words>
+    void feed(const Words& w) {
+        for (std::uint32_t x : w) in.feed(x, proc->cycle());
+    }
+    // Runs until the kernel waits on its input channel; a fault, halt or cycle limit throws.
+    void run(std::uint64_t max_cycles = 100'000'000);
+};
+
+} // namespace nesshi::machine

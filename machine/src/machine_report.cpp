@@ -1,0 +1,124 @@
+// Machine reports: stats JSON (render's keys plus "cycles" and "host"), the terminal summary and
+// the sampled activity trace.
+#include "pe.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <stdexcept>
+
+namespace nesshi::machine {
+
+namespace {
+nlohmann::json stage_json(const StageCycles& c) {
+    return {{"processing", c.processing},
+            {"communication", c.communication},
+            {"wait", c.wait},
+            {"bundles", c.bundles},
+            {"ops", c.ops},
+            {"ilp", c.ilp()},
+            {"utilization", c.utilization()},
+            {"words_received", c.words_received},
+            {"words_sent", c.words_sent},
+            {"modelled", c.modelled}};
+}
+double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
+} // namespace
+
+std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
+                               const Result& r) {
+    nlohmann::json j = nlohmann::json::parse(rt::stats_json(prep, opt, r.render, model_name(mo.model)));
+    // The kernels count no voxel steps or intersection tests, so of the native tracer's traversal
+    // counters only `rays` (counted by SC) is known; the others are left out rather than given as 0.
+    for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};
+    const Stats& m = r.machine;
+    nlohmann::json cycles = {{"total", m.total_cycles},
+                             {"os", stage_json(m.os)},
+                             {"ic", stage_json(m.ic)},
+                             {"sc", stage_json(m.sc)},
+                             {"pe", m.pe_cycles}};
+    if (m.s_cycles) cycles["s_cycles"] = m.s_cycles; // model M, when exact (render.cpp)
+    j["cycles"] = cycles;
+    j["machine"] = {{"pes", mo.pes},
+                    {"balance", mo.dynamic_balance ? nlohmann::json{{"dynamic", {{"epoch", mo.epoch}}}} : "interleaved"},
+                    {"window", mo.window},
+                    {"fifo_capacity", mo.fifo_capacity},
+                    {"fifo_latency", mo.fifo_latency},
+                    {"quantum", mo.quantum},
+                    {"cache", mo.cache.enabled ? nlohmann::json{{"bytes", mo.cache.bytes},
+                                                                {"line", mo.cache.line},
+                                                                {"ways", mo.cache.ways},
+                                                                {"miss_cycles", mo.cache.miss_cycles},
+                                                                {"accesses", m.cache_accesses},
+                                                                {"misses", m.cache_misses}}
+                                               : nlohmann::json("ideal (100% hits)")},
+                    {"messages", {{"visit", m.visits}, {"return", m.returns}, {"miss", m.misses}, {"hit", m.hits}}},
+                    {"max_fifo_words", m.max_fifo_words},
+                    {"sc", "modelled: counted operations x seq latencies (rt-host/src/machine/sc_cost.hpp)"}};
+    if (mo.ray_slots) j["machine"]["ray_slots"] = mo.ray_slots; // limited rays in flight (0: all 4096)
+    j["host"]["wall_seconds"] = m.wall_seconds;
+    j["host"]["simulated_bundles"] = m.simulated_bundles;
+    j["host"]["bundles_per_second"] = m.bundles_per_second();
+    j["host"]["threads"] = m.threads;
+    return j.dump(2) + "\n";
+}
+
+std::string format_stats(const Stats& m) {
+    std::string o;
+    o += fmt::format("model {}: {:.3f} M cycles{}\n", model_name(m.model), millions(m.total_cycles),
+                     m.pe_cycles.size() > 1 ? fmt::format(" (slowest of {} PEs)", m.pe_cycles.size()) : "");
+    o += "stage   processing  communication        wait   (M cycles)    load   ILP  util  bundles\n";
+    auto row = [&](const char* name, const StageCycles& c) {
+        o += fmt::format("  {:<3} {:>12.3f} {:>14.3f} {:>11.3f}  {:>17.3f} {:>5.2f} {:>5.2f}  {}\n", name,
+                         millions(c.processing), millions(c.communication), millions(c.wait), millions(c.load()),
+                         c.ilp(), c.utilization(), c.modelled ? "modelled" : fmt::format("{}", c.bundles));
+    };
+    row("OS", m.os);
+    row("IC", m.ic);
+    row("SC", m.sc);
+    const std::uint64_t lo = std::max<std::uint64_t>(1, std::min({m.os.load(), m.ic.load(), m.sc.load()}));
+    auto ratio = [&](const StageCycles& c) { return static_cast<double>(c.load()) / static_cast<double>(lo); };
+    o += fmt::format("load ratio OS:IC:SC = {:.0f}:{:.0f}:{:.0f}", ratio(m.os), ratio(m.ic), ratio(m.sc));
+    if (m.s_cycles) o += fmt::format("   model S time of the same streams: {:.3f} M cycles", millions(m.s_cycles));
+    o += "\n";
+    o += fmt::format("messages: {} VISIT, {} RETURN, {} HIT, {} MISS; largest FIFO {} words", m.visits, m.returns,
+                     m.hits, m.misses, m.max_fifo_words);
+    if (m.cache_accesses)
+        o += fmt::format("; IC cache {:.2f}% misses of {}", 100.0 * static_cast<double>(m.cache_misses) /
+                                                               static_cast<double>(m.cache_accesses),
+                         m.cache_accesses);
+    o += "\n";
+    o += fmt::format("host: {:.2f} s, {:.1f} M bundles simulated, {:.1f} M bundles/s ({} thread{})\n", m.wall_seconds,
+                     millions(m.simulated_bundles), m.bundles_per_second() / 1e6, m.threads, m.threads == 1 ? "" : "s");
+    return o;
+}
+
+void write_trace_json(const std::string& path, const std::vector<PeResult>& pes) {
+    nlohmann::json events = nlohmann::json::array();
+    static constexpr const char* kFifo[4] = {"FIFO OS in (DIS, SC, IC)", "FIFO IC in (OS)", "FIFO SC in (OS)",
+                                             "FIFO SC in (IC)"};
+    for (std::size_t p = 0; p < pes.size(); ++p) {
+        events.push_back({{"name", "process_name"}, {"ph", "M"}, {"pid", p}, {"args", {{"name", fmt::format("PE {}", p)}}}});
+        const auto& s = pes[p].samples;
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            for (int f = 0; f < 4; ++f)
+                events.push_back({{"name", kFifo[f]}, {"ph", "C"}, {"pid", p}, {"ts", s[i].cycle},
+                                  {"args", {{"words", s[i].fifo[f]}}}});
+            if (i == 0) continue;
+            const double dt = static_cast<double>(s[i].cycle - s[i - 1].cycle);
+            if (dt <= 0) continue;
+            auto frac = [&](int k) { return static_cast<double>(s[i].busy[k] - s[i - 1].busy[k]) / dt; };
+            events.push_back({{"name", "activity (busy fraction)"}, {"ph", "C"}, {"pid", p}, {"ts", s[i - 1].cycle},
+                              {"args", {{"OS", frac(0)}, {"IC", frac(1)}, {"SC", frac(2)}}}});
+        }
+    }
+    nlohmann::json doc = {{"traceEvents", events},
+                          {"displayTimeUnit", "ns"},
+                          {"otherData", {{"time_unit", "1 trace microsecond = 1 machine cycle"}}}};
+    std::ofstream f(path);
+    f << doc.dump() << "\n";
+    if (!f) throw std::runtime_error(fmt::format("{}: cannot write", path));
+}
+
+} // namespace nesshi::machine

@@ -1,0 +1,300 @@
+// One PE's simulation: processors, FIFOs, the scheduler (see pe.hpp), the statistics.
+#include "pe.hpp"
+
+#include "iss/cache.hpp"
+
+#include "kernels/abi.hpp"
+#include "iss/stats.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <optional>
+#include <stdexcept>
+
+namespace nesshi::machine {
+
+namespace abi = kernels::abi;
+
+namespace {
+
+constexpr std::uint64_t kSoloChunk = 4096; // cycles a stage runs alone before the host looks again
+
+// An OS or IC processor with its input FIFO and its two output FIFOs.
+struct Stage {
+    std::unique_ptr<iss::Processor> proc;
+    Fifo* in = nullptr;
+    Fifo* out[3] = {nullptr, nullptr, nullptr}; // by channel number (1, 2)
+    const char* name = "";
+
+    // A processor whose last run only waited for words not yet sent (a bundle receiving several
+    // words of a message its producer has not finished) cannot progress until its FIFOs change.
+    bool starved = false;
+    std::uint64_t starved_at = 0; // in->pushed() when it starved
+
+    // Earliest cycle at which the processor can make progress; kNever if it cannot now.
+    std::uint64_t next_event() const {
+        if (starved && in->pushed() == starved_at) return kNever;
+        switch (proc->status()) {
+        case iss::Status::Running: return proc->cycle();
+        case iss::Status::Blocked: {
+            const std::uint32_t ch = proc->blocked_channel();
+            if (ch == abi::kChIn) return in->empty() ? kNever : std::max(proc->cycle(), in->ready(0));
+            const Fifo& o = *out[ch];
+            return o.writable() >= sends_needed(ch) ? std::max(proc->cycle(), o.room_cycle) : kNever;
+        }
+        case iss::Status::Halted:
+        case iss::Status::Faulted: break;
+        }
+        return kNever;
+    }
+    // Words the blocked bundle sends on `ch`.
+    std::size_t sends_needed(std::uint32_t ch) const {
+        const iss::Program& p = proc->program();
+        const iss::DecodedBundle& b = p.bundles()[proc->pc()];
+        std::size_t n = 0;
+        for (std::uint32_t i = 0; i < b.count; ++i) {
+            const iss::DecodedOp& d = p.ops()[b.first + i];
+            n += d.instr.info().kind == isa::Kind::Send && d.imm == ch;
+        }
+        return n;
+    }
+    bool blocked_on_send() const {
+        return proc->status() == iss::Status::Blocked && proc->blocked_channel() != abi::kChIn;
+    }
+    // Runs up to `horizon` (exclusive) or until it blocks.
+    void run(std::uint64_t horizon) {
+        if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+        if (horizon <= proc->cycle()) return;
+        const std::uint64_t busy_before = busy();
+        const iss::Status s = proc->run(horizon - proc->cycle());
+        // Starved: it issued nothing though every word in its FIFO has arrived, so more time alone
+        // does not help (words still in flight would: those are waited for cycle by cycle).
+        starved = s == iss::Status::Running && busy() == busy_before && !in->empty() &&
+                  in->all_ready(proc->cycle());
+        starved_at = in->pushed();
+        if (s == iss::Status::Faulted || s == iss::Status::Halted)
+            throw std::runtime_error(fmt::format("{} processor stopped: {}\n{}", name, iss::status_name(s),
+                                                 proc->fault_report()));
+    }
+    std::uint64_t busy() const { return proc->cycle() - proc->counters().wait_cycles; }
+};
+
+StageCycles stage_cycles(const iss::Processor& p) {
+    const iss::Stats s = iss::compute_stats(p, 0);
+    StageCycles c;
+    c.processing = s.processing_cycles;
+    c.communication = s.communication_cycles;
+    c.wait = s.wait_cycles;
+    c.bundles = s.bundles;
+    c.ops = s.ops;
+    c.processing_ops = s.processing_ops;
+    c.units = p.program().machine().slots.size();
+    c.words_received = s.words_received;
+    c.words_sent = s.words_sent;
+    return c;
+}
+
+} // namespace
+
+class Pe {
+  public:
+    Pe(const MachineSetup& setup, const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
+       std::vector<std::uint32_t> corners, CornerSink sink)
+        : mo_(mo), serial_(mo.model == Model::S),
+          os_in_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency), ic_in_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency),
+          sc_os_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency), sc_ic_(mo.fifo_capacity, serial_ ? 0 : mo.fifo_latency),
+          sc_(prep, opt, setup.sc_prices, std::move(corners), mo.window, mo.ray_slots, sink, sc_os_, sc_ic_, os_in_) {
+        const iss::Engine engine = mo.checked ? iss::Engine::Checked : iss::Engine::Fast;
+        os_.name = "OS";
+        os_.proc = std::make_unique<iss::Processor>(setup.os_prog, engine);
+        os_.in = &os_in_;
+        os_.out[abi::kChOsIc] = &ic_in_;
+        os_.out[abi::kChOsSc] = &sc_os_;
+        ic_.name = "IC";
+        ic_.proc = std::make_unique<iss::Processor>(setup.ic_prog, engine);
+        ic_.in = &ic_in_;
+        ic_.out[abi::kChIcOs] = &os_in_;
+        ic_.out[abi::kChIcSc] = &sc_ic_;
+        for (Stage* s : {&os_, &ic_}) {
+            s->proc->attach_channel(abi::kChIn, s->in);
+            s->proc->attach_channel(1, s->out[1]);
+            s->proc->attach_channel(2, s->out[2]);
+        }
+        os_.proc->memory().load_data(setup.os_image.base, setup.os_image.bytes);
+        ic_.proc->attach_memory("global", setup.global);
+        if (!setup.ic_resident.bytes.empty())
+            ic_.proc->memory().load_data(setup.ic_resident.base, setup.ic_resident.bytes);
+        os_in_.consumer_proc = os_.proc.get();
+        ic_in_.consumer_proc = ic_.proc.get();
+        sc_os_.consumer_clock = sc_ic_.consumer_clock = &sc_.clock_ref();
+        if (mo.cache.enabled) {
+            cache_.emplace(mo.cache);
+            ic_.proc->attach_cache("global", &*cache_);
+        }
+    }
+
+    // Runs until every corner given so far is finished, or until the next action of every stage
+    // is at or past `until` (dynamic balancing: DIS may give more corners at `until`).
+    void run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done) {
+        while (!sc_.done()) {
+            std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
+            int w = 0;
+            for (int i = 1; i < 3; ++i)
+                if (key[i] < key[w]) w = i;
+            if (key[w] == kNever) deadlock();
+            if ((serial_ ? std::max(key[w], now_) : key[w]) >= until) break;
+            if (serial_) step_serial(w, until);
+            else step_pipelined(key, w, until);
+            if (sc_.corners_done() != reported_) {
+                corners_done += sc_.corners_done() - reported_;
+                reported_ = sc_.corners_done();
+            }
+            if (!mo_.trace_json.empty()) sample();
+        }
+    }
+
+    void give(std::uint32_t corner, std::uint64_t at) { sc_.give(corner, at); }
+    std::size_t room(std::size_t target) const { return sc_.room(target); }
+    bool done() const { return sc_.done(); }
+
+  private:
+    std::uint64_t clock_of(int i) const { return i == 0 ? os_.proc->cycle() : i == 1 ? ic_.proc->cycle() : sc_.clock(); }
+    std::uint64_t next_of(int i) const { return i == 0 ? os_.next_event() : i == 1 ? ic_.next_event() : sc_.next_event(); }
+
+    [[noreturn]] void deadlock() const {
+        auto state = [](const Stage& s) {
+            if (s.proc->status() != iss::Status::Blocked)
+                return fmt::format("{} at cycle {}{}", iss::status_name(s.proc->status()), s.proc->cycle(),
+                                   s.starved ? ", waiting for the rest of a message" : "");
+            return fmt::format("blocked on channel {} ({}) at cycle {}", s.proc->blocked_channel(),
+                               s.proc->blocked_channel() == abi::kChIn ? "empty input" : "full output", s.proc->cycle());
+        };
+        const int safe = deadlock_free_ray_slots(mo_.fifo_capacity);
+        throw std::runtime_error(fmt::format(
+            "deadlock: every stage waits on another (FIFO capacity {} words)\n  OS: {}\n  IC: {}\n  SC: at cycle {}, "
+            "{} corners done, {} rays in flight\n  FIFO words: OS in {}, IC in {}, SC from OS {}, SC from IC {}\n"
+            "  The window ({} corners) bounds corners, not rays: each hit spawns shadow, reflection and refraction "
+            "rays. A ray has one message in the FIFOs at a time, at most {} words (a VISIT), so with at most {} / {} = "
+            "{} ray{} in flight no FIFO can fill: limit them with --ray-slots {} (nesshi render's default when "
+            "--fifo-capacity is given without --window)",
+            mo_.fifo_capacity, state(os_), state(ic_), sc_.clock(), sc_.corners_done(), sc_.rays_in_flight(),
+            os_in_.size(), ic_in_.size(), sc_os_.size(), sc_ic_.size(), mo_.window, kLongestMessageWords,
+            mo_.fifo_capacity, kLongestMessageWords, safe, safe == 1 ? "" : "s", safe));
+    }
+
+    void check_limit(std::uint64_t t) const {
+        if (mo_.max_cycles && t > mo_.max_cycles)
+            throw std::runtime_error(fmt::format("the PE passed the cycle limit ({} cycles)", mo_.max_cycles));
+    }
+
+    void run_stage(int i, std::uint64_t horizon) {
+        if (i == 2) {
+            sc_.run(horizon);
+        } else {
+            (i == 0 ? os_ : ic_).run(horizon);
+        }
+    }
+
+    // Runs stage w (the earliest key) up to `quantum` past the next stage, or alone for a while;
+    // never past `until` (where DIS may hand out more corners).
+    void step_pipelined(const std::uint64_t (&key)[3], int w, std::uint64_t until) {
+        std::uint64_t second = kNever;
+        for (int i = 0; i < 3; ++i)
+            if (i != w) second = std::min(second, key[i]);
+        std::uint64_t horizon = second == kNever ? key[w] + kSoloChunk : std::max(second, key[w]) + mo_.quantum;
+        check_limit(key[w]);
+        run_stage(w, std::min(horizon, until));
+    }
+
+    // Model S: one processor, one clock `now_`; stage w runs until it has no work.
+    void step_serial(int w, std::uint64_t until) {
+        check_limit(now_);
+        if (w == 2) {
+            sc_.idle_until(now_);
+            sc_.run(kNever);
+            now_ = sc_.clock();
+        } else {
+            Stage& s = w == 0 ? os_ : ic_;
+            s.proc->idle_until(now_);
+            s.run(std::min(now_ + kSoloChunk, until));
+            now_ = s.proc->cycle();
+        }
+    }
+
+    void sample() {
+        const std::uint64_t t = std::min({os_.proc->cycle(), ic_.proc->cycle(), sc_.clock()});
+        if (t < next_sample_) return;
+        Sample s;
+        s.cycle = t;
+        s.fifo[0] = static_cast<std::uint32_t>(os_in_.size());
+        s.fifo[1] = static_cast<std::uint32_t>(ic_in_.size());
+        s.fifo[2] = static_cast<std::uint32_t>(sc_os_.size());
+        s.fifo[3] = static_cast<std::uint32_t>(sc_ic_.size());
+        s.busy[0] = os_.busy();
+        s.busy[1] = ic_.busy();
+        s.busy[2] = sc_.cycles.processing + sc_.cycles.communication;
+        samples_.push_back(s);
+        next_sample_ = t + interval_;
+        if (samples_.size() >= 4000) { // keep the trace small: halve the resolution
+            std::vector<Sample> kept;
+            for (std::size_t i = 0; i < samples_.size(); i += 2) kept.push_back(samples_[i]);
+            samples_ = std::move(kept);
+            interval_ *= 2;
+        }
+    }
+
+  public:
+    PeResult finish() {
+        // Every processor's clock runs to the PE's end, so processing + communication + wait = end.
+        const std::uint64_t end = std::max({os_.proc->cycle(), ic_.proc->cycle(), sc_.clock()});
+        os_.proc->idle_until(end);
+        ic_.proc->idle_until(end);
+        sc_.idle_until(end);
+        PeResult r;
+        r.end = end;
+        r.os = stage_cycles(*os_.proc);
+        r.ic = stage_cycles(*ic_.proc);
+        r.sc = sc_.cycles;
+        r.rays = sc_.rays;
+        r.traversal = sc_.traversal;
+        r.bundles = r.os.bundles + r.ic.bundles;
+        r.visits = os_.out[abi::kChOsIc]->pushed() / static_cast<std::uint64_t>(abi::get("MSG_VISIT"));
+        r.misses = sc_os_.pushed();
+        r.hits = sc_ic_.pushed() / static_cast<std::uint64_t>(abi::get("MSG_HIT"));
+        r.returns = r.visits - r.hits; // every VISIT ends in a HIT or a RETURN
+        if (cache_) {
+            r.cache_accesses = cache_->accesses();
+            r.cache_misses = cache_->misses();
+        }
+        r.max_fifo = std::max({os_in_.max_size(), ic_in_.max_size(), sc_os_.max_size(), sc_ic_.max_size()});
+        r.samples = std::move(samples_);
+        return r;
+    }
+
+  private:
+    const Options& mo_;
+    bool serial_;
+    Fifo os_in_, ic_in_, sc_os_, sc_ic_;
+    ScStage sc_;
+    Stage os_, ic_;
+    std::optional<iss::SetAssocCache> cache_;
+    std::uint64_t now_ = 0;
+    std::uint64_t reported_ = 0; // corners already added to the caller's count
+    std::vector<Sample> samples_;
+    std::uint64_t next_sample_ = 0, interval_ = 256;
+};
+
+PeRun::PeRun(const MachineSetup& setup, const rt::PreparedScene& prep, const rt::RenderOptions& opt,
+             const Options& mo, std::vector<std::uint32_t> corners, CornerSink sink)
+    : pe_(std::make_unique<Pe>(setup, prep, opt, mo, std::move(corners), sink)) {}
+PeRun::~PeRun() = default;
+PeRun::PeRun(PeRun&&) noexcept = default;
+PeRun& PeRun::operator=(PeRun&&) noexcept = default;
+void PeRun::run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done) { pe_->run_until(until, corners_done); }
+void PeRun::give(std::uint32_t corner, std::uint64_t at) { pe_->give(corner, at); }
+std::size_t PeRun::room(std::size_t target) const { return pe_->room(target); }
+bool PeRun::done() const { return pe_->done(); }
+PeResult PeRun::finish() { return pe_->finish(); }
+
+} // namespace nesshi::machine

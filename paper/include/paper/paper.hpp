@@ -1,0 +1,159 @@
+// `nesshi paper`: the paper's evaluation re-run (Tables 2, 3, 4 and Fig. 6 of Gwun et al. 1993) as a resumable
+// matrix of machine runs, one cell per scene x grid x model, and the reports built from it.
+//
+//   paper::PaperOptions po;  po.size = 64;  po.out_dir = "paper-out";
+//   paper::PaperRun r = paper::run_paper(po); // runs or loads every cell; writes tables, chart, summary
+//
+// Model S is not simulated separately: a model-M run also gives S's time (machine::Stats::s_cycles: one
+// processor executing the same instruction streams takes the sum of the stages' loads), as the issue
+// specifies; that S equals a separate model-S run is tested with the machine. So each scene x grid costs
+// one M run and one V run, and asking for S alone still runs M.
+//
+// Everything but simulate_cell() and run_paper() works on cell records, so the tables, chart and resumable
+// runner are testable with synthetic cells and a stand-in CellRunner.
+#pragma once
+#include "machine/machine.hpp"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nesshi::paper {
+
+// Bad options, a malformed cell file ("FILE: error: ..."), failed cells.
+class PaperError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+// One cell of the matrix; its file is out_dir/cells/<cell_file_name>.
+struct CellKey {
+    std::string scene; // as given: built-in name ("balls", "tetra:1") or NFF path
+    int grid = 0;
+    machine::Model model = machine::Model::V; // M or V: S comes from M
+    int size = 512;                       // image width = height
+    bool operator==(const CellKey&) const = default;
+};
+std::string cell_file_name(const CellKey& k); // "balls-g20-V-512.json", "tetra_1-g4-M-8.json"
+
+// The numbers the reports need from a cell's machine::stats_json ("cycles" object).
+struct StageRecord {
+    std::uint64_t processing = 0, communication = 0, wait = 0;
+    double ilp = 0, utilization = 0;
+    std::uint64_t load() const { return processing + communication; }
+};
+struct CellRecord {
+    CellKey key;
+    std::uint64_t total = 0;
+    std::uint64_t s_cycles = 0; // model M only: model S's time
+    StageRecord os, ic, sc;
+    double wall_seconds = 0; // host time of the simulation (0 if the file does not say)
+};
+// Parses a cell file's text; throws PaperError "FILE: error: ..." when a key is missing or wrong.
+CellRecord parse_cell(const CellKey& key, const std::string& json_text, const std::string& file);
+// Writes FILE.tmp then renames it over FILE, so a killed run never leaves half a cell behind.
+void write_file_atomically(const std::string& file, const std::string& text);
+
+struct PaperProgress {
+    const CellRecord* finished = nullptr; // the cell just finished; nullptr: start or a periodic update
+    std::size_t cells_total = 0, cells_loaded = 0, cells_run = 0, cells_failed = 0;
+    std::size_t cells_to_run = 0;
+    int size = 0;        // image size of these cells (the grid pre-pass follows the matrix, smaller)
+    double fraction = 0; // of the cells to run, counting the partial progress of running ones
+    double elapsed_seconds = 0;
+    int threads = 1;
+};
+
+struct PaperOptions {
+    int size = 512;
+    std::vector<std::string> scenes = {"balls", "mount", "rings", "tetra", "tree"};
+    std::vector<int> grids = {20, 50, 100};
+    std::vector<machine::Model> models = {machine::Model::S, machine::Model::M, machine::Model::V};
+    std::string out_dir = "paper-out";
+    int threads = 0; // cells run at once (one host thread per cell, each a 1-PE run); 0 = all cores
+    // Called from one thread at a time: at the start, after each cell, and a few times a second.
+    std::function<void(const PaperProgress&)> progress;
+};
+// Throws PaperError: unknown scene, grid < 1 or > 512, size < 1 or > 16384, no model.
+void validate(const PaperOptions& o);
+bool wants(const PaperOptions& o, machine::Model m);
+// The cells to have: per scene x grid, V if V is asked for, M if S or M is.
+std::vector<CellKey> matrix_cells(const PaperOptions& o);
+
+// Runs one cell and returns its stats JSON text; `progress` (may be empty) gets (done, total).
+using CellProgressFn = std::function<void(std::uint64_t, std::uint64_t)>;
+using CellRunner = std::function<std::string(const CellKey&, const CellProgressFn&)>;
+// The real runner: prepare + machine::render with 1 PE on 1 host thread, SPD mode.
+std::string simulate_cell(const CellKey& k, const CellProgressFn& progress);
+
+struct MatrixResult {
+    std::vector<CellRecord> cells;     // loaded and run, in matrix_cells order
+    std::vector<std::string> failures; // "cell: message" for cells whose run threw
+    std::size_t loaded = 0, run = 0;
+};
+// Loads the cells whose files exist (a malformed one is an error naming it: delete it to re-run)
+// and runs the others, o.threads at a time, longest first. A failing cell does not stop the others.
+MatrixResult run_matrix(const PaperOptions& o, const CellRunner& run);
+
+// What the reports read.
+struct PaperData {
+    int size = 512;
+    std::vector<std::string> scenes;
+    std::vector<int> grids; // ascending
+    std::vector<machine::Model> models;
+    std::vector<CellRecord> cells;
+    // Automatic grid choices, among `grids` (absent: not computed). auto_grid: the cost model of
+    // rt::choose_grid_resolution (a native 64x64 pre-pass). prepass_grid: the paper's suggestion,
+    // a low-resolution pre-pass on the machine: model V at prepass_size^2 pixels at each grid.
+    std::map<std::string, int> auto_grid;
+    std::map<std::string, int> prepass_grid;
+    int prepass_size = 0;
+    const CellRecord* find(const std::string& scene, int grid, machine::Model m) const;
+};
+PaperData make_data(const PaperOptions& o, std::vector<CellRecord> cells);
+
+// Derived numbers, shared by the tables, chart and summary.
+double scale_to_paper(int size);                    // (512 / size)^2
+std::string paper_scene(const std::string& scene);  // "balls", "balls:4" -> "balls"; other -> ""
+bool is_paper_scene_size(const std::string& scene); // built-in at the paper's size factor
+std::array<int, 3> load_ratio(const CellRecord& v); // OS:IC:SC loads over the smallest, rounded
+std::uint64_t s_time(const CellRecord& m);          // s_cycles, else the sum of the stage loads
+int best_grid(const PaperData& d, const std::string& scene, machine::Model m); // 0 if no cell
+machine::Model time_model(const PaperData& d); // the model best grids are judged by: V, M, S
+
+// A report table: rendered as Markdown and as CSV from the same cells.
+struct Table {
+    std::string title;
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+    std::vector<std::string> notes; // Markdown only, below the table
+};
+std::string to_markdown(const Table& t);
+std::string to_csv(const Table& t);
+std::string format_mcycles(double cycles); // millions, 4 significant digits, never an exponent
+
+Table table2(const PaperData& d); // model V per stage, load ratio, beside the paper's
+Table table3(const PaperData& d); // S, M, V and speed-ups, beside the paper's
+Table table4(const PaperData& d); // VLIW speed-ups M/V, ILP and utilisation, beside the paper's ranges
+std::string fig6_svg(const PaperData& d);
+std::string summary_markdown(const PaperData& d);
+// table2.md/.csv, table3.md/.csv, table4.md/.csv, fig6.svg, summary.md; returns the file names.
+std::vector<std::string> write_reports(const PaperData& d, const std::string& out_dir);
+
+struct PaperRun {
+    PaperData data;
+    std::vector<std::string> files;  // written into out_dir
+    std::size_t loaded = 0, run = 0; // cells
+};
+// The pre-pass image size: 100 x 100 for the paper's 512 x 512 (about 4% of the pixels).
+int prepass_size(int size);
+// validate, run_matrix with simulate_cell, the pre-pass (its cells kept like the others), the
+// automatic grid choices, write_reports. Throws PaperError
+// naming the failed cells after writing the reports of the others.
+PaperRun run_paper(const PaperOptions& o);
+
+} // namespace nesshi::paper

@@ -1,0 +1,128 @@
+// Cell storage: file names, reading a cell's stats JSON back, atomic writes, lookup.
+#include "paper/paper.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+namespace nesshi::paper {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// A file-name-safe label: an NFF path gives its stem, "tetra:1" gives "tetra_1".
+std::string scene_label(const std::string& scene) {
+    std::string s = scene;
+    if (s.find('/') != std::string::npos || fs::path(s).extension() == ".nff") s = fs::path(s).stem().string();
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+    return s;
+}
+
+const json& member(const json& j, const char* key, const std::string& where) {
+    if (!j.is_object() || !j.contains(key)) throw PaperError(fmt::format("missing \"{}\"", where + key));
+    return j.at(key);
+}
+
+std::uint64_t count(const json& j, const char* key, const std::string& where) {
+    const json& v = member(j, key, where);
+    if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0))
+        throw PaperError(fmt::format("\"{}\" is not a cycle count", where + key));
+    return v.get<std::uint64_t>();
+}
+
+double number_or_zero(const json& j, const char* key) {
+    return j.is_object() && j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : 0.0;
+}
+
+StageRecord stage(const json& cycles, const char* name) {
+    const std::string where = fmt::format("cycles.{}.", name);
+    const json& s = member(cycles, name, "cycles.");
+    StageRecord r;
+    r.processing = count(s, "processing", where);
+    r.communication = count(s, "communication", where);
+    r.wait = count(s, "wait", where);
+    r.ilp = number_or_zero(s, "ilp");
+    r.utilization = number_or_zero(s, "utilization");
+    return r;
+}
+
+// A renamed or copied file must not pass for another cell.
+void check_identity(const json& j, const CellKey& key) {
+    const std::string want = machine::model_name(key.model);
+    if (j.contains("model") && j["model"].is_string() && j["model"].get<std::string>() != want)
+        throw PaperError(fmt::format("holds model {}, expected {}", j["model"].get<std::string>(), want));
+    if (j.contains("size") && j["size"].is_array() && j["size"].size() == 2 && j["size"][0].is_number_integer() &&
+        j["size"][0].get<int>() != key.size)
+        throw PaperError(fmt::format("holds size {}, expected {}", j["size"][0].get<int>(), key.size));
+}
+
+} // namespace
+
+std::string cell_file_name(const CellKey& k) {
+    return fmt::format("{}-g{}-{}-{}.json", scene_label(k.scene), k.grid, machine::model_name(k.model), k.size);
+}
+
+CellRecord parse_cell(const CellKey& key, const std::string& text, const std::string& file) {
+    try {
+        const json j = json::parse(text);
+        check_identity(j, key);
+        const json& cycles = member(j, "cycles", "");
+        CellRecord r;
+        r.key = key;
+        r.total = count(cycles, "total", "cycles.");
+        if (key.model == machine::Model::M) r.s_cycles = count(cycles, "s_cycles", "cycles.");
+        r.os = stage(cycles, "os");
+        r.ic = stage(cycles, "ic");
+        r.sc = stage(cycles, "sc");
+        const json host = j.value("host", json::object());
+        r.wall_seconds = number_or_zero(host, "wall_seconds");
+        return r;
+    } catch (const std::exception& e) { // json::exception or PaperError
+        throw PaperError(
+            fmt::format("{}: error: malformed cell file: {} (delete it to run the cell again)", file, e.what()));
+    }
+}
+
+void write_file_atomically(const std::string& file, const std::string& text) {
+    const std::string tmp = file + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        f << text;
+        f.close();
+        if (!f) throw PaperError(fmt::format("{}: error: cannot write", tmp));
+    }
+    std::error_code ec;
+    fs::rename(tmp, file, ec);
+    if (ec) throw PaperError(fmt::format("{}: error: cannot rename to {}: {}", tmp, file, ec.message()));
+}
+
+const CellRecord* PaperData::find(const std::string& scene, int grid, machine::Model m) const {
+    // S lives in the M cell.
+    const machine::Model stored = m == machine::Model::S ? machine::Model::M : m;
+    auto it = std::find_if(cells.begin(), cells.end(), [&](const CellRecord& c) {
+        return c.key.scene == scene && c.key.grid == grid && c.key.model == stored;
+    });
+    return it == cells.end() ? nullptr : &*it;
+}
+
+PaperData make_data(const PaperOptions& o, std::vector<CellRecord> cells) {
+    PaperData d;
+    d.size = o.size;
+    d.scenes = o.scenes;
+    d.grids = o.grids;
+    std::sort(d.grids.begin(), d.grids.end());
+    d.grids.erase(std::unique(d.grids.begin(), d.grids.end()), d.grids.end());
+    for (machine::Model m : {machine::Model::S, machine::Model::M, machine::Model::V})
+        if (wants(o, m)) d.models.push_back(m);
+    d.cells = std::move(cells);
+    return d;
+}
+
+} // namespace nesshi::paper

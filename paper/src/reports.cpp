@@ -1,0 +1,31 @@
+// Writes every report of a paper run into the output folder.
+#include "paper/paper.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace nesshi::paper {
+
+std::vector<std::string> write_reports(const PaperData& d, const std::string& out_dir) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    if (ec) throw PaperError(fmt::format("{}: error: cannot create: {}", out_dir, ec.message()));
+    std::vector<std::string> names;
+    auto write = [&](const std::string& name, const std::string& text) {
+        write_file_atomically((fs::path(out_dir) / name).string(), text);
+        names.push_back(name);
+    };
+    const std::pair<const char*, Table> tables[] = {
+        {"table2", table2(d)}, {"table3", table3(d)}, {"table4", table4(d)}};
+    for (const auto& [name, table] : tables) {
+        write(fmt::format("{}.md", name), to_markdown(table));
+        write(fmt::format("{}.csv", name), to_csv(table));
+    }
+    write("fig6.svg", fig6_svg(d));
+    write("summary.md", summary_markdown(d));
+    return names;
+}
+
+} // namespace nesshi::paper
