@@ -8,6 +8,7 @@
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
 #include "machine/machine.hpp"
+#include "machine/memory_report.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/core.h>
@@ -22,9 +23,9 @@ namespace nesshi::cli {
 namespace {
 namespace fs = std::filesystem;
 
-// The examples live beside this file's directory in the source tree (cli/../examples); a
-// different location can be given with --examples.
-fs::path default_examples_dir() { return fs::path(__FILE__).parent_path().parent_path() / "examples"; }
+// The examples of the source tree the tool was built from (NESSHI_EXAMPLES_DIR); a different
+// location can be given with --examples.
+fs::path default_examples_dir() { return fs::path(NESSHI_EXAMPLES_DIR); }
 
 void run_demo(const std::string& dir_opt, const std::string& main_example) {
     fs::path dir = dir_opt.empty() ? default_examples_dir() : fs::path(dir_opt);
@@ -84,7 +85,7 @@ void run_machine_demo(const DemoArgs& a) {
     const auto t_prep = std::chrono::steady_clock::now();
     const rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), 0); // grid: the paper's pre-pass choice
     fmt::print("{}grid chosen by the low-resolution pre-pass ({:.1f} s)\n",
-               rt::format_grid(prep.grid, prep.shapes.shapes.size()), seconds_since(t_prep));
+               rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text(), seconds_since(t_prep));
     rt::RenderOptions opt;
     opt.width = opt.height = a.size;
     machine::Options mo;

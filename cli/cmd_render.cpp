@@ -1,6 +1,7 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
 
+#include "machine/memory_report.hpp"
 #include "machine/machine.hpp"
 #include "rt/render.hpp"
 
@@ -121,13 +122,14 @@ void run_render(const RenderArgs& a) {
     if (opt.t_buffer) rt::write_t_buffer(a.t_buffer, r.t_buffer);
     if (!a.stats_json.empty()) {
         std::ofstream f(a.stats_json);
-        f << (native ? rt::stats_json(prep, opt, r, a.model) : machine::stats_json(prep, opt, mo, mr));
+        f << (native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid, prep.shapes.shapes.size())
+                     : machine::stats_json(prep, opt, mo, mr));
         if (!f) throw std::runtime_error(fmt::format("{}: cannot write", a.stats_json));
     }
     if (!a.quiet) {
         fmt::print("{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
                    a.model, opt.max_depth, opt.cutoff > 0 ? fmt::format(", cut-off {:g}", opt.cutoff) : "");
-        fmt::print("{}", rt::format_grid(prep.grid, prep.shapes.shapes.size()));
+        fmt::print("{}", rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text());
         if (native) {
             fmt::print("{}", rt::format_rays(r.stats));
         } else {

@@ -1,6 +1,7 @@
 // `nesshi scene`: `info` (counts, view, bounds, grid sizes against the machine's memories) and `gen`.
 #include "commands.hpp"
 
+#include "machine/memory_report.hpp"
 #include "rt/grid.hpp"
 #include "rt/scene.hpp"
 #include "rt/shapes.hpp"
@@ -37,7 +38,7 @@ void scene_info(const std::string& what, const std::vector<int>& grids) {
     fmt::print("shape records {} ({} bytes in IC memory)\n", set.shapes.size(), set.shapes.size() * kernels::kShapeWords * 4);
     for (int n : grids) {
         rt::Grid g = rt::build_grid(s, set, n);
-        fmt::print("{}", rt::format_grid(g, set.shapes.size()));
+        fmt::print("{}{}", rt::format_grid(g), machine::memory_report(g, set.shapes.size()).text());
     }
 }
 

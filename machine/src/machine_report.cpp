@@ -2,6 +2,8 @@
 // the sampled activity trace.
 #include "pe.hpp"
 
+#include "machine/memory_report.hpp"
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -28,7 +30,8 @@ double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
 
 std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
                                const Result& r) {
-    nlohmann::json j = nlohmann::json::parse(rt::stats_json(prep, opt, r.render, model_name(mo.model)));
+    nlohmann::json j = nlohmann::json::parse(
+        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size()));
     // The kernels count no voxel steps or intersection tests, so of the native tracer's traversal
     // counters only `rays` (counted by SC) is known; the others are left out rather than given as 0.
     for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};

@@ -1,7 +1,6 @@
 // Uniform grid builder: exact (padded) overlap tests, counting pass then fill pass.
 #include "rt/grid.hpp"
 
-#include "kernels/abi.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -61,27 +60,6 @@ Box Grid::voxel_box(int ix, int iy, int iz) const {
         b.hi[k] = static_cast<double>(geom.lo[k]) + (i[k] + 1) * static_cast<double>(geom.cell[k]);
     }
     return b;
-}
-
-static_assert(kOsSramBytes == kernels::abi::kOsOccLimit);
-static_assert(kIcResidentBytes == kernels::abi::get("IC_RESIDENT_LIMIT") - kernels::abi::kIcHeader);
-
-MemoryFootprint Grid::footprint(std::size_t shape_count) const {
-    namespace abi = kernels::abi;
-    const int* n = geom.n;
-    MemoryFootprint m;
-    m.os_voxel_map = occupancy.size();
-    m.os_padded_map = abi::os_padded_map_bytes(n[0], n[1], n[2]);
-    m.os_below_map = abi::kOsOcc;
-    m.os_used = abi::os_sram_bytes(n[0], n[1], n[2]);
-    m.os_sram_fits = abi::os_sram_fits(n[0], n[1], n[2]);
-    const std::size_t padded = m.os_padded_map; // one list per padded voxel
-    m.ic_header = abi::kIcData - abi::kIcHeader;
-    m.ic_offsets = abi::ic_table_bytes(padded);
-    m.ic_lists = abi::ic_lists_bytes(padded, prims.size());
-    m.ic_shapes = abi::ic_records_bytes(shape_count);
-    m.ic_data_resident = abi::ic_data_fit_resident(shape_count, padded, prims.size());
-    return m;
 }
 
 namespace {

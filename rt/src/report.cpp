@@ -9,8 +9,7 @@
 namespace nesshi::rt {
 
 namespace {
-nlohmann::json grid_json(const Grid& g, std::size_t shapes) {
-    MemoryFootprint m = g.footprint(shapes);
+nlohmann::json grid_json(const Grid& g) {
     return {
         {"n", {g.stats.n[0], g.stats.n[1], g.stats.n[2]}},
         {"voxels", g.stats.voxels},
@@ -18,26 +17,10 @@ nlohmann::json grid_json(const Grid& g, std::size_t shapes) {
         {"references", g.stats.references},
         {"refs_per_nonempty_voxel", g.stats.refs_per_nonempty},
         {"build_seconds", g.stats.build_seconds},
-        {"box", {{"lo", {g.box.lo.x, g.box.lo.y, g.box.lo.z}}, {"hi", {g.box.hi.x, g.box.hi.y, g.box.hi.z}}}},
-        {"memory",
-         {{"os_voxel_map_bytes", m.os_voxel_map},
-          {"os_padded_map_bytes", m.os_padded_map},
-          {"os_below_map_bytes", m.os_below_map},
-          {"os_total_bytes", m.os_total()},
-          {"os_sram_bytes", kOsSramBytes},
-          {"os_fits", m.os_fits()},
-          {"ic_header_bytes", m.ic_header},
-          {"ic_offsets_bytes", m.ic_offsets},
-          {"ic_lists_bytes", m.ic_lists},
-          {"ic_shapes_bytes", m.ic_shapes},
-          {"ic_total_bytes", m.ic_total()},
-          {"ic_resident_bytes", kIcResidentBytes},
-          {"ic_cache_bytes", kIcCacheBytes},
-          {"ic_fits_resident", m.ic_resident_fits()}}},
+        {"box", {{"lo", {g.box.lo.x, g.box.lo.y, g.box.lo.z}}, {"hi", {g.box.hi.x, g.box.hi.y, g.box.hi.z}}}}
     };
 }
 
-std::string mib(std::size_t b) { return fmt::format("{:.3f} MiB", static_cast<double>(b) / (1024.0 * 1024.0)); }
 } // namespace
 
 std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, const RenderResult& r,
@@ -46,7 +29,7 @@ std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, cons
     nlohmann::json j;
     j["scene"] = prep.scene.name;
     j["size"] = {opt.width, opt.height};
-    j["grid"] = grid_json(prep.grid, prep.shapes.shapes.size());
+    j["grid"] = grid_json(prep.grid);
     j["model"] = model;
     j["spd_mode"] = opt.cutoff <= 0;
     j["max_depth"] = opt.max_depth;
@@ -98,24 +81,13 @@ std::string format_rays(const RenderStats& st) {
     return o;
 }
 
-std::string format_grid(const Grid& g, std::size_t shapes) {
-    MemoryFootprint m = g.footprint(shapes);
+std::string format_grid(const Grid& g) {
     std::string o;
     o += fmt::format("grid {}x{}x{}: {} voxels, {} empty ({:.1f}%), {} references, {:.2f} per non-empty voxel, "
                      "built in {:.3f} s\n",
                      g.stats.n[0], g.stats.n[1], g.stats.n[2], g.stats.voxels, g.stats.empty_voxels,
                      g.stats.voxels ? 100.0 * static_cast<double>(g.stats.empty_voxels) / static_cast<double>(g.stats.voxels) : 0.0,
                      g.stats.references, g.stats.refs_per_nonempty, g.stats.build_seconds);
-    o += fmt::format("memory   OS SRAM: geometry + ray states {} B + padded voxel map {}x{}x{} {} B = {} of {} ({})\n",
-                     m.os_below_map, g.geom.n[0] + 2, g.geom.n[1] + 2, g.geom.n[2] + 2, m.os_padded_map,
-                     mib(m.os_total()), mib(kOsSramBytes), m.os_fits() ? "fits" : "DOES NOT FIT: use a coarser grid");
-    o += fmt::format("         IC: header {} B + voxel table {} B + lists {} B + records {} B = {} against {} resident + {} "
-                     "cache ({})\n",
-                     m.ic_header, m.ic_offsets, m.ic_lists, m.ic_shapes, mib(m.ic_total()), mib(kIcResidentBytes),
-                     mib(kIcCacheBytes),
-                     m.ic_resident_fits() ? "fits resident"
-                                          : "exceeds resident: the most-referenced records go there, the other records, "
-                                            "the voxel table and the lists to global memory");
     return o;
 }
 

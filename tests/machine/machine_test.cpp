@@ -314,46 +314,6 @@ TEST_CASE("Bad machine options and data that do not fit are clear errors", "[uni
     CHECK_THROWS_WITH(machine::render(big, small(2), model(machine::Model::V)), Catch::Contains("does not fit the OS SRAM"));
 }
 
-TEST_CASE("The memory report says the voxel map fits the OS SRAM exactly when the machine takes it", "[unit][machine]") {
-    // The padded map sits at 0x90000: 112^3 is the largest grid that fits (an unpadded count
-    // against 2 MiB said 128^3). 113..128 are the grids where report and machine used to disagree.
-    for (int n : {112, 113, 120, 128}) {
-        INFO("tetra:1 grid " << n);
-        const PreparedScene prep = prepare(load_scene("tetra:1"), n);
-        const MemoryFootprint m = prep.grid.footprint(prep.shapes.shapes.size());
-        CHECK(m.os_fits() == (n <= 112));
-        CHECK(m.os_padded_map == static_cast<std::size_t>(n + 2) * (n + 2) * (n + 2));
-        CHECK(m.os_total() == 0x90000 + m.os_padded_map);
-        bool machine_takes_it = true;
-        try {
-            machine::render(prep, small(1), model(machine::Model::V));
-        } catch (const std::runtime_error& e) {
-            CHECK_THAT(e.what(), Catch::Contains("does not fit the OS SRAM"));
-            machine_takes_it = false;
-        }
-        CHECK(machine_takes_it == m.os_fits());
-        const nlohmann::json j = nlohmann::json::parse(stats_json(prep, small(1), render_native(prep, small(1)), "native"));
-        CHECK(j["grid"]["memory"]["os_fits"].get<bool>() == m.os_fits());
-        CHECK(j["grid"]["memory"]["os_total_bytes"].get<std::size_t>() == m.os_total());
-    }
-}
-
-TEST_CASE("The memory report says the IC data fit resident memory exactly when the machine puts them there", "[unit][machine]") {
-    // tetra:1: the padded voxel table and the lists' END words fill 1 MiB from grid 48; the
-    // report used to count the unpadded table without END words (grid 50: "0.535 MiB, fits resident").
-    for (int n : {20, 47, 48, 50}) {
-        INFO("tetra:1 grid " << n);
-        const PreparedScene prep = prepare(load_scene("tetra:1"), n);
-        const MemoryFootprint m = prep.grid.footprint(prep.shapes.shapes.size());
-        CHECK(m.ic_resident_fits() == (n <= 47));
-        CHECK(m.ic_resident_fits() == (m.ic_total() <= kIcResidentBytes));
-        machine::Options mo = model(machine::Model::V);
-        mo.cache.enabled = true; // counts the accesses to global memory
-        const machine::Result r = machine::render(prep, small(4), mo);
-        CHECK((r.machine.cache_accesses == 0) == m.ic_resident_fits());
-    }
-}
-
 TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machine]") {
     const PreparedScene prep = prepare(load_scene("tetra:1"), 6);
     const RenderOptions opt = small(16);

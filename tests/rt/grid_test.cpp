@@ -139,19 +139,3 @@ TEST_CASE("Grid invariants on the small SPD scenes", "[grid]") {
         }
     }
 }
-
-TEST_CASE("Grid memory footprint at 100^3 fits the OS SRAM", "[grid]") {
-    Scene sc = parse_nff("f 1 1 1 1 0 0 0 1\ns 0 0 0 1\ns 3 3 3 1\n", "two.nff");
-    ShapeSet set = build_shapes(sc);
-    Grid g = build_grid(sc, set, 100);
-    MemoryFootprint m = g.footprint(set.shapes.size());
-    CHECK(m.os_voxel_map == 1000000);
-    CHECK(m.os_padded_map == 102 * 102 * 102); // the machine's map has a one-voxel frame
-    CHECK(m.os_total() == 0x90000 + 102 * 102 * 102);
-    CHECK(m.os_fits());
-    CHECK(m.ic_offsets == 4 * 102 * 102 * 102);                  // a list address per padded voxel
-    CHECK(m.ic_shapes == 3 * 80);                                // END record + 2 records
-    CHECK(m.ic_lists == 4 * (g.prims.size() + 102 * 102 * 102 + 1)); // + an END word per list, read-ahead
-    CHECK(m.ic_total() == 256 + m.ic_offsets + m.ic_lists + m.ic_shapes);
-    CHECK_FALSE(m.ic_resident_fits());
-}

@@ -104,7 +104,7 @@ TEST_CASE("Stats JSON carries the required keys", "[render]") {
                             "\"eye_rays_hit\"", "\"shadow_rays\"", "\"shadow_rays_blocked\"", "\"reflection_rays\"",
                             "\"refraction_rays\"", "\"secondary_rays_hit\"", "\"total_internal_reflections\"",
                             "\"traversal\"", "\"voxel_steps\"", "\"host\"", "\"setup_seconds\"", "\"trace_seconds\"",
-                            "\"os_voxel_map_bytes\"", "\"epsilon\""})
+                            "\"epsilon\""})
         CHECK(j.find(key) != std::string::npos);
     CHECK(r.stats.rays.eye_rays == 81);
     CHECK(r.stats.rays.eye_rays_hit > 0);

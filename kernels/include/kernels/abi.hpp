@@ -162,8 +162,8 @@ inline constexpr std::uint32_t kIcJumpsA = get("IC_JUMPS_A");
 inline constexpr std::uint32_t kIcJumpsB = get("IC_JUMPS_B");
 static_assert(get("OS_STATE") + get("OS_SLOTS") * get("OS_STATE_BYTES") <= get("OS_OCC"));
 
-// OS SRAM capacity, the one rule for it: the machine (rt-host's render_machine, os_image below
-// in image.hpp) and the memory report (rt::Grid::footprint, `nesshi scene info`, the stats JSON's
+// OS SRAM capacity, the one rule for it: the machine (machine::render, os_image
+// in image.hpp) and the memory report (machine::memory_report, `nesshi scene info`, the stats JSON's
 // os_fits) all call these, so they cannot disagree. A grid of nx x ny x nz voxels needs the
 // OS_OCC bytes below the map (geometry, ray state table) plus the padded occupancy map,
 // (nx+2)(ny+2)(nz+2) bytes: 112^3 fits, 113^3 does not. 64-bit, so no grid size wraps around.
@@ -178,7 +178,7 @@ constexpr bool os_sram_fits(int nx, int ny, int nz) {
 }
 static_assert(os_sram_fits(112, 112, 112) && !os_sram_fits(113, 113, 113));
 
-// IC resident memory, the one rule for it (image.hpp's placement and rt::Grid::footprint use it):
+// IC resident memory, the one rule for it (image.hpp's placement and machine::memory_report use it):
 // the bytes the host places from IC_DATA for `shapes` shape records, `padded_voxels` voxel lists
 // and `references` list entries: the END record and the shape records (REC_BYTES each), the
 // voxel table (a word per padded voxel), the lists (a word per reference and an END word per

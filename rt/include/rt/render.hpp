@@ -80,6 +80,6 @@ std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, cons
                        const std::string& model);
 // Readable tables.
 std::string format_rays(const RenderStats& s);
-std::string format_grid(const Grid& g, std::size_t shape_count);
+std::string format_grid(const Grid& g);
 
 } // namespace nesshi::rt
