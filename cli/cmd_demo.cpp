@@ -3,6 +3,8 @@
 // machine's statistics, and check the image against the native C++ tracer.
 // `nesshi demo --isa`: assemble the bundled examples, run each with the checked engine, print ILP.
 #include "commands.hpp"
+
+#include "base/progress.hpp"
 #include "sim_load.hpp"
 
 #include "iss/processor.hpp"
@@ -91,11 +93,7 @@ void run_machine_demo(const DemoArgs& a) {
     machine::Options mo;
     mo.model = machine::Model::V;
     if (isatty(STDERR_FILENO)) {
-        mo.progress = [](std::uint64_t done, std::uint64_t total) {
-            const std::uint64_t pct = total ? done * 100 / total : 100;
-            fmt::print(stderr, "\r[{:<40}] {:3}% ", std::string(static_cast<std::size_t>(pct * 40 / 100), '#'), pct);
-            if (done == total) fmt::print(stderr, "\n");
-        };
+        mo.progress = base::ProgressBar(stderr);
     }
     const machine::Result mr = machine::render(prep, opt, mo);
     rt::write_png(a.out, mr.render.image);

@@ -2,6 +2,8 @@
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
 
+#include "base/progress.hpp"
+
 #include "paper/paper.hpp"
 
 #include <fmt/format.h>
@@ -58,12 +60,6 @@ std::vector<machine::Model> parse_models(const std::string& s) {
     return models;
 }
 
-std::string duration(double seconds) {
-    const long s = std::lround(seconds);
-    return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
-                     : fmt::format("{}:{:02}", s / 60, s % 60);
-}
-
 // Prints a line per finished cell; on a terminal also a bar with the time left, redrawn in place.
 class ProgressPrinter {
   public:
@@ -95,16 +91,15 @@ class ProgressPrinter {
 
   private:
     static std::string timing(const paper::PaperProgress& p) {
-        std::string t = fmt::format("{} elapsed", duration(p.elapsed_seconds));
+        std::string t = fmt::format("{} elapsed", base::format_duration(p.elapsed_seconds));
         if (p.fraction > 0.01 && p.fraction < 1)
-            t += fmt::format(", ~{} left", duration(p.elapsed_seconds / p.fraction * (1 - p.fraction)));
+            t += fmt::format(", ~{} left", base::format_duration(p.elapsed_seconds / p.fraction * (1 - p.fraction)));
         return t;
     }
 
     void draw_status(const paper::PaperProgress& p) {
         const int pct = static_cast<int>(p.fraction * 100);
-        fmt::print("\r\033[K[{:<30}] {:3}%  {}/{} cells  {}",
-                   std::string(static_cast<std::size_t>(pct * 30 / 100), '#'), pct, p.cells_run + p.cells_failed,
+        fmt::print("\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
                    p.cells_to_run, timing(p));
         status_shown_ = true;
     }

@@ -1,6 +1,8 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
 
+#include "base/progress.hpp"
+
 #include "machine/memory_report.hpp"
 #include "machine/machine.hpp"
 #include "rt/render.hpp"
@@ -101,11 +103,7 @@ void run_render(const RenderArgs& a) {
     opt.id_buffer = !a.id_buffer.empty();
     opt.t_buffer = !a.t_buffer.empty();
     const bool tty = isatty(STDERR_FILENO) && !a.quiet;
-    auto bar = [](std::uint64_t done, std::uint64_t total) {
-        const std::uint64_t pct = total ? done * 100 / total : 100;
-        fmt::print(stderr, "\r[{:<40}] {:3}% ", std::string(static_cast<std::size_t>(pct * 40 / 100), '#'), pct);
-        if (done == total) fmt::print(stderr, "\n");
-    };
+    const base::ProgressBar bar(stderr);
     if (tty) {
         opt.progress = [bar](int done, int total) { bar(static_cast<std::uint64_t>(done), static_cast<std::uint64_t>(total)); };
         mo.progress = bar;
