@@ -4,6 +4,7 @@
 
 #include "iss/channel.hpp"
 #include "iss/lockstep.hpp"
+#include "iss/memory_dump.hpp"
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
 #include "iss/trace.hpp"
@@ -22,8 +23,8 @@ namespace {
 
 struct SimOpts {
     std::string input, machine, stats_json, trace, trace_format = "auto", engine = "fast";
-    std::vector<std::string> fifo_in, fifo_out;
-    uint64_t max_cycles = 100'000'000;
+    std::vector<std::string> fifo_in, fifo_out, dump, expect;
+    uint64_t max_cycles = 100'000'000, ulp = 0;
     bool quiet = false;
 };
 
@@ -66,8 +67,67 @@ void write_file(const std::string& path, const std::string& text) {
     if (!out) throw CLI::RuntimeError(fmt::format("{}: cannot write", path), 1);
 }
 
+// --expect SPEC=FILE: the dump spec and the values read from FILE.
+struct Expectation {
+    iss::DumpSpec spec;
+    std::vector<iss::Expected> values;
+};
+
+// Parsed and checked before the run: bad specs, unknown labels and unreadable files fail first.
+std::vector<Expectation> read_expectations(const SimOpts& o, const iss::Program& prog) {
+    std::vector<Expectation> out;
+    for (const auto& e : o.expect) {
+        const auto eq = e.find('=');
+        if (eq == std::string::npos || eq + 1 == e.size())
+            throw CLI::RuntimeError(fmt::format("--expect '{}': expected LABEL[:COUNT][:FORMAT]=FILE", e), 2);
+        Expectation x;
+        const std::string file = e.substr(eq + 1);
+        try {
+            x.spec = iss::parse_dump_spec(e.substr(0, eq));
+            std::ifstream in(file, std::ios::binary);
+            if (!in) throw std::invalid_argument(fmt::format("{}: cannot open", file));
+            const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            x.values = iss::parse_values(text, file, x.spec.format);
+        } catch (const std::invalid_argument& err) {
+            throw CLI::RuntimeError(err.what(), 1);
+        }
+        if (!x.spec.count) x.spec.count = static_cast<uint32_t>(std::max<std::size_t>(1, x.values.size()));
+        out.push_back(std::move(x));
+    }
+    for (const auto& d : o.dump) {
+        try {
+            const iss::DumpSpec spec = iss::parse_dump_spec(d);
+            const isa::Symbol* sym = prog.find_symbol(spec.label);
+            if (!sym || sym->kind != isa::SymbolKind::Data)
+                throw std::invalid_argument(fmt::format("--dump {}: no data label '{}' in {}", d, spec.label, o.input));
+        } catch (const std::invalid_argument& err) {
+            throw CLI::RuntimeError(err.what(), 2);
+        }
+    }
+    for (const auto& x : out) {
+        const isa::Symbol* sym = prog.find_symbol(x.spec.label);
+        if (!sym || sym->kind != isa::SymbolKind::Data)
+            throw CLI::RuntimeError(fmt::format("--expect: no data label '{}' in {}", x.spec.label, o.input), 2);
+    }
+    return out;
+}
+
+// After the run: the dumps on stdout, then the first difference from an expectation, if any.
+void dump_and_check(const SimOpts& o, const iss::Processor& p, const std::vector<Expectation>& expect) {
+    try {
+        for (const auto& d : o.dump) fmt::print("{}", iss::dump_memory(p, iss::parse_dump_spec(d)).text());
+        for (const auto& x : expect) {
+            const iss::Mismatch m = iss::compare(iss::dump_memory(p, x.spec), x.values, o.ulp);
+            if (m) throw CLI::RuntimeError(m.message, 1);
+        }
+    } catch (const std::invalid_argument& err) {
+        throw CLI::RuntimeError(err.what(), 1);
+    }
+}
+
 void run_sim(const SimOpts& o) {
     auto prog = load_sim_input(o.input, o.machine);
+    const std::vector<Expectation> expect = read_expectations(o, *prog);
     std::vector<std::vector<uint32_t>> inputs;
     for (const auto& spec : o.fifo_in) {
         try {
@@ -137,6 +197,7 @@ void run_sim(const SimOpts& o) {
                    fault ? "stopped" : "halted", p.cycle(), o.engine);
         fmt::print("{}", iss::stats_text(s));
     }
+    if (!fault) dump_and_check(o, p, expect);
     std::fflush(stdout);
     if (fault) {
         fmt::print(stderr, "{}", iss::format_fault(p.program(), *fault));
@@ -160,6 +221,12 @@ void add_sim(CLI::App& app) {
         ->check(CLI::IsMember({"auto", "text", "chrome"}))->capture_default_str();
     cmd->add_option("--engine", o->engine, "fast, checked, or lockstep (both, compared every bundle)")
         ->check(CLI::IsMember({"fast", "checked", "lockstep"}))->capture_default_str();
+    cmd->add_option("--dump", o->dump, "LABEL[:COUNT][:f32|i32|hex]: print memory at a data label after the run "
+                                       "(default: f32, up to the next data label)");
+    cmd->add_option("--expect", o->expect, "LABEL[:COUNT][:FORMAT]=FILE: compare memory at LABEL with the values "
+                                           "in FILE after the run; the first difference is an error (exit 1)");
+    auto* ulp = cmd->add_option("--ulp", o->ulp, "f32 values of --expect may differ by up to N ulps (default 0: exact)");
+    ulp->needs(cmd->get_option("--expect"));
     cmd->add_flag("-q,--quiet", o->quiet, "Print no statistics");
     cmd->callback([o] { run_sim(*o); });
 }
