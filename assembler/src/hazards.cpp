@@ -147,6 +147,11 @@ private:
         return true;
     }
 
+    // A producer at or after the bundle it reaches can only reach it around a back edge.
+    const char* back_edge(uint32_t producer, size_t b) const {
+        return ops_[producer].first >= b ? " (around a back edge)" : "";
+    }
+
     void report(size_t b) {
         const State& s = in_[b];
         if (s.empty()) return;
@@ -157,19 +162,21 @@ private:
             std::set<std::pair<int, int>> seen;
             for (const RegAccess& a : reads) {
                 if (!seen.insert({int(a.file), a.reg}).second) continue;
+                // One error per producer still in flight: every path that reaches this read with
+                // a pending write is reported, so fixing one does not uncover the next.
+                std::set<uint32_t> producers;
                 for (const Pending& p : s) {
-                    if (p.file != uint8_t(a.file) || p.reg != a.reg) continue;
+                    if (p.file != uint8_t(a.file) || p.reg != a.reg || !producers.insert(p.op).second) continue;
                     const isa::Instr& pin = instr(p.op);
                     uint32_t lat = m_.latency_of(pin.info());
                     Diagnostic& d = diags_.error(
                         o.loc, fmt::format("{}{} is read before its new value lands: '{}' was issued {} "
                                            "cycle{} earlier{} and has latency {}", prefix(a.file), a.reg,
                                            pin.info().mnemonic, lat - p.k, lat - p.k == 1 ? "" : "s",
-                                           ops_[p.op].first >= b ? " (around a back edge)" : "", lat));
+                                           back_edge(p.op, b), lat));
                     Diagnostics::note(d, op_rec(p.op).loc,
                                       fmt::format("{}{} is written here; the result lands in cycle +{}",
                                                   prefix(a.file), a.reg, lat));
-                    break;
                 }
             }
             uint32_t lat = m_.latency_of(o.instr.info());
@@ -178,8 +185,8 @@ private:
                     if (p.file == uint8_t(a.file) && p.reg == a.reg && p.k == lat) {
                         Diagnostic& d = diags_.error(
                             o.loc, fmt::format("{}{} is written twice in one cycle: this result and an "
-                                               "earlier '{}' both land in cycle +{}", prefix(a.file), a.reg,
-                                               instr(p.op).info().mnemonic, lat));
+                                               "earlier '{}'{} both land in cycle +{}", prefix(a.file), a.reg,
+                                               instr(p.op).info().mnemonic, back_edge(p.op, b), lat));
                         Diagnostics::note(d, op_rec(p.op).loc, fmt::format("other write of {}{}", prefix(a.file), a.reg));
                         break;
                     }
@@ -214,8 +221,9 @@ private:
                     if (total <= ports || !reported.insert(lat).second) continue;
                     Diagnostic& d = diags_.error(
                         o.loc, fmt::format("{} writes land in one cycle: {} has {} {} write ports "
-                                           "(this result lands in cycle +{} together with {} issued earlier)",
-                                           total, m_.name, ports, isa::kRegFileNames[size_t(f)], lat, earlier));
+                                           "(this result lands in cycle +{} together with {} issued earlier{})",
+                                           total, m_.name, ports, isa::kRegFileNames[size_t(f)], lat, earlier,
+                                           *back_edge(first->op, b) ? ", around a back edge" : ""));
                     Diagnostics::note(d, op_rec(first->op).loc,
                                       fmt::format("'{}' issued earlier lands in the same cycle",
                                                   instr(first->op).info().mnemonic));
