@@ -16,4 +16,5 @@ void add_demo(CLI::App& app);
 void add_isa(CLI::App& app);
 void add_kernels(CLI::App& app);
 void add_paper(CLI::App& app);
+void add_pipeline(CLI::App& app);
 } // namespace nesshi::cli

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_isa(app);
     nesshi::cli::add_kernels(app);
     nesshi::cli::add_paper(app);
+    nesshi::cli::add_pipeline(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::RuntimeError& e) {

@@ -1,0 +1,72 @@
+// `nesshi pipeline FILE.sa`: linear assembly in, a software-pipelined loop out (sched/pipeline.hpp),
+// optionally verified by simulation against the region's sequential meaning.
+#include "commands.hpp"
+
+#include "assembler/assembler.hpp"
+#include "isa/machine.hpp"
+#include "iss/differential.hpp"
+#include "sched/pipeline.hpp"
+
+#include <fmt/core.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace nesshi::cli {
+
+namespace {
+
+struct PipelineArgs {
+    std::string input, machine, out;
+    int ii = 0;
+    bool verify = false, quiet = false;
+};
+
+void run_pipeline(const PipelineArgs& a) {
+    std::ifstream in(a.input, std::ios::binary);
+    if (!in) throw CLI::RuntimeError(fmt::format("{}: cannot open", a.input), 1);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    std::string name = a.machine.empty() ? assembler::header_machine(text) : a.machine;
+    const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+    sched::PipelineOptions po;
+    po.ii = a.ii;
+    const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
+    if (!a.out.empty()) {
+        std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
+        f << r.pipelined;
+        if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a.out), 1);
+    }
+    if (!a.quiet) fmt::print("{}", a.out.empty() ? r.pipelined : r.report);
+    if (!a.verify) return;
+    iss::DiffOptions d;
+    d.registers = r.source_registers;
+    const std::vector<std::uint32_t> trips = sched::verification_trips(r);
+    const auto diff = sched::verify(text, a.input, m, po, trips,
+                                    [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip) {
+                                        return iss::run_differential(lin, pip, m, d);
+                                    });
+    if (diff) throw CLI::RuntimeError(fmt::format("{}: verification failed: {}", a.input, *diff), 1);
+    std::string list;
+    for (std::uint32_t t : trips) list += (list.empty() ? "" : ", ") + std::to_string(t);
+    fmt::print(stderr, "{}: verified: the pipelined loop equals the sequential one (memory and registers) for trip "
+                       "counts {}\n", a.input, list);
+}
+
+} // namespace
+
+void add_pipeline(CLI::App& app) {
+    auto* cmd = app.add_subcommand("pipeline", "Software-pipeline the .pipeline region of a linear-assembly file");
+    auto a = std::make_shared<PipelineArgs>();
+    cmd->add_option("input", a->input, "Linear assembly (.sa): a .pipeline TRIP ... .endpipeline region")->required();
+    cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
+    cmd->add_option("-o,--output", a->out, "Write the pipelined assembly to FILE (default: stdout)");
+    cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only");
+    cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
+                                         "and compare memory and registers");
+    cmd->add_flag("-q,--quiet", a->quiet, "Print nothing but errors and the verification result");
+    cmd->callback([a] { run_pipeline(*a); });
+}
+
+} // namespace nesshi::cli

@@ -1,0 +1,71 @@
+// Differential runs of two programs on the same random data.
+#include "iss/differential.hpp"
+
+#include "iss/processor.hpp"
+#include "iss/program.hpp"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <random>
+#include <set>
+
+namespace nesshi::iss {
+
+namespace {
+
+std::string show(std::uint32_t w) { return fmt::format("{} (0x{:08x})", std::bit_cast<float>(w), w); }
+
+// The data sections of both objects as word ranges [begin, end).
+std::set<std::pair<std::uint32_t, std::uint32_t>> data_ranges(const isa::ObjectFile& a, const isa::ObjectFile& b) {
+    std::set<std::pair<std::uint32_t, std::uint32_t>> r;
+    for (const isa::ObjectFile* o : {&a, &b})
+        for (const isa::DataSection& s : o->data)
+            r.insert({s.address & ~3u, static_cast<std::uint32_t>((s.address + s.bytes.size() + 3) & ~std::size_t{3})});
+    return r;
+}
+
+} // namespace
+
+std::optional<std::string> run_differential(const isa::ObjectFile& a, const isa::ObjectFile& b, const isa::Machine& m,
+                                            const DiffOptions& opts) {
+    const auto ranges = data_ranges(a, b);
+    Processor pa(load_program(a, m)), pb(load_program(b, m));
+    if (opts.randomize_data) {
+        std::mt19937_64 rng(opts.seed);
+        std::uniform_real_distribution<float> u(-8.0f, 8.0f);
+        for (auto [lo, hi] : ranges)
+            for (std::uint32_t addr = lo; addr < hi; addr += 4) {
+                const std::uint32_t w = std::bit_cast<std::uint32_t>(u(rng));
+                pa.memory().poke(addr, 4, w);
+                pb.memory().poke(addr, 4, w);
+            }
+    }
+    const char* names[2] = {"sequential", "pipelined"};
+    Processor* ps[2] = {&pa, &pb};
+    for (int k = 0; k < 2; ++k) {
+        const Status s = ps[k]->run(opts.max_cycles);
+        if (ps[k]->fault()) return fmt::format("the {} version faults:\n{}", names[k], ps[k]->fault_report());
+        if (s != Status::Halted) return fmt::format("the {} version did not halt within {} cycles", names[k], opts.max_cycles);
+    }
+    for (auto [lo, hi] : ranges)
+        for (std::uint32_t addr = lo; addr < hi; addr += 4) {
+            std::uint32_t x = 0, y = 0;
+            const bool okx = pa.memory().peek(addr, 4, x), oky = pb.memory().peek(addr, 4, y);
+            if (okx != oky || x != y)
+                return fmt::format("memory at 0x{:08x}: {} (sequential) vs {} (pipelined)", addr, show(x), show(y));
+        }
+    for (const std::string& r : opts.registers) {
+        if (r.size() < 2 || (r[0] != 'r' && r[0] != 'f')) continue;
+        const auto f = r[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float;
+        const std::uint32_t n = static_cast<std::uint32_t>(std::stoul(r.substr(1)));
+        const std::uint32_t x = pa.reg(flat_reg(f, n)), y = pb.reg(flat_reg(f, n));
+        if (x != y)
+            return f == isa::RegFile::Int
+                       ? fmt::format("{}: {} (sequential) vs {} (pipelined)", r, static_cast<std::int32_t>(x), static_cast<std::int32_t>(y))
+                       : fmt::format("{}: {} (sequential) vs {} (pipelined)", r, show(x), show(y));
+    }
+    return std::nullopt;
+}
+
+} // namespace nesshi::iss

@@ -1,0 +1,81 @@
+// Software pipelining from linear assembly: `nesshi pipeline FILE.sa`.
+//
+// A linear-assembly file is an ordinary source in which one region
+//
+//     .pipeline r9              # r9 holds the trip count (iterations) on entry; 0 after the loop
+//     flw   %x, xs(r1)          # one operation per line, in sequential order
+//     flw   %y, ys(r1)          # %name: a virtual register, defined once per iteration
+//     fmul  %t, f0, %x
+//     fadd  %s, %t, %y
+//     fsw   %s, ys(r1)
+//     addi  r1, r1, 4           # an induction register: stepped by a constant each iteration
+//     .endpipeline
+//
+// holds one iteration. Everything outside the region passes through unchanged. The tool builds
+// the dependence graph (registers with their latencies and the exposed-pipeline rules, memory,
+// FIFO order, loop-carried distances), modulo-schedules it from the MII upward (iterative modulo
+// scheduling after Rau; bundles checked with isa::check_bundle, so any machine description is
+// scheduled exactly), adjusts the offsets of memory operations on induction registers across
+// stages, expands virtual registers over free physical ones as their lifetimes require (the
+// kernel unrolled by a power of two), and emits prologue, kernel and epilogue. Trip counts too
+// small for the pipeline, and the remainder of the unrolled kernel, run a sequential copy of the
+// body first, so every trip count >= 0 is correct.
+//
+// `.noalias rA, rB` inside the region declares that accesses based on rA and on rB never overlap.
+// Not yet: virtual registers carried from one iteration to the next (use a physical register,
+// as for an accumulator), branches inside the region, more than one region per file.
+//
+//   sched::PipelineResult r = sched::pipeline_source(text, "loop.sa", isa::load_machine("os"), {});
+//   fmt::print("{}", r.pipelined);          // assembles with `nesshi asm` with no diagnostic
+//   fmt::print("{}", r.report);             // II, bounds, stages, unroll, registers, the MRT
+#pragma once
+
+#include "isa/machine.hpp"
+#include "isa/object.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::sched {
+
+struct PipelineOptions {
+    int ii = 0;              // 0: search upward from the MII; else this II only
+    int max_ii_search = 64;  // how far above the MII to search
+    // Emit the pipelined program with `li TRIP, trip` just before the region (verification).
+    std::optional<std::uint32_t> force_trip;
+};
+
+struct PipelineResult {
+    std::string linear;    // the region as a sequential loop (the reference meaning), whole file
+    std::string pipelined; // the region software-pipelined, whole file
+    std::string report;    // the text block (also the pipelined file's header comment)
+    int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
+    int stages = 0, unroll = 1;
+    int min_pipelined_trip = 0;          // smaller trip counts run the sequential copy only
+    std::string trip_register;           // "r9"
+    std::vector<std::string> scratch;    // physical registers the tool allocated (virtuals, counter)
+    std::vector<std::string> source_registers; // registers the source names (live across the region)
+};
+
+// Throws std::runtime_error "FILE:LINE: error: ..." on malformed input, or when no schedule is
+// found or the registers do not fit.
+PipelineResult pipeline_source(std::string_view text, std::string_view filename, const isa::Machine& m,
+                               const PipelineOptions& opts);
+
+// Verification by simulation: for each trip count, both programs (with `li TRIP, n` before the
+// region) are assembled and handed to `run`, which runs them on random data and returns the first
+// difference, or nothing when they agree. Returns the first failure as "trip N: ...".
+using DifferentialRun = std::function<std::optional<std::string>(const isa::ObjectFile& linear,
+                                                                 const isa::ObjectFile& pipelined)>;
+std::optional<std::string> verify(std::string_view text, std::string_view filename, const isa::Machine& m,
+                                  const PipelineOptions& opts, const std::vector<std::uint32_t>& trip_counts,
+                                  const DifferentialRun& run);
+// The trip counts that cover the sequential path, the shortest pipelined run and every unroll
+// remainder: 0, 1, min - 1, min, min + 1, ..., min + 2 * unroll.
+std::vector<std::uint32_t> verification_trips(const PipelineResult& r);
+
+} // namespace nesshi::sched

@@ -1,0 +1,1088 @@
+// Software pipelining from linear assembly (see pipeline.hpp): parse the region, assemble its
+// sequential meaning to get exact operations, build the dependence graph, modulo-schedule it,
+// allocate registers and emit prologue, kernel and epilogue as assembly text.
+#include "sched/pipeline.hpp"
+
+#include "assembler/assembler.hpp"
+#include "isa/bundle_check.hpp"
+#include "isa/encoding.hpp"
+#include "isa/ops.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <map>
+#include <numeric>
+#include <regex>
+#include <set>
+#include <stdexcept>
+
+namespace nesshi::sched {
+
+namespace {
+
+constexpr int kMaxDistance = 16; // memory dependences are looked for up to this many iterations apart
+
+[[noreturn]] void fail(std::string_view file, int line, const std::string& msg) {
+    throw std::runtime_error(line > 0 ? fmt::format("{}:{}: error: {}", file, line, msg)
+                                      : fmt::format("{}: error: {}", file, msg));
+}
+
+std::string trim(std::string_view s) {
+    std::size_t a = 0, b = s.size();
+    while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
+    while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
+    return std::string(s.substr(a, b - a));
+}
+
+std::string strip_comment(std::string_view s) {
+    const std::size_t h = s.find('#');
+    return trim(h == std::string_view::npos ? s : s.substr(0, h));
+}
+
+std::vector<std::string> split_lines(std::string_view text) {
+    std::vector<std::string> lines;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t nl = text.find('\n', start);
+        if (nl == std::string_view::npos) {
+            if (start < text.size()) lines.emplace_back(text.substr(start));
+            break;
+        }
+        lines.emplace_back(text.substr(start, nl - start));
+        start = nl + 1;
+    }
+    return lines;
+}
+
+char file_prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
+std::string reg_name(isa::RegFile f, int r) { return fmt::format("{}{}", file_prefix(f), r); }
+
+bool parse_reg(std::string_view s, isa::RegFile& f, int& r) {
+    if (s.size() < 2 || (s[0] != 'r' && s[0] != 'f')) return false;
+    int v = 0;
+    for (char c : s.substr(1)) {
+        if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+        v = v * 10 + (c - '0');
+        if (v > 1000) return false;
+    }
+    f = s[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float;
+    r = v;
+    return true;
+}
+
+// ---- the region -------------------------------------------------------------------------------
+
+struct SrcOp {
+    int line = 0;
+    std::string mnemonic;
+    std::vector<std::string> operands; // as written, trimmed
+    isa::Opcode opcode = 0;
+};
+
+struct Virtual {
+    std::string name;
+    isa::RegFile file = isa::RegFile::Int;
+    int def = -1; // the op defining it
+};
+
+struct Region {
+    std::size_t begin = 0, end = 0; // line indices of .pipeline and .endpipeline
+    std::string trip;               // the trip-count register, "r9"
+    int trip_reg = 0;
+    std::vector<SrcOp> ops;
+    std::vector<Virtual> virtuals;
+    std::map<std::string, int> virtual_index;
+    std::vector<std::pair<int, int>> noalias; // int register pairs
+};
+
+std::vector<std::string> split_operands(const std::string& s) {
+    std::vector<std::string> out;
+    if (trim(s).empty()) return out;
+    int depth = 0;
+    std::string cur;
+    for (char c : s) {
+        if (c == '(') ++depth;
+        if (c == ')') --depth;
+        if (c == ',' && depth == 0) {
+            out.push_back(trim(cur));
+            cur.clear();
+        } else {
+            cur += c;
+        }
+    }
+    out.push_back(trim(cur));
+    return out;
+}
+
+Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
+    Region r;
+    bool found = false, closed = false;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const std::string code = strip_comment(lines[i]);
+        const int ln = static_cast<int>(i + 1);
+        if (code.rfind(".pipeline", 0) == 0 && (code.size() == 9 || std::isspace(static_cast<unsigned char>(code[9])))) {
+            if (found) fail(file, ln, "only one .pipeline region per file is supported");
+            found = true;
+            r.begin = i;
+            r.trip = trim(code.substr(9));
+            isa::RegFile f;
+            if (!parse_reg(r.trip, f, r.trip_reg) || f != isa::RegFile::Int)
+                fail(file, ln, fmt::format(".pipeline takes the integer register holding the trip count, not '{}'", r.trip));
+            continue;
+        }
+        if (code == ".endpipeline") {
+            if (!found || closed) fail(file, ln, ".endpipeline without .pipeline");
+            closed = true;
+            r.end = i;
+            continue;
+        }
+        if (!found || closed || code.empty()) continue;
+        if (code.rfind(".noalias", 0) == 0) {
+            const auto regs = split_operands(code.substr(8));
+            isa::RegFile fa, fb;
+            int a = 0, b = 0;
+            if (regs.size() != 2 || !parse_reg(regs[0], fa, a) || !parse_reg(regs[1], fb, b) ||
+                fa != isa::RegFile::Int || fb != isa::RegFile::Int)
+                fail(file, ln, ".noalias takes two integer base registers: .noalias rA, rB");
+            r.noalias.emplace_back(a, b);
+            continue;
+        }
+        if (code.find('{') != std::string::npos || code.find('}') != std::string::npos)
+            fail(file, ln, "a .pipeline region holds one operation per line, no bundles");
+        if (code.find(':') != std::string::npos) fail(file, ln, "no labels or slot prefixes inside a .pipeline region");
+        SrcOp op;
+        op.line = ln;
+        const std::size_t sp = code.find_first_of(" \t");
+        op.mnemonic = code.substr(0, sp);
+        op.operands = split_operands(sp == std::string::npos ? "" : code.substr(sp));
+        const auto opc = isa::find_opcode(op.mnemonic);
+        if (!opc) fail(file, ln, fmt::format("unknown operation '{}'", op.mnemonic));
+        op.opcode = *opc;
+        const isa::OpInfo& info = isa::kOps[*opc];
+        switch (info.kind) {
+        case isa::Kind::Branch:
+        case isa::Kind::Jump:
+        case isa::Kind::JumpLink:
+        case isa::Kind::JumpReg:
+        case isa::Kind::Halt:
+            fail(file, ln, fmt::format("'{}': no control flow inside a .pipeline region (the tool makes the loop)",
+                                       op.mnemonic));
+        default: break;
+        }
+        if (op.operands.size() != info.num_operands)
+            fail(file, ln, fmt::format("'{}' takes {} operands", op.mnemonic, info.num_operands));
+        const int index = static_cast<int>(r.ops.size());
+        for (std::size_t k = 0; k < op.operands.size(); ++k) {
+            const std::string& o = op.operands[k];
+            const std::size_t pct = o.find('%');
+            if (pct == std::string::npos) continue;
+            std::size_t e = pct + 1;
+            while (e < o.size() && (std::isalnum(static_cast<unsigned char>(o[e])) || o[e] == '_')) ++e;
+            const std::string name = o.substr(pct, e - pct);
+            const isa::Operand& desc = info.operands[k];
+            isa::RegFile f;
+            if (desc.kind == isa::OperandKind::IntReg || desc.kind == isa::OperandKind::Mem) f = isa::RegFile::Int;
+            else if (desc.kind == isa::OperandKind::FloatReg) f = isa::RegFile::Float;
+            else fail(file, ln, fmt::format("{}: a virtual register where '{}' takes no register", name, op.mnemonic));
+            if (desc.kind == isa::OperandKind::Mem && o.find('(') > pct)
+                fail(file, ln, fmt::format("{}: a virtual register in an offset", name));
+            auto [it, fresh] = r.virtual_index.emplace(name, static_cast<int>(r.virtuals.size()));
+            if (fresh) r.virtuals.push_back({name, f, -1});
+            Virtual& v = r.virtuals[static_cast<std::size_t>(it->second)];
+            if (v.file != f) fail(file, ln, fmt::format("{} is used both as an integer and as a float register", name));
+            if (desc.is_dest) {
+                if (v.def >= 0) fail(file, ln, fmt::format("{} is written twice in one iteration; name each value once", name));
+                v.def = index;
+            } else if (v.def < 0) {
+                fail(file, ln, fmt::format("{} is read before it is written: a value carried from one iteration to the "
+                                           "next must live in a physical register (e.g. an accumulator)",
+                                           name));
+            }
+        }
+        r.ops.push_back(std::move(op));
+    }
+    if (!found) fail(file, 0, "no .pipeline region");
+    if (!closed) fail(file, static_cast<int>(r.begin + 1), ".pipeline without .endpipeline");
+    if (r.ops.empty()) fail(file, static_cast<int>(r.begin + 1), "the .pipeline region is empty");
+    return r;
+}
+
+// Registers the source names anywhere outside comments (never allocated by the tool).
+std::set<std::pair<int, int>> named_registers(const std::vector<std::string>& lines) {
+    std::set<std::pair<int, int>> used;
+    static const std::regex re(R"((^|[^A-Za-z0-9_%])([rf])([0-9]+)\b)");
+    for (const std::string& l : lines) {
+        const std::string code = strip_comment(l);
+        for (auto it = std::sregex_iterator(code.begin(), code.end(), re); it != std::sregex_iterator(); ++it) {
+            const int reg = std::stoi((*it)[3].str());
+            used.insert({(*it)[2].str() == "r" ? 0 : 1, reg});
+        }
+    }
+    return used;
+}
+
+// ---- text of one operation --------------------------------------------------------------------
+
+// The op's source text with virtual registers replaced and the memory offset moved by `delta`.
+std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::string>& vreg, std::int64_t delta) {
+    std::string out = op.mnemonic;
+    const isa::OpInfo& info = isa::kOps[op.opcode];
+    for (std::size_t k = 0; k < op.operands.size(); ++k) {
+        std::string o = op.operands[k];
+        for (std::size_t p; (p = o.find('%')) != std::string::npos;) {
+            std::size_t e = p + 1;
+            while (e < o.size() && (std::isalnum(static_cast<unsigned char>(o[e])) || o[e] == '_')) ++e;
+            o = o.substr(0, p) + vreg[static_cast<std::size_t>(r.virtual_index.at(o.substr(p, e - p)))] + o.substr(e);
+        }
+        if (info.operands[k].kind == isa::OperandKind::Mem && delta != 0) {
+            const std::size_t paren = o.find('(');
+            const std::string expr = trim(o.substr(0, paren));
+            o = (expr.empty() ? fmt::format("{}", delta) : fmt::format("{}{:+}", expr, delta)) + o.substr(paren);
+        }
+        out += (k == 0 ? " " : ", ") + o;
+    }
+    return out;
+}
+
+// ---- the graph ------------------------------------------------------------------------------
+
+struct Edge {
+    int from, to;
+    int latency;  // to issues >= from's issue + latency - distance * II
+    int distance; // iterations
+    std::string why;
+};
+
+struct Node {
+    isa::Instr instr;
+    int latency = 1;
+    bool mem = false, store = false;
+    int base = -1;            // memory ops: the base register
+    bool adjusted = false;    // memory op on an induction register: offset moved, no register edge
+    int width = 4;
+};
+
+struct Induction {
+    int reg = -1;
+    int op = -1;      // the addi
+    std::int64_t step = 0;
+};
+
+struct Graph {
+    std::vector<Node> nodes;
+    std::vector<Edge> edges;
+    std::vector<Induction> inductions;
+    const Induction* induction_of(int reg) const {
+        for (const Induction& i : inductions)
+            if (i.reg == reg) return &i;
+        return nullptr;
+    }
+};
+
+// Whether memory ops x (iteration i) and y (iteration i + d) may touch the same bytes.
+bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
+    const Node& a = g.nodes[static_cast<std::size_t>(x)];
+    const Node& b = g.nodes[static_cast<std::size_t>(y)];
+    if (a.base != b.base) {
+        for (auto [p, q] : r.noalias)
+            if ((p == a.base && q == b.base) || (p == b.base && q == a.base)) return false;
+        return true;
+    }
+    const Induction* ind = g.induction_of(a.base);
+    // Same base, not stepped: the same addresses every iteration.
+    const std::int64_t step = ind ? ind->step : 0;
+    auto addr = [&](int op, const Node& n, int iter) {
+        const bool after = ind && op > ind->op; // the op sees the base after this iteration's step
+        return step * (iter + (after ? 1 : 0)) + static_cast<std::int64_t>(static_cast<std::int32_t>(n.instr.imm));
+    };
+    const std::int64_t ax = addr(x, a, 0), ay = addr(y, b, d);
+    return ax < ay + b.width && ay < ax + a.width;
+}
+
+Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
+                  const std::map<std::pair<int, int>, int>& placeholder) {
+    Graph g;
+    const int n = static_cast<int>(instrs.size());
+    for (int i = 0; i < n; ++i) {
+        Node nd;
+        nd.instr = instrs[static_cast<std::size_t>(i)];
+        const isa::OpInfo& info = nd.instr.info();
+        nd.latency = static_cast<int>(m.latency_of(info));
+        nd.mem = info.kind == isa::Kind::Load || info.kind == isa::Kind::Store;
+        nd.store = info.kind == isa::Kind::Store;
+        nd.width = info.mem_bytes ? info.mem_bytes : 4;
+        if (nd.mem) nd.base = nd.instr.rs1;
+        g.nodes.push_back(nd);
+    }
+    auto is_virtual = [&](isa::RegFile f, int reg) { return placeholder.count({static_cast<int>(f), reg}) != 0; };
+    // Induction registers: a physical integer register whose one write is `addi r, r, C`.
+    std::map<int, std::vector<int>> int_defs;
+    for (int i = 0; i < n; ++i)
+        for (const isa::RegOperand& o : isa::register_operands(g.nodes[static_cast<std::size_t>(i)].instr))
+            if (o.write && o.file == isa::RegFile::Int && !is_virtual(o.file, o.reg)) int_defs[o.reg].push_back(i);
+    for (auto& [reg, defs] : int_defs) {
+        const isa::Instr& in = g.nodes[static_cast<std::size_t>(defs[0])].instr;
+        if (defs.size() == 1 && in.info().mnemonic == "addi" && in.rd == in.rs1 && reg != r.trip_reg)
+            g.inductions.push_back({reg, defs[0], static_cast<std::int32_t>(in.imm)});
+    }
+    for (Node& nd : g.nodes)
+        if (nd.mem && g.induction_of(nd.base)) nd.adjusted = true;
+
+    // Register dependences, per register: every read depends on the write it sees (this
+    // iteration's or the previous one's), must issue no later than the next write (the exposed
+    // pipeline: no read of an old value once a newer write is in flight), and writes land in order.
+    struct Access {
+        int op;
+        bool write;
+    };
+    std::map<std::pair<int, int>, std::vector<Access>> by_reg;
+    for (int i = 0; i < n; ++i) {
+        const Node& nd = g.nodes[static_cast<std::size_t>(i)];
+        const isa::RegOperands ops = isa::register_operands(nd.instr);
+        for (const isa::RegOperand& o : ops) // reads first: an op reads before its own write lands
+            if (!o.write && !(nd.adjusted && o.file == isa::RegFile::Int && o.reg == nd.base && nd.instr.rs1 == o.reg))
+                by_reg[{static_cast<int>(o.file), o.reg}].push_back({i, false});
+        for (const isa::RegOperand& o : ops)
+            if (o.write) by_reg[{static_cast<int>(o.file), o.reg}].push_back({i, true});
+    }
+    for (const auto& [key, acc] : by_reg) {
+        const bool virt = placeholder.count(key) != 0;
+        const std::string name = virt ? r.virtuals[static_cast<std::size_t>(placeholder.at(key))].name
+                                      : reg_name(static_cast<isa::RegFile>(key.first), key.second);
+        std::vector<int> writes;
+        for (const Access& a : acc)
+            if (a.write) writes.push_back(a.op);
+        if (writes.empty()) continue; // read-only in the loop: live in, no constraint
+        const int nw = static_cast<int>(writes.size());
+        auto lat = [&](int op) { return g.nodes[static_cast<std::size_t>(op)].latency; };
+        for (std::size_t ai = 0; ai < acc.size(); ++ai) {
+            const Access& a = acc[ai];
+            if (a.write) continue;
+            // The write it sees: the last write before it in body order, else the last of the
+            // previous iteration.
+            int seen = -1, dist = 0;
+            for (std::size_t k = 0; k < ai; ++k)
+                if (acc[k].write) seen = acc[k].op;
+            if (seen < 0) seen = writes.back(), dist = 1;
+            if (!(seen == a.op && dist == 0)) g.edges.push_back({seen, a.op, lat(seen), dist, "true " + name});
+            if (virt) continue; // renamed: its old value is never overwritten too early
+            // The next write after it: must not issue before this read.
+            int next = -1, ndist = 0;
+            for (std::size_t k = ai + 1; k < acc.size(); ++k)
+                if (acc[k].write) {
+                    next = acc[k].op;
+                    break;
+                }
+            if (next < 0) next = writes.front(), ndist = 1;
+            if (next != a.op || ndist != 0) g.edges.push_back({a.op, next, 0, ndist, "anti " + name});
+        }
+        if (!virt)
+            for (int k = 0; k < nw; ++k) { // output: writes land in program order
+                const int from = writes[static_cast<std::size_t>(k)];
+                const int to = writes[static_cast<std::size_t>((k + 1) % nw)];
+                const int dist = k + 1 == nw ? 1 : 0;
+                if (from == to && dist == 1 && nw == 1) continue; // one write per iteration lands in order
+                g.edges.push_back({from, to, lat(from) - lat(to) + 1, dist, "output " + name});
+            }
+    }
+    // Memory: between a store and any other access that may touch the same bytes, in both
+    // directions and at every distance up to kMaxDistance; one bundle apart at least.
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y) {
+            const Node& a = g.nodes[static_cast<std::size_t>(x)];
+            const Node& b = g.nodes[static_cast<std::size_t>(y)];
+            if (!a.mem || !b.mem || (!a.store && !b.store)) continue;
+            for (int d = x < y ? 0 : 1; d <= kMaxDistance; ++d)
+                if (may_alias(g, r, x, y, d)) {
+                    g.edges.push_back({x, y, 1, d, a.store ? (b.store ? "memory output" : "memory true") : "memory anti"});
+                    break; // the smallest distance binds most
+                }
+        }
+    // FIFO words of one channel keep their order.
+    std::map<std::uint32_t, std::vector<int>> fifo;
+    for (int i = 0; i < n; ++i) {
+        const isa::Kind k = g.nodes[static_cast<std::size_t>(i)].instr.info().kind;
+        if (k == isa::Kind::Recv || k == isa::Kind::Send)
+            fifo[g.nodes[static_cast<std::size_t>(i)].instr.imm * 2 + (k == isa::Kind::Send)].push_back(i);
+    }
+    for (const auto& [ch, ops] : fifo)
+        for (std::size_t k = 0; k < ops.size(); ++k) {
+            const bool wrap = k + 1 == ops.size();
+            if (wrap && ops.size() == 1) {
+                g.edges.push_back({ops[k], ops[k], 1, 1, "fifo order"});
+                continue;
+            }
+            g.edges.push_back({ops[k], ops[(k + 1) % ops.size()], 1, wrap ? 1 : 0, "fifo order"});
+        }
+    return g;
+}
+
+// ---- bounds -------------------------------------------------------------------------------------
+
+// The smallest II with no positive cycle (latency - II x distance), by longest paths.
+bool feasible_ii(const Graph& g, int ii) {
+    const int n = static_cast<int>(g.nodes.size());
+    std::vector<std::int64_t> dist(static_cast<std::size_t>(n), 0);
+    for (int iter = 0; iter <= n; ++iter) {
+        bool changed = false;
+        for (const Edge& e : g.edges) {
+            const std::int64_t w = e.latency - static_cast<std::int64_t>(ii) * e.distance;
+            if (dist[static_cast<std::size_t>(e.from)] + w > dist[static_cast<std::size_t>(e.to)]) {
+                dist[static_cast<std::size_t>(e.to)] = dist[static_cast<std::size_t>(e.from)] + w;
+                changed = true;
+            }
+        }
+        if (!changed) return true;
+    }
+    return false;
+}
+
+int rec_mii(const Graph& g) {
+    int ii = 1;
+    while (!feasible_ii(g, ii)) ++ii;
+    return ii;
+}
+
+// Issue slots by the Hall bound over slot subsets, and the register ports.
+int res_mii(const Graph& g, const isa::Machine& m, int extra_branch, int extra_alu) {
+    const std::size_t ns = m.slots.size();
+    double bound = 0;
+    for (std::uint32_t mask = 1; mask < (1u << ns); ++mask) {
+        double count = 0;
+        auto inside = [&](isa::OpClass c) {
+            for (std::size_t s = 0; s < ns; ++s)
+                if (m.slots[s].accepts(c) && !(mask & (1u << s))) return false;
+            return true;
+        };
+        for (const Node& nd : g.nodes)
+            if (inside(nd.instr.info().cls)) count += 1;
+        if (inside(isa::OpClass::Branch)) count += extra_branch;
+        if (inside(isa::OpClass::Alu)) count += extra_alu;
+        bound = std::max(bound, count / std::popcount(mask));
+    }
+    double reads[2] = {0, 0}, writes[2] = {0, 0};
+    for (const Node& nd : g.nodes)
+        for (const isa::RegOperand& o : isa::register_operands(nd.instr)) (o.write ? writes : reads)[static_cast<int>(o.file)] += 1;
+    for (int f = 0; f < 2; ++f) {
+        bound = std::max(bound, reads[f] / m.regs[static_cast<std::size_t>(f)].read_ports);
+        bound = std::max(bound, writes[f] / m.regs[static_cast<std::size_t>(f)].write_ports);
+    }
+    return std::max(1, static_cast<int>(std::ceil(bound - 1e-9)));
+}
+
+// ---- modulo scheduling ------------------------------------------------------------------------
+
+struct Schedule {
+    int ii = 0;
+    std::vector<int> time;          // issue cycle of each node in the flat schedule (iteration 0)
+    isa::Instr branch, counter;     // loop control in the kernel: counter decrement and branch
+    int counter_row = 0;
+};
+
+class ModuloScheduler {
+  public:
+    ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter) {}
+
+    std::optional<Schedule> run() {
+        const int n = static_cast<int>(g_.nodes.size());
+        rows_.assign(static_cast<std::size_t>(ii_), {});
+        // Loop control first: the branch ends the kernel; the counter decrement anywhere.
+        if (!place_fixed(branch_, ii_ - 1)) return std::nullopt;
+        int counter_row = -1;
+        for (int row = 0; row < ii_ && counter_row < 0; ++row)
+            if (place_fixed(counter_, row)) counter_row = row;
+        if (counter_row < 0) return std::nullopt;
+        heights();
+        time_.assign(static_cast<std::size_t>(n), -1);
+        last_time_.assign(static_cast<std::size_t>(n), -1);
+        int budget = std::max(200, n * 40);
+        while (budget-- > 0) {
+            int op = -1;
+            for (int i = 0; i < n; ++i)
+                if (time_[static_cast<std::size_t>(i)] < 0 &&
+                    (op < 0 || height_[static_cast<std::size_t>(i)] > height_[static_cast<std::size_t>(op)]))
+                    op = i;
+            if (op < 0) break;
+            int estart = 0;
+            for (const Edge& e : g_.edges)
+                if (e.to == op && time_[static_cast<std::size_t>(e.from)] >= 0 && e.from != op)
+                    estart = std::max(estart, time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_);
+            int chosen = -1;
+            for (int t = estart; t < estart + ii_ && chosen < 0; ++t)
+                if (fits(op, t)) chosen = t;
+            if (chosen < 0) { // displace: take the first cycle it has not had yet, evict what conflicts
+                const int prev = last_time_[static_cast<std::size_t>(op)];
+                chosen = prev < estart ? estart : prev + 1;
+                evict_for(op, chosen);
+                if (!fits(op, chosen)) return std::nullopt;
+            }
+            place(op, chosen);
+            for (const Edge& e : g_.edges) // successors now too early
+                if (e.from == op && e.to != op && time_[static_cast<std::size_t>(e.to)] >= 0 &&
+                    chosen + e.latency - e.distance * ii_ > time_[static_cast<std::size_t>(e.to)])
+                    unplace(e.to);
+        }
+        for (int i = 0; i < n; ++i)
+            if (time_[static_cast<std::size_t>(i)] < 0) return std::nullopt;
+        for (const Edge& e : g_.edges) // self edges and the final state
+            if (time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_ > time_[static_cast<std::size_t>(e.to)])
+                return std::nullopt;
+        Schedule s;
+        s.ii = ii_;
+        s.time = time_;
+        // Normalise so the earliest op issues in cycle 0 of its stage 0.
+        const int lo = *std::min_element(s.time.begin(), s.time.end());
+        const int shift = lo >= 0 ? -(lo / ii_) * ii_ : ((-lo + ii_ - 1) / ii_) * ii_;
+        for (int& t : s.time) t += shift;
+        s.branch = branch_;
+        s.counter = counter_;
+        s.counter_row = counter_row;
+        return s;
+    }
+
+  private:
+    struct Row {
+        std::vector<isa::Instr> ops;
+        std::vector<int> nodes; // -1 for loop control
+    };
+
+    bool legal(std::vector<isa::Instr> ops) const {
+        std::vector<int> pinned(ops.size(), -1);
+        if (!isa::assign_slots(m_, ops, pinned)) return false;
+        return isa::check_bundle(m_, ops).empty();
+    }
+
+    // Writes landing in each cycle (mod II) per register file, across rows, within the ports; no
+    // read of an induction register while its step is in flight.
+    bool landings_ok(const isa::Instr& in, int row) const {
+        const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % ii_;
+        for (int f = 0; f < isa::kNumRegFiles; ++f) {
+            auto writes_to = [&](const isa::Instr& x) {
+                int c = 0;
+                for (const isa::RegOperand& o : isa::register_operands(x))
+                    if (o.write && static_cast<int>(o.file) == f) ++c;
+                return c;
+            };
+            int count = writes_to(in);
+            if (count == 0) continue;
+            for (int r = 0; r < ii_; ++r)
+                for (const isa::Instr& other : rows_[static_cast<std::size_t>(r)].ops)
+                    if ((r + static_cast<int>(m_.latency_of(other.info()))) % ii_ == land) count += writes_to(other);
+            if (static_cast<std::uint32_t>(count) > m_.regs[static_cast<std::size_t>(f)].write_ports) return false;
+        }
+        return true;
+    }
+
+    bool induction_ok(int op, int t) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        for (const Induction& ind : g_.inductions) {
+            const int lat = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+            if (lat <= 1) continue;
+            const bool reads = nd.adjusted && nd.base == ind.reg;
+            if (op == ind.op) { // its own step: no adjusted read may fall inside its flight
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()); ++i) {
+                    const Node& o = g_.nodes[static_cast<std::size_t>(i)];
+                    if (!(o.adjusted && o.base == ind.reg) || time_[static_cast<std::size_t>(i)] < 0) continue;
+                    const int d = ((time_[static_cast<std::size_t>(i)] - t) % ii_ + ii_) % ii_;
+                    if (d > 0 && d < lat) return false;
+                }
+                if (lat > ii_) return false;
+            } else if (reads && time_[static_cast<std::size_t>(ind.op)] >= 0) {
+                const int d = ((t - time_[static_cast<std::size_t>(ind.op)]) % ii_ + ii_) % ii_;
+                if (d > 0 && d < lat) return false;
+            }
+        }
+        return true;
+    }
+
+    bool fits(int op, int t) const {
+        const int row = ((t % ii_) + ii_) % ii_;
+        const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
+        std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
+        ops.push_back(in);
+        return legal(ops) && landings_ok(in, row) && induction_ok(op, t);
+    }
+
+    bool place_fixed(const isa::Instr& in, int row) {
+        std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
+        ops.push_back(in);
+        if (!legal(ops) || !landings_ok(in, row)) return false;
+        rows_[static_cast<std::size_t>(row)].ops.push_back(in);
+        rows_[static_cast<std::size_t>(row)].nodes.push_back(-1);
+        return true;
+    }
+
+    void place(int op, int t) {
+        const int row = ((t % ii_) + ii_) % ii_;
+        rows_[static_cast<std::size_t>(row)].ops.push_back(g_.nodes[static_cast<std::size_t>(op)].instr);
+        rows_[static_cast<std::size_t>(row)].nodes.push_back(op);
+        time_[static_cast<std::size_t>(op)] = t;
+        last_time_[static_cast<std::size_t>(op)] = t;
+    }
+
+    void unplace(int op) {
+        const int t = time_[static_cast<std::size_t>(op)];
+        if (t < 0) return;
+        Row& r = rows_[static_cast<std::size_t>(((t % ii_) + ii_) % ii_)];
+        for (std::size_t k = 0; k < r.nodes.size(); ++k)
+            if (r.nodes[k] == op) {
+                r.nodes.erase(r.nodes.begin() + static_cast<std::ptrdiff_t>(k));
+                r.ops.erase(r.ops.begin() + static_cast<std::ptrdiff_t>(k));
+                break;
+            }
+        time_[static_cast<std::size_t>(op)] = -1;
+    }
+
+    // Evicts ops of the row (most recently placed first), then ops whose writes land with it,
+    // until `op` fits at t.
+    void evict_for(int op, int t) {
+        const int row = ((t % ii_) + ii_) % ii_;
+        for (int guard = 0; guard < 64 && !fits(op, t); ++guard) {
+            int victim = -1;
+            const Row& r = rows_[static_cast<std::size_t>(row)];
+            for (std::size_t k = r.nodes.size(); k-- > 0;)
+                if (r.nodes[k] >= 0) {
+                    victim = r.nodes[k];
+                    break;
+                }
+            if (victim < 0) // the row holds only loop control: evict from the landing rows
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()) && victim < 0; ++i)
+                    if (time_[static_cast<std::size_t>(i)] >= 0 && i != op) victim = i;
+            if (victim < 0) return;
+            unplace(victim);
+        }
+    }
+
+    void heights() {
+        const int n = static_cast<int>(g_.nodes.size());
+        height_.assign(static_cast<std::size_t>(n), 0);
+        for (int iter = 0; iter < n + 1; ++iter) {
+            bool changed = false;
+            for (const Edge& e : g_.edges) {
+                if (e.from == e.to) continue;
+                const int h = height_[static_cast<std::size_t>(e.to)] + e.latency - e.distance * ii_;
+                if (h > height_[static_cast<std::size_t>(e.from)]) {
+                    height_[static_cast<std::size_t>(e.from)] = h;
+                    changed = true;
+                }
+            }
+            if (!changed) break;
+        }
+    }
+
+    const Graph& g_;
+    const isa::Machine& m_;
+    int ii_;
+    isa::Instr branch_, counter_;
+    std::vector<Row> rows_;
+    std::vector<int> time_, last_time_, height_;
+};
+
+// ---- registers --------------------------------------------------------------------------------
+
+struct Allocation {
+    int unroll = 1;
+    std::vector<int> copies;                     // per virtual: registers in rotation
+    std::vector<std::vector<std::string>> regs;  // per virtual, per copy
+    int counter = -1;                            // integer register of the kernel counter
+    std::vector<std::string> scratch;
+    std::vector<int> lifetime;                   // per virtual, cycles
+};
+
+Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
+                    const isa::Machine& m, std::string_view file) {
+    Allocation a;
+    std::vector<int> pool[2];
+    for (int f = 0; f < 2; ++f)
+        for (int reg = 0; reg < static_cast<int>(m.regs[static_cast<std::size_t>(f)].count); ++reg)
+            if (!named.count({f, reg})) pool[f].push_back(reg); // taken from the top down
+    auto take = [&](isa::RegFile f, const std::string& what) {
+        auto& p = pool[static_cast<int>(f)];
+        if (p.empty())
+            fail(file, static_cast<int>(r.begin + 1),
+                 fmt::format("register pressure: no free {} register left for {} ({} has {} per file, the source names "
+                             "{}; the schedule needs {} more)",
+                             isa::kRegFileNames[static_cast<std::size_t>(f)], what, m.name,
+                             m.regs[static_cast<std::size_t>(f)].count,
+                             std::count_if(named.begin(), named.end(), [&](auto& x) { return x.first == static_cast<int>(f); }),
+                             what));
+        const int reg = p.back();
+        p.pop_back();
+        a.scratch.push_back(reg_name(f, reg));
+        return reg;
+    };
+    a.counter = take(isa::RegFile::Int, "the kernel counter");
+    // Lifetimes: from the def's issue to the last read (a new value may be issued in the cycle of
+    // the last read of the old one, the exposed pipeline's rule).
+    int need = 1;
+    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+        const int def = r.virtuals[v].def;
+        int last = s.time[static_cast<std::size_t>(def)] + g.nodes[static_cast<std::size_t>(def)].latency;
+        for (const Edge& e : g.edges)
+            if (e.from == def && e.why.rfind("true ", 0) == 0 && e.why.substr(5) == r.virtuals[v].name)
+                last = std::max(last, s.time[static_cast<std::size_t>(e.to)] + e.distance * s.ii);
+        const int life = last - s.time[static_cast<std::size_t>(def)];
+        a.lifetime.push_back(life);
+        const int k = std::max(1, (life + s.ii - 1) / s.ii);
+        a.copies.push_back(static_cast<int>(std::bit_ceil(static_cast<unsigned>(k))));
+        need = std::max(need, a.copies.back());
+    }
+    a.unroll = need;
+    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+        std::vector<std::string> regs;
+        for (int c = 0; c < a.copies[v]; ++c)
+            regs.push_back(reg_name(r.virtuals[v].file, take(r.virtuals[v].file, r.virtuals[v].name)));
+        a.regs.push_back(regs);
+    }
+    return a;
+}
+
+// ---- emission -----------------------------------------------------------------------------------
+
+// An iteration index in the emitted code: `base` is 0 (prologue, absolute) or the trip count N
+// (epilogue, relative); the kernel's instances are steady.
+struct Iter {
+    bool from_end = false;
+    int offset = 0;
+};
+
+class Emitter {
+  public:
+    Emitter(const Region& r, const Graph& g, const Schedule& s, const Allocation& a, const isa::Machine& m)
+        : r_(r), g_(g), s_(s), a_(a), m_(m) {
+        stages_ = 1;
+        for (int t : s.time) stages_ = std::max(stages_, t / s.ii + 1);
+    }
+    int stages() const { return stages_; }
+
+    // Offset change of memory op `op` of iteration `it` on an induction register: the increments
+    // the op should see minus those that have landed when it issues.
+    std::int64_t delta(int op, std::optional<Iter> it) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        if (!nd.adjusted) return 0;
+        const Induction& ind = *g_.induction_of(nd.base);
+        const int after = op > ind.op ? 1 : 0;
+        const int ta = s_.time[static_cast<std::size_t>(ind.op)], la = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+        const int diff = s_.time[static_cast<std::size_t>(op)] - ta - la;
+        const int m = (diff >= 0 ? diff / s_.ii : -((-diff + s_.ii - 1) / s_.ii)) + 1; // floor + 1
+        std::int64_t seen_minus_i; // (increments landed) - i
+        if (!it) seen_minus_i = m;  // steady state
+        else if (!it->from_end) seen_minus_i = std::max(it->offset + m, 0) - it->offset;
+        else seen_minus_i = std::min(m, -it->offset); // i = N + offset, at most N increments
+        return ind.step * (after - seen_minus_i);
+    }
+
+    std::string instance(int op, int iteration_mod, std::optional<Iter> it) const {
+        std::vector<std::string> vreg;
+        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
+            const int k = a_.copies[v];
+            vreg.push_back(a_.regs[v][static_cast<std::size_t>(((iteration_mod % k) + k) % k)]);
+        }
+        return op_text(r_.ops[static_cast<std::size_t>(op)], r_, vreg, delta(op, it));
+    }
+
+    static std::string bundle(const std::vector<std::string>& ops) {
+        if (ops.empty()) return "        nop\n";
+        if (ops.size() == 1) return "        " + ops[0] + "\n";
+        std::string s = "        { ";
+        for (std::size_t k = 0; k < ops.size(); ++k) s += (k ? " ; " : "") + ops[k];
+        return s + " }\n";
+    }
+
+    std::string code(const std::string& trip, const std::string& uid) const {
+        const int ii = s_.ii, p = stages_ - 1, u = a_.unroll;
+        const std::string rk = reg_name(isa::RegFile::Int, a_.counter);
+        const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+        auto nops = [&](int n) {
+            std::string s;
+            for (int k = 0; k < n; ++k) s += "        nop\n";
+            return s;
+        };
+        const int min_trip = p + u;
+        std::string o;
+        // Sequential copy: trip counts below the pipeline's minimum, and the unroll remainder.
+        o += fmt::format("        beqz {}, {}_done\n", trip, uid);
+        o += fmt::format("{}_check:\n", uid);
+        o += fmt::format("        slti {}, {}, {}\n", rk, trip, min_trip) + nops(alu_lat - 1);
+        o += fmt::format("        bnez {}, {}_seq\n", rk, uid);
+        if (u > 1) {
+            o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
+            o += fmt::format("        andi {}, {}, {}\n", rk, rk, u - 1) + nops(alu_lat - 1);
+            o += fmt::format("        beqz {}, {}_pipe\n", rk, uid);
+        } else {
+            o += fmt::format("        jmp {}_pipe\n", uid);
+        }
+        o += fmt::format("{}_seq:\n", uid);
+        std::vector<std::string> vreg0;
+        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) vreg0.push_back(a_.regs[v][0]);
+        for (std::size_t k = 0; k < r_.ops.size(); ++k) {
+            o += "        " + op_text(r_.ops[k], r_, vreg0, 0) + "\n";
+            o += nops(g_.nodes[k].latency - 1);
+        }
+        o += fmt::format("        addi {}, {}, -1\n", trip, trip) + nops(alu_lat - 1);
+        o += fmt::format("        bnez {}, {}_check\n", trip, uid);
+        o += fmt::format("        jmp {}_done\n", uid);
+        // Pipelined: N >= P + U and (N - P) % U == 0; the counter holds the kernel passes.
+        o += fmt::format("{}_pipe:\n", uid);
+        const int lag = lag_passes(alu_lat);
+        o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
+        if (u > 1) o += fmt::format("        srli {}, {}, {}\n", rk, rk, std::countr_zero(static_cast<unsigned>(u))) + nops(alu_lat - 1);
+        if (lag > 0) o += fmt::format("        addi {}, {}, {}\n", rk, rk, -lag) + nops(alu_lat - 1);
+        o += fmt::format("# prologue: {} pass{} of {} cycles\n", p, p == 1 ? "" : "es", ii);
+        for (int pass = 0; pass < p; ++pass)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii;
+                    if (t % ii == row && st <= pass) ops.push_back(instance(static_cast<int>(op), pass - st, Iter{false, pass - st}));
+                }
+                o += bundle(ops);
+            }
+        o += fmt::format("# kernel: {} cop{} of II = {} cycles, {} stage{}\n", u, u == 1 ? "y" : "ies", ii, stages_,
+                         stages_ == 1 ? "" : "s");
+        o += fmt::format("{}_kernel:\n", uid);
+        for (int c = 0; c < u; ++c)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii;
+                    if (t % ii == row) ops.push_back(instance(static_cast<int>(op), p + c - st, std::nullopt));
+                }
+                if (c == u - 1 && row == s_.counter_row) ops.push_back(fmt::format("addi {}, {}, -1", rk, rk));
+                if (c == u - 1 && row == ii - 1) ops.push_back(fmt::format("bnez {}, {}_kernel", rk, uid));
+                o += bundle(ops);
+            }
+        o += fmt::format("# epilogue: {} pass{}\n", p, p == 1 ? "" : "es");
+        std::string epilogue;
+        for (int q = 0; q < p; ++q)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii;
+                    if (t % ii == row && st >= q + 1)
+                        ops.push_back(instance(static_cast<int>(op), p + q - st, Iter{true, q - st}));
+                }
+                epilogue += bundle(ops);
+            }
+        while (epilogue.size() >= 12 && epilogue.compare(epilogue.size() - 12, 12, "        nop\n") == 0)
+            epilogue.resize(epilogue.size() - 12); // trailing empty bundles: the drain below covers them
+        o += epilogue;
+        // Results still in flight land before the code after the loop runs; the trip register
+        // ends at 0 as in the sequential meaning.
+        int drain = 0;
+        for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
+        o += nops(drain);
+        o += fmt::format("        li {}, 0\n", trip);
+        o += fmt::format("{}_done:\n", uid);
+        return o;
+    }
+
+    // How many kernel passes the counter's decrement lands late for the branch that reads it.
+    int lag_passes(int alu_lat) const {
+        const int land = s_.counter_row + alu_lat; // cycle (from its pass's start) it lands
+        return land <= s_.ii - 1 ? 0 : (land - (s_.ii - 1) + s_.ii - 1) / s_.ii;
+    }
+
+  private:
+    const Region& r_;
+    const Graph& g_;
+    const Schedule& s_;
+    const Allocation& a_;
+    const isa::Machine& m_;
+    int stages_ = 1;
+};
+
+// ---- the sequential meaning -------------------------------------------------------------------
+
+std::string join_lines(const std::vector<std::string>& lines, std::size_t from, std::size_t to) {
+    std::string s;
+    for (std::size_t i = from; i < to && i < lines.size(); ++i) s += lines[i] + "\n";
+    return s;
+}
+
+std::string linear_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m) {
+    const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+    std::string o;
+    o += fmt::format("        beqz {}, __sa_lin_end\n", r.trip);
+    o += "__sa_lin:\n";
+    for (const SrcOp& op : r.ops) {
+        o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
+        for (std::uint32_t k = 1; k < m.latency_of(isa::kOps[op.opcode]); ++k) o += "        nop\n";
+    }
+    o += fmt::format("        addi {}, {}, -1\n", r.trip, r.trip);
+    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+    o += fmt::format("        bnez {}, __sa_lin\n", r.trip);
+    o += "__sa_lin_end:\n";
+    return o;
+}
+
+std::string force_trip_line(const Region& r, const PipelineOptions& opts, const isa::Machine& m) {
+    if (!opts.force_trip) return "";
+    std::string s = fmt::format("        li {}, {}\n", r.trip, *opts.force_trip);
+    for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]; ++k) s += "        nop\n";
+    return s;
+}
+
+isa::ObjectFile assemble_or_fail(const std::string& text, std::string_view file, const isa::Machine& m,
+                                 const std::string& what) {
+    const assembler::AsmResult res = assembler::assemble_string(text, file, m, {});
+    if (!res.ok || res.warnings > 0)
+        throw std::runtime_error(fmt::format("{}: error: the {} does not assemble cleanly:\n{}", file, what, res.diagnostics));
+    return res.object;
+}
+
+std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const isa::Machine& m) {
+    std::string o = "#   modulo reservation table (cycle mod II: operations [stage])\n";
+    for (int row = 0; row < s.ii; ++row) {
+        std::vector<isa::Instr> ops;
+        std::vector<std::string> names;
+        for (std::size_t k = 0; k < g.nodes.size(); ++k)
+            if (s.time[k] % s.ii == row) {
+                ops.push_back(g.nodes[k].instr);
+                names.push_back(fmt::format("{}[{}]", r.ops[k].mnemonic, s.time[k] / s.ii));
+            }
+        if (row == s.counter_row) ops.push_back(s.counter), names.push_back("addi(counter)");
+        if (row == s.ii - 1) ops.push_back(s.branch), names.push_back("bnez(loop)");
+        std::vector<int> pinned(ops.size(), -1);
+        isa::assign_slots(m, ops, pinned);
+        std::string cells;
+        for (std::size_t k = 0; k < ops.size(); ++k)
+            cells += fmt::format(" {}:{}", m.slots[ops[k].slot].name, names[k]);
+        o += fmt::format("#   {:>3} |{}\n", row, cells);
+    }
+    return o;
+}
+
+} // namespace
+
+PipelineResult pipeline_source(std::string_view text, std::string_view filename, const isa::Machine& m,
+                               const PipelineOptions& opts) {
+    const std::vector<std::string> lines = split_lines(text);
+    const Region r = parse_region(lines, filename);
+    const std::set<std::pair<int, int>> named = named_registers(lines);
+    if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
+
+    // The sequential meaning, with each virtual register on a free register of its own.
+    std::vector<std::string> placeholder_name;
+    std::map<std::pair<int, int>, int> placeholder; // (file, reg) -> virtual
+    {
+        std::vector<int> next = {static_cast<int>(m.regs[0].count) - 1, static_cast<int>(m.regs[1].count) - 1};
+        for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+            const int f = static_cast<int>(r.virtuals[v].file);
+            while (next[static_cast<std::size_t>(f)] >= 0 && named.count({f, next[static_cast<std::size_t>(f)]})) --next[static_cast<std::size_t>(f)];
+            if (next[static_cast<std::size_t>(f)] < 0) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
+            placeholder[{f, next[static_cast<std::size_t>(f)]}] = static_cast<int>(v);
+            placeholder_name.push_back(reg_name(r.virtuals[v].file, next[static_cast<std::size_t>(f)]--));
+        }
+    }
+    const std::string before = join_lines(lines, 0, r.begin), after = join_lines(lines, r.end + 1, lines.size());
+    PipelineResult res;
+    res.linear = before + force_trip_line(r, opts, m) + linear_loop(r, placeholder_name, m) + after;
+    const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region");
+    const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
+    std::uint32_t b0 = 0;
+    for (const isa::Symbol& s : lin.symbols)
+        if (s.name == "__sa_lin" && s.kind == isa::SymbolKind::Code) b0 = s.value;
+    std::vector<isa::Instr> instrs;
+    for (const SrcOp& op : r.ops) {
+        instrs.push_back(bundles[b0][0]);
+        b0 += std::max<std::uint32_t>(1, m.latency_of(isa::kOps[op.opcode]));
+    }
+    const Graph g = build_graph(r, instrs, m, placeholder);
+
+    // Loop control in the kernel: `addi counter, counter, -1` and `bnez counter, kernel`.
+    isa::Instr branch, counter;
+    branch.opcode = isa::opcode("bnez");
+    counter.opcode = isa::opcode("addi");
+    counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
+    res.rec_mii = rec_mii(g);
+    res.res_mii = res_mii(g, m, 1, 1);
+    res.mii = std::max(res.rec_mii, res.res_mii);
+    const int lo = opts.ii > 0 ? opts.ii : res.mii;
+    const int hi = opts.ii > 0 ? opts.ii : res.mii + opts.max_ii_search;
+    // The first II whose schedule also assembles: the kernel's taken-branch bubble (a machine's
+    // branch_penalty) shifts the next pass, which the assembler's checks see and the MRT does not.
+    std::optional<Schedule> sched;
+    std::optional<Allocation> alloc_found;
+    std::string emitted, why_not;
+    int stages = 1;
+    for (int ii = lo; ii <= hi && !emitted.size(); ++ii) {
+        if (!feasible_ii(g, ii)) continue;
+        sched = ModuloScheduler(g, m, ii, branch, counter).run();
+        if (!sched) continue;
+        Allocation alloc = allocate(r, g, *sched, named, m, filename);
+        const Emitter em(r, g, *sched, alloc, m);
+        std::string code = em.code(r.trip, "__sa");
+        const assembler::AsmResult check = assembler::assemble_string(before + code + after, filename, m, {});
+        if (!check.ok || check.warnings > 0) {
+            why_not = fmt::format("II {}: {}", ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
+            sched.reset();
+            continue;
+        }
+        emitted = std::move(code);
+        stages = em.stages();
+        alloc_found = std::move(alloc);
+    }
+    if (!sched)
+        fail(filename, static_cast<int>(r.begin + 1),
+             fmt::format("no modulo schedule found for II {}..{} (MII {}){}", lo, hi, res.mii,
+                         why_not.empty() ? "" : "; the last that scheduled did not assemble: " + why_not));
+    const Allocation& alloc = *alloc_found;
+    res.ii = sched->ii;
+    res.stages = stages;
+    res.unroll = alloc.unroll;
+    res.min_pipelined_trip = res.stages - 1 + res.unroll;
+    res.trip_register = r.trip;
+    res.scratch = alloc.scratch;
+    for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
+
+    std::string rep;
+    rep += fmt::format("# SOFTWARE PIPELINE INFORMATION ({} on {}, lines {}-{})\n", filename, m.name, r.begin + 1, r.end + 1);
+    rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
+    rep += fmt::format("#   resource bound (ResMII)    {}\n", res.res_mii);
+    rep += fmt::format("#   recurrence bound (RecMII)  {}\n", res.rec_mii);
+    rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
+                       res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
+    rep += fmt::format("#   kernel unrolled {}x (modulo variable expansion)\n", res.unroll);
+    rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
+                       res.min_pipelined_trip);
+    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+        std::string regs;
+        for (const std::string& s : alloc.regs[v]) regs += (regs.empty() ? "" : " ") + s;
+        rep += fmt::format("#   {:<10} lifetime {:>3} cycles -> {}\n", r.virtuals[v].name, alloc.lifetime[v], regs);
+    }
+    rep += mrt_text(g, r, *sched, m);
+    res.report = rep;
+
+    res.pipelined = rep + before + force_trip_line(r, opts, m) + emitted + after;
+    assemble_or_fail(res.pipelined, filename, m, "pipelined loop");
+    return res;
+}
+
+std::vector<std::uint32_t> verification_trips(const PipelineResult& r) {
+    std::set<std::uint32_t> t = {0, 1};
+    const int min = r.min_pipelined_trip;
+    if (min > 0) t.insert(static_cast<std::uint32_t>(min - 1));
+    for (int k = 0; k <= 2 * r.unroll + 1; ++k) t.insert(static_cast<std::uint32_t>(min + k));
+    return {t.begin(), t.end()};
+}
+
+std::optional<std::string> verify(std::string_view text, std::string_view filename, const isa::Machine& m,
+                                  const PipelineOptions& opts, const std::vector<std::uint32_t>& trip_counts,
+                                  const DifferentialRun& run) {
+    for (std::uint32_t n : trip_counts) {
+        PipelineOptions o = opts;
+        o.force_trip = n;
+        const PipelineResult r = pipeline_source(text, filename, m, o);
+        const isa::ObjectFile lin = assemble_or_fail(r.linear, filename, m, "sequential meaning");
+        const isa::ObjectFile pip = assemble_or_fail(r.pipelined, filename, m, "pipelined loop");
+        if (auto diff = run(lin, pip)) return fmt::format("trip count {}: {}", n, *diff);
+    }
+    return std::nullopt;
+}
+
+} // namespace nesshi::sched
