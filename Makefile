@@ -43,6 +43,7 @@ bench: build
 	@$(BUILD)/bench_iss
 	@$(BUILD)/bench_native_render
 	@$(BUILD)/bench_machine_render
+	@$(BUILD)/bench_sched
 
 clean:
 	rm -rf build build-asan

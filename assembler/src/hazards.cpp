@@ -210,9 +210,12 @@ private:
                     if (int(a.file) != f || lat >= 64) continue;
                     uint32_t earlier = 0;
                     const Pending* first = nullptr;
-                    std::set<uint32_t> producers;
+                    // Pending writes merge the paths into this bundle; writes to one register
+                    // landing in one cycle come from different paths (on one path they would be a
+                    // duplicate write, reported where it arises), so each register counts once.
+                    std::set<uint32_t> registers;
                     for (const Pending& p : s)
-                        if (p.file == f && p.k == lat && producers.insert(p.op).second) {
+                        if (p.file == f && p.k == lat && registers.insert(p.reg).second) {
                             ++earlier;
                             if (!first) first = &p;
                         }

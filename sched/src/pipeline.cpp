@@ -15,6 +15,7 @@
 #include <cctype>
 #include <map>
 #include <numeric>
+#include <random>
 #include <regex>
 #include <set>
 #include <stdexcept>
@@ -23,7 +24,8 @@ namespace nesshi::sched {
 
 namespace {
 
-constexpr int kMaxDistance = 16; // memory dependences are looked for up to this many iterations apart
+constexpr int kMaxDistance = 16;
+constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next (different op orders) // memory dependences are looked for up to this many iterations apart
 
 [[noreturn]] void fail(std::string_view file, int line, const std::string& msg) {
     throw std::runtime_error(line > 0 ? fmt::format("{}:{}: error: {}", file, line, msg)
@@ -175,7 +177,12 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
         if (op.operands.size() != info.num_operands)
             fail(file, ln, fmt::format("'{}' takes {} operands", op.mnemonic, info.num_operands));
         const int index = static_cast<int>(r.ops.size());
-        for (std::size_t k = 0; k < op.operands.size(); ++k) {
+        std::vector<std::size_t> order; // sources first: an op reads before its own result exists
+        for (std::size_t k = 0; k < op.operands.size(); ++k)
+            if (!info.operands[k].is_dest) order.push_back(k);
+        for (std::size_t k = 0; k < op.operands.size(); ++k)
+            if (info.operands[k].is_dest) order.push_back(k);
+        for (std::size_t k : order) {
             const std::string& o = op.operands[k];
             const std::size_t pct = o.find('%');
             if (pct == std::string::npos) continue;
@@ -484,8 +491,10 @@ struct Schedule {
 
 class ModuloScheduler {
   public:
-    ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter)
-        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter) {}
+    // attempt 0 orders ops by height alone; later attempts break ties (and near-ties) at random.
+    ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
+                    int attempt = 0)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt) {}
 
     std::optional<Schedule> run() {
         const int n = static_cast<int>(g_.nodes.size());
@@ -497,6 +506,10 @@ class ModuloScheduler {
             if (place_fixed(counter_, row)) counter_row = row;
         if (counter_row < 0) return std::nullopt;
         heights();
+        if (attempt_ > 0) { // perturb: a random order among ops of similar height
+            std::mt19937 rng(static_cast<unsigned>(attempt_));
+            for (int& h : height_) h = h * 4 + static_cast<int>(rng() % 6);
+        }
         time_.assign(static_cast<std::size_t>(n), -1);
         last_time_.assign(static_cast<std::size_t>(n), -1);
         int budget = std::max(200, n * 40);
@@ -678,6 +691,7 @@ class ModuloScheduler {
     const isa::Machine& m_;
     int ii_;
     isa::Instr branch_, counter_;
+    int attempt_ = 0;
     std::vector<Row> rows_;
     std::vector<int> time_, last_time_, height_;
 };
@@ -1012,7 +1026,8 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     int stages = 1;
     for (int ii = lo; ii <= hi && !emitted.size(); ++ii) {
         if (!feasible_ii(g, ii)) continue;
-        sched = ModuloScheduler(g, m, ii, branch, counter).run();
+        for (int attempt = 0; attempt < kAttemptsPerII && !sched; ++attempt)
+            sched = ModuloScheduler(g, m, ii, branch, counter, attempt).run();
         if (!sched) continue;
         Allocation alloc = allocate(r, g, *sched, named, m, filename);
         const Emitter em(r, g, *sched, alloc, m);
