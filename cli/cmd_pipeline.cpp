@@ -9,6 +9,7 @@
 
 #include <fmt/core.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -17,7 +18,7 @@ namespace nesshi::cli {
 namespace {
 
 struct PipelineArgs {
-    std::string input, machine, out;
+    std::string input, machine, out, sequential;
     int ii = 0;
     bool verify = false, quiet = false;
 };
@@ -38,7 +39,13 @@ void run_pipeline(const PipelineArgs& a) {
         f << r.pipelined;
         if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a.out), 1);
     }
+    if (!a.sequential.empty()) {
+        std::ofstream f(a.sequential, std::ios::binary | std::ios::trunc);
+        f << r.linear;
+        if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a.sequential), 1);
+    }
     if (!a.quiet) fmt::print("{}", a.out.empty() ? r.pipelined : r.report);
+    std::fflush(stdout);
     if (!a.verify) return;
     iss::DiffOptions d;
     d.registers = r.source_registers;
@@ -62,6 +69,8 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("input", a->input, "Linear assembly (.sa): a .pipeline TRIP ... .endpipeline region")->required();
     cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
     cmd->add_option("-o,--output", a->out, "Write the pipelined assembly to FILE (default: stdout)");
+    cmd->add_option("--sequential", a->sequential, "Also write the region's sequential meaning (the reference "
+                                                   "--verify compares with) to FILE");
     cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only");
     cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
                                          "and compare memory and registers");
