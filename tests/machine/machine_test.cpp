@@ -1,12 +1,14 @@
 // The macropipeline host: models S, M, V against the native renderer, the cycle accounting,
 // determinism, FIFO capacity and deadlock, the cache, capacity errors, the stats golden file.
-#include <algorithm>
+#include "support.hpp"
+
 #include "machine/machine.hpp"
 #include "rt/scene.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -14,22 +16,10 @@
 using namespace nesshi;
 using namespace nesshi::rt;
 
+using machine::test::model;
+using machine::test::small;
+
 namespace {
-
-RenderOptions small(int size) {
-    RenderOptions o;
-    o.width = o.height = size;
-    o.threads = 1;
-    o.id_buffer = o.t_buffer = true;
-    return o;
-}
-
-machine::Options model(machine::Model m) {
-    machine::Options mo;
-    mo.model = m;
-    mo.threads = 1;
-    return mo;
-}
 
 void require_same_result(const RenderResult& a, const RenderResult& b) {
     REQUIRE(a.image.rgb == b.image.rgb);

@@ -1,5 +1,7 @@
 // The memory report (machine/memory_report.hpp) against the machine: "fits" exactly when the
 // machine takes a grid, "fits resident" exactly when it puts every IC datum in resident memory.
+#include "support.hpp"
+
 #include "machine/machine.hpp"
 #include "machine/memory_report.hpp"
 #include "rt/render.hpp"
@@ -10,20 +12,8 @@
 using namespace nesshi;
 using namespace nesshi::rt;
 
-namespace {
-RenderOptions small(int size) {
-    RenderOptions o;
-    o.width = o.height = size;
-    o.threads = 1;
-    return o;
-}
-machine::Options model(machine::Model m) {
-    machine::Options mo;
-    mo.model = m;
-    mo.threads = 1;
-    return mo;
-}
-} // namespace
+using machine::test::model;
+using machine::test::small;
 
 TEST_CASE("The memory report of a 100^3 grid: its map fits the OS SRAM, its IC data exceed resident memory", "[unit][machine]") {
     Scene sc = parse_nff("f 1 1 1 1 0 0 0 1\ns 0 0 0 1\ns 3 3 3 1\n", "two.nff");
