@@ -17,4 +17,5 @@ void add_isa(CLI::App& app);
 void add_kernels(CLI::App& app);
 void add_paper(CLI::App& app);
 void add_pipeline(CLI::App& app);
+void add_loop(CLI::App& app);
 } // namespace nesshi::cli

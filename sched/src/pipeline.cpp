@@ -3,6 +3,8 @@
 // allocate registers and emit prologue, kernel and epilogue as assembly text.
 #include "sched/pipeline.hpp"
 
+#include "circuits.hpp"
+
 #include "assembler/assembler.hpp"
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
@@ -429,29 +431,13 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
 
 // ---- bounds -------------------------------------------------------------------------------------
 
-// The smallest II with no positive cycle (latency - II x distance), by longest paths.
-bool feasible_ii(const Graph& g, int ii) {
-    const int n = static_cast<int>(g.nodes.size());
-    std::vector<std::int64_t> dist(static_cast<std::size_t>(n), 0);
-    for (int iter = 0; iter <= n; ++iter) {
-        bool changed = false;
-        for (const Edge& e : g.edges) {
-            const std::int64_t w = e.latency - static_cast<std::int64_t>(ii) * e.distance;
-            if (dist[static_cast<std::size_t>(e.from)] + w > dist[static_cast<std::size_t>(e.to)]) {
-                dist[static_cast<std::size_t>(e.to)] = dist[static_cast<std::size_t>(e.from)] + w;
-                changed = true;
-            }
-        }
-        if (!changed) return true;
-    }
-    return false;
+std::vector<DepEdge> dep_edges(const Graph& g) {
+    std::vector<DepEdge> d;
+    for (const Edge& e : g.edges) d.push_back({e.from, e.to, e.latency, e.distance});
+    return d;
 }
-
-int rec_mii(const Graph& g) {
-    int ii = 1;
-    while (!feasible_ii(g, ii)) ++ii;
-    return ii;
-}
+bool feasible_ii(const Graph& g, int ii) { return ii_feasible(static_cast<int>(g.nodes.size()), dep_edges(g), ii); }
+int rec_mii(const Graph& g) { return recurrence_mii(static_cast<int>(g.nodes.size()), dep_edges(g)); }
 
 // Issue slots by the Hall bound over slot subsets, and the register ports.
 int res_mii(const Graph& g, const isa::Machine& m, int extra_branch, int extra_alu) {

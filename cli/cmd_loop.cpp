@@ -1,0 +1,50 @@
+// `nesshi loop FILE.s`: the report of each hand-written loop in a program (sched/loop_report.hpp).
+#include "commands.hpp"
+
+#include "assembler/assembler.hpp"
+#include "isa/machine.hpp"
+#include "sched/loop_report.hpp"
+
+#include <fmt/core.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace nesshi::cli {
+
+void add_loop(CLI::App& app) {
+    auto* cmd = app.add_subcommand("loop", "Report each loop of an assembly file: II, bounds, resources, lifetimes");
+    struct Args {
+        std::string input, machine, label, json;
+    };
+    auto a = std::make_shared<Args>();
+    cmd->add_option("input", a->input, "Assembly source (.s)")->required();
+    cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
+    cmd->add_option("--label", a->label, "Only the loop at this label");
+    cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE");
+    cmd->callback([a] {
+        std::ifstream in(a->input, std::ios::binary);
+        if (!in) throw CLI::RuntimeError(fmt::format("{}: cannot open", a->input), 1);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        const std::string name = a->machine.empty() ? assembler::header_machine(ss.str()) : a->machine;
+        const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+        const assembler::AsmResult r = assembler::assemble_string(ss.str(), a->input, m, {});
+        fmt::print(stderr, "{}", r.diagnostics);
+        if (!r.ok) throw CLI::RuntimeError(1);
+        const std::vector<sched::LoopReport> loops = sched::analyse_loops(r.object, m, a->label);
+        if (loops.empty()) fmt::print("{}: no loops (a label whose block ends in a branch back to it)\n", a->input);
+        std::string json = "[";
+        for (std::size_t k = 0; k < loops.size(); ++k) {
+            fmt::print("{}{}", k ? "\n" : "", loops[k].text());
+            json += (k ? ",\n" : "\n") + loops[k].json();
+        }
+        if (!a->json.empty()) {
+            std::ofstream f(a->json, std::ios::binary | std::ios::trunc);
+            f << json << "\n]\n";
+            if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a->json), 1);
+        }
+    });
+}
+
+} // namespace nesshi::cli

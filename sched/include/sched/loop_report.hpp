@@ -1,0 +1,56 @@
+// The report for a hand-written loop (`nesshi loop FILE.s`): for each loop of an assembled
+// program (a code label whose block ends in a branch back to it), the achieved II, every
+// resource's use against its capacity, ResMII with the resource that binds, RecMII with the
+// critical circuit spelled out, the verdict, register lifetimes and MaxLive per file, and the
+// modulo reservation table. Text like TI's pipeline information block, and JSON.
+//
+//   const auto loops = sched::analyse_loops(object, isa::load_machine("os"));
+//   for (const sched::LoopReport& l : loops) fmt::print("{}", l.text());
+#pragma once
+
+#include "isa/machine.hpp"
+#include "isa/object.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace nesshi::sched {
+
+struct ResourceUse {
+    std::string name;       // "iu0", "IRF reads", "FPRF writes"
+    std::uint32_t used = 0; // per iteration
+    std::uint32_t capacity = 0; // per iteration at the achieved II
+};
+
+struct Lifetime {
+    std::string reg;
+    int cycles = 0; // from the write's issue to its last read (reads in the next iteration add II)
+};
+
+struct LoopReport {
+    std::string label;
+    std::string source;            // "file:line" of the label's bundle
+    std::uint32_t first = 0, last = 0; // bundle range, inclusive
+    int bundles = 0, ii = 0;       // ii: bundles + the taken-branch bubble
+    int ops = 0;
+    int res_mii = 0, rec_mii = 0;
+    std::string res_binding;       // "slots {iu0, iu1}: 7 ops / 2 = 4"
+    std::vector<std::string> critical; // the ops of the critical circuit, in order
+    int critical_latency = 0, critical_distance = 0;
+    std::vector<ResourceUse> resources;
+    std::vector<Lifetime> lifetimes;
+    int max_live[2] = {0, 0};
+    std::uint32_t file_size[2] = {0, 0};
+    std::vector<std::string> mrt;  // one line per body bundle
+    std::string verdict;
+
+    std::string text() const;
+    std::string json() const;
+};
+
+// Every loop of the program, or only the one at `label` (empty: all). Throws std::runtime_error
+// when `label` is not a loop.
+std::vector<LoopReport> analyse_loops(const isa::ObjectFile& obj, const isa::Machine& m, const std::string& label = "");
+
+} // namespace nesshi::sched
