@@ -20,6 +20,7 @@ namespace {
 struct PipelineArgs {
     std::string input, machine, out, sequential;
     int ii = 0;
+    double exact = 0;
     bool verify = false, quiet = false;
 };
 
@@ -33,6 +34,7 @@ void run_pipeline(const PipelineArgs& a) {
     const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
     sched::PipelineOptions po;
     po.ii = a.ii;
+    po.exact_seconds = a.exact;
     const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
     if (!a.out.empty()) {
         std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
@@ -72,6 +74,8 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("--sequential", a->sequential, "Also write the region's sequential meaning (the reference "
                                                    "--verify compares with) to FILE");
     cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only");
+    cmd->add_option("--exact", a->exact, "When the II is above the MII, search the smaller IIs for up to SECONDS; "
+                                         "the report says whether the II is proven optimal");
     cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
                                          "and compare memory and registers");
     cmd->add_flag("-q,--quiet", a->quiet, "Print nothing but errors and the verification result");

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cctype>
 #include <map>
 #include <numeric>
@@ -1010,23 +1011,49 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     std::optional<Allocation> alloc_found;
     std::string emitted, why_not;
     int stages = 1;
-    for (int ii = lo; ii <= hi && !emitted.size(); ++ii) {
-        if (!feasible_ii(g, ii)) continue;
-        for (int attempt = 0; attempt < kAttemptsPerII && !sched; ++attempt)
-            sched = ModuloScheduler(g, m, ii, branch, counter, attempt).run();
-        if (!sched) continue;
-        Allocation alloc = allocate(r, g, *sched, named, m, filename);
-        const Emitter em(r, g, *sched, alloc, m);
-        std::string code = em.code(r.trip, "__sa");
-        const assembler::AsmResult check = assembler::assemble_string(before + code + after, filename, m, {});
-        if (!check.ok || check.warnings > 0) {
-            why_not = fmt::format("II {}: {}", ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
-            sched.reset();
-            continue;
+    // One II: schedules in different op orders (until `deadline` when given), the first that
+    // also assembles is kept.
+    using Clock = std::chrono::steady_clock;
+    auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
+        if (!feasible_ii(g, ii)) return false;
+        for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
+            std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt).run();
+            if (!s) continue;
+            Allocation alloc = allocate(r, g, *s, named, m, filename);
+            const Emitter em(r, g, *s, alloc, m);
+            std::string code = em.code(r.trip, "__sa");
+            const assembler::AsmResult check = assembler::assemble_string(before + code + after, filename, m, {});
+            if (!check.ok || check.warnings > 0) {
+                why_not = fmt::format("II {}: {}", ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
+                continue;
+            }
+            sched = s;
+            emitted = std::move(code);
+            stages = em.stages();
+            alloc_found = std::move(alloc);
+            return true;
         }
-        emitted = std::move(code);
-        stages = em.stages();
-        alloc_found = std::move(alloc);
+        return false;
+    };
+    for (int ii = lo; ii <= hi && !try_ii(ii, std::nullopt); ++ii) {}
+    // --exact: spend the time on the IIs between the bound and the one found.
+    std::string exact_note;
+    if (sched && opts.exact_seconds > 0) {
+        if (sched->ii == res.mii) {
+            exact_note = "II proven optimal: it equals the lower bound max(ResMII, RecMII)";
+        } else {
+            const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                     std::chrono::duration<double>(opts.exact_seconds));
+            const int found = sched->ii;
+            for (int ii = res.mii; ii < sched->ii && Clock::now() < deadline; ++ii)
+                if (try_ii(ii, deadline)) break;
+            exact_note = sched->ii == res.mii ? fmt::format("II proven optimal: {} s of search reached the lower bound",
+                                                            opts.exact_seconds)
+                         : sched->ii < found   ? fmt::format("best found (II {} improved to {}), bound not proven",
+                                                             found, sched->ii)
+                                               : fmt::format("best found: no schedule at II {}..{} in {} s, bound not proven",
+                                                             res.mii, sched->ii - 1, opts.exact_seconds);
+        }
     }
     if (!sched)
         fail(filename, static_cast<int>(r.begin + 1),
@@ -1048,6 +1075,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     rep += fmt::format("#   recurrence bound (RecMII)  {}\n", res.rec_mii);
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
+    if (!exact_note.empty()) rep += "#   " + exact_note + "\n";
     rep += fmt::format("#   kernel unrolled {}x (modulo variable expansion)\n", res.unroll);
     rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
                        res.min_pipelined_trip);
