@@ -1077,6 +1077,10 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
     if (!exact_note.empty()) rep += "#   " + exact_note + "\n";
     rep += fmt::format("#   kernel unrolled {}x (modulo variable expansion)\n", res.unroll);
+    if (m.branch_penalty > 0)
+        rep += fmt::format("#   taken-branch bubble {} cycle{} per kernel pass: {:.2f} cycles per iteration in the kernel\n",
+                           m.branch_penalty, m.branch_penalty == 1 ? "" : "s",
+                           static_cast<double>(res.unroll * res.ii + static_cast<int>(m.branch_penalty)) / res.unroll);
     rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
                        res.min_pipelined_trip);
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
