@@ -3,6 +3,8 @@
 // allocate registers and emit prologue, kernel and epilogue as assembly text.
 #include "sched/pipeline.hpp"
 
+#include "sched/bounds.hpp"
+
 #include "assembler/assembler.hpp"
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
@@ -11,7 +13,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <bit>
 #include <cctype>
 #include <map>
 #include <numeric>
@@ -420,7 +421,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
     return g;
 }
 
-// ---- bounds -------------------------------------------------------------------------------------
+// ---- bounds (ResMII is bounds.hpp; the RecMII over this graph stays here) ----------------------
 
 // The smallest II with no positive cycle (latency - II x distance), by longest paths.
 bool feasible_ii(const Graph& g, int ii) {
@@ -444,33 +445,6 @@ int rec_mii(const Graph& g) {
     int ii = 1;
     while (!feasible_ii(g, ii)) ++ii;
     return ii;
-}
-
-// Issue slots by the Hall bound over slot subsets, and the register ports.
-int res_mii(const Graph& g, const isa::Machine& m, int extra_branch, int extra_alu) {
-    const std::size_t ns = m.slots.size();
-    double bound = 0;
-    for (std::uint32_t mask = 1; mask < (1u << ns); ++mask) {
-        double count = 0;
-        auto inside = [&](isa::OpClass c) {
-            for (std::size_t s = 0; s < ns; ++s)
-                if (m.slots[s].accepts(c) && !(mask & (1u << s))) return false;
-            return true;
-        };
-        for (const Node& nd : g.nodes)
-            if (inside(nd.instr.info().cls)) count += 1;
-        if (inside(isa::OpClass::Branch)) count += extra_branch;
-        if (inside(isa::OpClass::Alu)) count += extra_alu;
-        bound = std::max(bound, count / std::popcount(mask));
-    }
-    double reads[2] = {0, 0}, writes[2] = {0, 0};
-    for (const Node& nd : g.nodes)
-        for (const isa::RegOperand& o : isa::register_operands(nd.instr)) (o.write ? writes : reads)[static_cast<int>(o.file)] += 1;
-    for (int f = 0; f < 2; ++f) {
-        bound = std::max(bound, reads[f] / m.regs[static_cast<std::size_t>(f)].read_ports);
-        bound = std::max(bound, writes[f] / m.regs[static_cast<std::size_t>(f)].write_ports);
-    }
-    return std::max(1, static_cast<int>(std::ceil(bound - 1e-9)));
 }
 
 // ---- modulo scheduling ------------------------------------------------------------------------
@@ -1000,7 +974,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     counter.opcode = isa::opcode("addi");
     counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
     res.rec_mii = rec_mii(g);
-    res.res_mii = res_mii(g, m, 1, 1);
+    res.res_mii = res_mii(m, instrs, kLoopControl).ii(); // the loop control takes slots too
     res.mii = std::max(res.rec_mii, res.res_mii);
     const int lo = opts.ii > 0 ? opts.ii : res.mii;
     const int hi = opts.ii > 0 ? opts.ii : res.mii + opts.max_ii_search;
