@@ -101,10 +101,7 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
     r.ilp = ms.cycles > 0 ? ms.ops / ms.cycles : 0;
     const isa::Machine& m = run.prog->machine();
     r.utilization = r.ilp / static_cast<double>(m.slots.size());
-    if (k.bounds == BoundsFrom::ByHand) {
-        r.res_mii = k.res_mii;
-        r.rec_mii = k.rec_mii;
-    } else if (k.bounds != BoundsFrom::None) {
+    if (k.bounds != BoundsFrom::None) {
         const auto ops = ops_of(*run.prog, k.bounds == BoundsFrom::Path ? path_from(*run.prog, k.path) : ms.ranges);
         std::vector<isa::Instr> instrs;
         for (const sched::BodyOp& o : ops) instrs.push_back(o.instr);
@@ -112,8 +109,9 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
         const sched::RecBound rec = sched::region_rec_mii(m, ops);
         r.res_mii = res.cycles / k.iterations;
         r.rec_mii = rec.cycles / k.iterations;
-        r.res_binds = res.binds;
-        r.rec_binds = rec.binds;
+        const std::string per = k.iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", k.iterations);
+        r.res_binds = res.binds + per;
+        r.rec_binds = rec.binds.empty() ? "" : rec.binds + per;
     }
     return r;
 }

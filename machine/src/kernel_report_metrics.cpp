@@ -35,10 +35,9 @@ void dda_metrics(std::vector<KernelMetric>& out, const std::string& m) {
         step.iterations = 2;
         step.bounds = BoundsFrom::Regions;
     } else {
-        // branchy: bounds per step from the x path (decision + step), the common case, by hand
-        step.bounds = BoundsFrom::ByHand;
-        step.res_mii = 9;
-        step.rec_mii = 4;
+        // branchy: the bounds per step from the x path (decision + step), the common case
+        step.bounds = BoundsFrom::Path;
+        step.path = "loop";
         step.note = "branchy: 9 ops per step";
     }
     out.push_back(step);

@@ -61,7 +61,6 @@ enum class BoundsFrom {
     None,
     Regions, // every op of the measured regions
     Path,    // the fall-through path from label `path` through the first bundle that branches back to it
-    ByHand,  // res_mii and rec_mii as given
 };
 
 struct KernelMetric {
@@ -75,7 +74,6 @@ struct KernelMetric {
     double iterations = 1;                 // loop iterations in one pass over the bounded ops
     BoundsFrom bounds = BoundsFrom::None;
     std::string path; // BoundsFrom::Path
-    double res_mii = 0, rec_mii = 0; // BoundsFrom::ByHand
     std::string note;
 };
 // The rows of the report, in its order.
@@ -97,7 +95,9 @@ struct KernelRow {
     std::optional<double> paper;
     double ops = 0, ilp = 0, utilization = 0;
     double res_mii = 0, rec_mii = 0;   // 0: not computed
-    std::string res_binds, rec_binds;  // what binds them (sched::ResBound/RecBound::binds)
+    // What binds them (sched::ResBound/RecBound::binds, "..., / 2 iterations" when a pass holds
+    // more); not printed in text() or json(), which keep their format.
+    std::string res_binds, rec_binds;
     std::string note;
 };
 
