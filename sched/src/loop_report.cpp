@@ -3,6 +3,8 @@
 
 #include "circuits.hpp"
 
+#include "sched/bounds.hpp"
+
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
 #include "isa/printer.hpp"
@@ -11,8 +13,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <bit>
-#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -20,7 +20,7 @@ namespace nesshi::sched {
 
 namespace {
 
-struct BodyOp {
+struct LoopOp {
     isa::Instr in;
     int bundle = 0; // issue cycle within the body
     int latency = 1;
@@ -28,46 +28,9 @@ struct BodyOp {
 
 std::string reg_name(isa::RegFile f, int r) { return fmt::format("{}{}", f == isa::RegFile::Int ? 'r' : 'f', r); }
 
-// Issue slots by the Hall bound over slot subsets, and each register file's ports; the binding one.
-int res_bound(const std::vector<BodyOp>& ops, const isa::Machine& m, std::string& binding) {
-    const std::size_t ns = m.slots.size();
-    double best = 0;
-    for (std::uint32_t mask = 1; mask < (1u << ns); ++mask) {
-        int count = 0;
-        for (const BodyOp& o : ops) {
-            bool inside = true;
-            for (std::size_t s = 0; s < ns; ++s)
-                if (m.slots[s].accepts(o.in.info().cls) && !(mask & (1u << s))) inside = false;
-            count += inside;
-        }
-        const int width = std::popcount(mask);
-        if (static_cast<double>(count) / width > best + 1e-9) {
-            best = static_cast<double>(count) / width;
-            std::string names;
-            for (std::size_t s = 0; s < ns; ++s)
-                if (mask & (1u << s)) names += (names.empty() ? "" : ", ") + m.slots[s].name;
-            binding = fmt::format("slots {{{}}}: {} ops / {} = {:.2f}", names, count, width, best);
-        }
-    }
-    int reads[2] = {0, 0}, writes[2] = {0, 0};
-    for (const BodyOp& o : ops)
-        for (const isa::RegOperand& r : isa::register_operands(o.in)) ++(r.write ? writes : reads)[static_cast<int>(r.file)];
-    for (int f = 0; f < 2; ++f)
-        for (int w = 0; w < 2; ++w) {
-            const int n = w ? writes[f] : reads[f];
-            const std::uint32_t ports = w ? m.regs[static_cast<std::size_t>(f)].write_ports : m.regs[static_cast<std::size_t>(f)].read_ports;
-            if (static_cast<double>(n) / ports > best + 1e-9) {
-                best = static_cast<double>(n) / ports;
-                binding = fmt::format("{} {} ports: {} / {} = {:.2f}", isa::kRegFileNames[static_cast<std::size_t>(f)],
-                                      w ? "write" : "read", n, ports, best);
-            }
-        }
-    return std::max(1, static_cast<int>(std::ceil(best - 1e-9)));
-}
-
 // True register dependences of the body run as a loop with period ii: a read sees the write that
 // landed last by its cycle, from this iteration or an earlier one (its distance).
-std::vector<DepEdge> true_dependences(const std::vector<BodyOp>& ops, int ii) {
+std::vector<DepEdge> true_dependences(const std::vector<LoopOp>& ops, int ii) {
     std::vector<DepEdge> edges;
     for (std::size_t u = 0; u < ops.size(); ++u)
         for (const isa::RegOperand& r : isa::register_operands(ops[u].in)) {
@@ -117,13 +80,17 @@ std::vector<LoopReport> analyse_loops(const isa::ObjectFile& obj, const isa::Mac
             r.source = fmt::format("{}:{}", obj.files[obj.lines[sym.value].file], obj.lines[sym.value].line);
         r.bundles = static_cast<int>(end - sym.value + 1);
         r.ii = r.bundles + static_cast<int>(m.branch_penalty);
-        std::vector<BodyOp> ops;
+        std::vector<LoopOp> ops;
         for (std::uint32_t b = r.first; b <= r.last; ++b)
             for (const isa::Instr& in : bundles[b])
                 if (in.info().kind != isa::Kind::Nop)
                     ops.push_back({in, static_cast<int>(b - r.first), static_cast<int>(m.latency_of(in.info()))});
         r.ops = static_cast<int>(ops.size());
-        r.res_mii = res_bound(ops, m, r.res_binding);
+        std::vector<isa::Instr> instrs;
+        for (const LoopOp& o : ops) instrs.push_back(o.in);
+        const ResBound res = res_mii(m, instrs); // the loop's own control ops are among them
+        r.res_mii = res.ii();
+        r.res_binding = res.binds;
         const std::vector<DepEdge> deps = true_dependences(ops, r.ii);
         r.rec_mii = recurrence_mii(static_cast<int>(ops.size()), deps);
         if (r.rec_mii > 1)
@@ -136,7 +103,7 @@ std::vector<LoopReport> analyse_loops(const isa::ObjectFile& obj, const isa::Mac
         // Resources per iteration against their capacity at the achieved II.
         for (std::size_t s = 0; s < m.slots.size(); ++s) {
             ResourceUse u{m.slots[s].name, 0, static_cast<std::uint32_t>(r.ii)};
-            for (const BodyOp& o : ops) u.used += o.in.slot == s;
+            for (const LoopOp& o : ops) u.used += o.in.slot == s;
             r.resources.push_back(u);
         }
         for (int f = 0; f < 2; ++f) {
@@ -144,7 +111,7 @@ std::vector<LoopReport> analyse_loops(const isa::ObjectFile& obj, const isa::Mac
                            static_cast<std::uint32_t>(r.ii) * m.regs[static_cast<std::size_t>(f)].read_ports};
             ResourceUse wr{fmt::format("{} writes", isa::kRegFileNames[static_cast<std::size_t>(f)]), 0,
                            static_cast<std::uint32_t>(r.ii) * m.regs[static_cast<std::size_t>(f)].write_ports};
-            for (const BodyOp& o : ops)
+            for (const LoopOp& o : ops)
                 for (const isa::RegOperand& x : isa::register_operands(o.in))
                     if (static_cast<int>(x.file) == f) ++(x.write ? wr.used : rd.used);
             r.resources.push_back(rd);
@@ -155,7 +122,7 @@ std::vector<LoopReport> analyse_loops(const isa::ObjectFile& obj, const isa::Mac
         std::map<std::pair<int, int>, int> life;
         std::map<std::pair<int, int>, int> born;
         for (const DepEdge& e : deps) {
-            const BodyOp& w = ops[static_cast<std::size_t>(e.from)];
+            const LoopOp& w = ops[static_cast<std::size_t>(e.from)];
             for (const isa::RegOperand& o : isa::register_operands(w.in)) {
                 if (!o.write) continue;
                 const auto key = std::make_pair(static_cast<int>(o.file), static_cast<int>(o.reg));

@@ -4,6 +4,7 @@
 #include "sched/pipeline.hpp"
 
 #include "circuits.hpp"
+#include "sched/bounds.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/bundle_check.hpp"
@@ -430,7 +431,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
     return g;
 }
 
-// ---- bounds -------------------------------------------------------------------------------------
+// ---- bounds (ResMII is bounds.hpp; the RecMII over this graph stays here) ----------------------
 
 std::vector<DepEdge> dep_edges(const Graph& g) {
     std::vector<DepEdge> d;
@@ -439,33 +440,6 @@ std::vector<DepEdge> dep_edges(const Graph& g) {
 }
 bool feasible_ii(const Graph& g, int ii) { return ii_feasible(static_cast<int>(g.nodes.size()), dep_edges(g), ii); }
 int rec_mii(const Graph& g) { return recurrence_mii(static_cast<int>(g.nodes.size()), dep_edges(g)); }
-
-// Issue slots by the Hall bound over slot subsets, and the register ports.
-int res_mii(const Graph& g, const isa::Machine& m, int extra_branch, int extra_alu) {
-    const std::size_t ns = m.slots.size();
-    double bound = 0;
-    for (std::uint32_t mask = 1; mask < (1u << ns); ++mask) {
-        double count = 0;
-        auto inside = [&](isa::OpClass c) {
-            for (std::size_t s = 0; s < ns; ++s)
-                if (m.slots[s].accepts(c) && !(mask & (1u << s))) return false;
-            return true;
-        };
-        for (const Node& nd : g.nodes)
-            if (inside(nd.instr.info().cls)) count += 1;
-        if (inside(isa::OpClass::Branch)) count += extra_branch;
-        if (inside(isa::OpClass::Alu)) count += extra_alu;
-        bound = std::max(bound, count / std::popcount(mask));
-    }
-    double reads[2] = {0, 0}, writes[2] = {0, 0};
-    for (const Node& nd : g.nodes)
-        for (const isa::RegOperand& o : isa::register_operands(nd.instr)) (o.write ? writes : reads)[static_cast<int>(o.file)] += 1;
-    for (int f = 0; f < 2; ++f) {
-        bound = std::max(bound, reads[f] / m.regs[static_cast<std::size_t>(f)].read_ports);
-        bound = std::max(bound, writes[f] / m.regs[static_cast<std::size_t>(f)].write_ports);
-    }
-    return std::max(1, static_cast<int>(std::ceil(bound - 1e-9)));
-}
 
 // ---- modulo scheduling ------------------------------------------------------------------------
 
@@ -1001,7 +975,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     counter.opcode = isa::opcode("addi");
     counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
     res.rec_mii = rec_mii(g);
-    res.res_mii = res_mii(g, m, 1, 1);
+    res.res_mii = res_mii(m, instrs, kLoopControl).ii(); // the loop control takes slots too
     res.mii = std::max(res.rec_mii, res.res_mii);
     const int lo = opts.ii > 0 ? opts.ii : res.mii;
     const int hi = opts.ii > 0 ? opts.ii : res.mii + opts.max_ii_search;

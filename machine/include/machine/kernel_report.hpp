@@ -1,0 +1,119 @@
+// The kernel cycle report (`nesshi kernels`): the hand-scheduled kernels of kernels/ measured on
+// the ISS beside the paper's step counts, with their lower bounds.
+//
+// Each kernel runs on synthetic inputs built with the ABI's image builders (the workloads);
+// figures come from the ISS's per-label region counters: the cycles and ops of a metric's label
+// regions over how often it happened (region entries, loop steps, rays). ResMII and RecMII
+// (sched/bounds.hpp) are computed from the machine description and the ops of the measured
+// regions, or of one path through them, per loop iteration. What each metric measures, the
+// paper's figures and the goals are data (kernel_metrics, kPaper, kernel_goals).
+//
+//   const machine::KernelReport r = machine::kernel_report(kernels::embedded());
+//   fmt::print("{}", r.text());                      // the table, the goals, the legend
+//   std::ofstream("k.json") << r.json() << "\n";     // {"kernels": [{"metric": ..., ...}, ...]}
+#pragma once
+
+#include "kernels/sources.hpp"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::machine {
+
+// The paper's figures (Gwun et al. 1993): step counts in cycles, and the machines' ILP and
+// utilisation ranges over its scenes.
+struct PaperFigures {
+    double dda_step_vliw = 11, dda_step_seq = 23; // one 3DDDA voxel step
+    double dda_init = 60;                         // 3DDDA set-up of a ray
+    double fifo_ray = 25;                         // receiving or sending a ray record (FIFO load/store)
+    double triangle = 40, triangle_load = 10;     // ray/triangle test, and loading the shape
+    double quadric = 50, quadric_load = 11;       // ray/quadric test, and loading the shape
+    double os_ilp[2] = {2.27, 2.29}, os_util[2] = {0.56, 0.57};
+    double ic_ilp[2] = {2.01, 2.31}, ic_util[2] = {0.50, 0.57};
+};
+inline constexpr PaperFigures kPaper{};
+
+// The synthetic inputs. Grids: rays from random points outside aimed into the box; each VISIT is
+// answered with a RETURN (no hit). Primitives: one voxel listing 40 shapes of one kind, rays
+// aimed at the origin (or past the shapes, for SpheresMissed).
+enum class Workload {
+    EmptyGrid,       // 40^3, empty, 300 rays: every step is a loop step
+    SparseGrid,      // 20^3, 3% full, 300 rays: VISITs and RETURNs (continues EmptyGrid's random stream)
+    Triangles,       // one-sided triangles, 200 rays
+    Spheres,         // one-sided plain spheres, 200 rays
+    SpheresMissed,   // the same spheres, 200 rays that miss them
+    TwoSidedSpheres, // two-sided spheres, 200 rays
+    Cylinders,       // one-sided cylinders of length 4 along z, 200 rays
+};
+
+// What a metric's cycles and ops are divided by.
+enum class PerWhat {
+    Entries,   // executions of the first bundle of each measured region
+    EntriesOf, // executions of the first bundles of `count_labels`' regions
+    Loads,     // executions of the measured bundles that load the occupancy byte (lbu): voxel steps
+    Rays,      // the rays of the workload; the whole kernel's processing cycles, ILP and utilisation
+};
+
+// Where the bounds come from (they are per loop iteration: over the ops, / `iterations`).
+enum class BoundsFrom {
+    None,
+    Regions, // every op of the measured regions
+    Path,    // the fall-through path from label `path` through the first bundle that branches back to it
+};
+
+struct KernelMetric {
+    std::string metric;  // "dda_step"
+    std::string machine; // "os", "ic", "seq"; the kernel is kernels::kernel_path of it
+    Workload workload = Workload::EmptyGrid;
+    std::vector<std::string> labels; // the label regions measured
+    PerWhat per = PerWhat::Entries;
+    std::vector<std::string> count_labels; // PerWhat::EntriesOf
+    std::optional<double> paper;           // the paper's figure, when it has one
+    double iterations = 1;                 // loop iterations in one pass over the bounded ops
+    BoundsFrom bounds = BoundsFrom::None;
+    std::string path; // BoundsFrom::Path
+    std::string note;
+};
+// The rows of the report, in its order.
+const std::vector<KernelMetric>& kernel_metrics();
+
+// A goal on one quantity of a metric on some machines: cycles at most `limit`, ILP at least.
+struct KernelGoal {
+    std::string what; // "voxel step on os", "ILP"
+    std::string metric;
+    std::vector<std::string> machines;
+    bool ilp = false; // false: cycles <= limit; true: ILP >= limit
+    double limit = 0;
+};
+const std::vector<KernelGoal>& kernel_goals();
+
+struct KernelRow {
+    std::string metric, machine;
+    double cycles = 0;
+    std::optional<double> paper;
+    double ops = 0, ilp = 0, utilization = 0;
+    double res_mii = 0, rec_mii = 0;   // 0: not computed
+    // What binds them (sched::ResBound/RecBound::binds, "..., / 2 iterations" when a pass holds
+    // more); not printed in text() or json(), which keep their format.
+    std::string res_binds, rec_binds;
+    std::string note;
+};
+
+struct KernelReport {
+    std::vector<KernelRow> rows;
+
+    const KernelRow* find(std::string_view metric, std::string_view machine) const;
+    // The table, the goals line (when every goal's rows are present), the legend.
+    std::string text() const;
+    // {"kernels": [...]}: each row's metric, machine, cycles, paper (or null), ops, ilp,
+    // utilization, res_mii, rec_mii, note; pretty-printed, no final newline.
+    std::string json() const;
+};
+
+// Runs every metric of kernel_metrics() on the kernels of `sources`. Throws std::runtime_error
+// when a kernel does not assemble or does not behave (machine::KernelRunner).
+KernelReport kernel_report(const kernels::SourceSet& sources);
+
+} // namespace nesshi::machine

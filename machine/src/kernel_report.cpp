@@ -1,0 +1,218 @@
+// The kernel report (kernel_report.hpp): each metric of kernel_metrics() measured on its
+// workload's run from the ISS's label regions, its bounds from sched/bounds.hpp; text and JSON.
+#include "machine/kernel_report.hpp"
+
+#include "workloads.hpp"
+
+#include "isa/encoding.hpp"
+#include "iss/stats.hpp"
+#include "sched/bounds.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <stdexcept>
+#include <utility>
+
+namespace nesshi::machine {
+
+namespace {
+
+using Ranges = std::vector<std::pair<std::uint32_t, std::uint32_t>>; // bundle ranges [first, end)
+
+// Cycles and ops issued in the named regions, and how many times their first bundles issued.
+struct Measure {
+    double cycles = 0, ops = 0, entries = 0;
+    Ranges ranges;
+};
+Measure measure(const KernelRunner& run, const std::vector<std::string>& labels) {
+    const iss::Stats st = iss::compute_stats(*run.proc, 0);
+    Measure m;
+    for (const auto& l : labels) {
+        for (const auto& r : st.regions) {
+            if (r.label != l) continue;
+            m.cycles += static_cast<double>(r.cycles);
+            m.ops += static_cast<double>(r.ops);
+            m.entries += static_cast<double>(run.proc->counters().exec[r.first]);
+            m.ranges.emplace_back(r.first, r.end);
+        }
+    }
+    return m;
+}
+
+// Executions of the bundles in `ranges` that load the occupancy byte: the voxel steps.
+double loads(const KernelRunner& run, const Ranges& ranges) {
+    double steps = 0;
+    for (auto [a, b] : ranges)
+        for (std::uint32_t pc = a; pc < b; ++pc)
+            for (const isa::Instr& in : run.prog->bundle_instrs(pc))
+                if (in.info().mnemonic == "lbu") steps += static_cast<double>(run.proc->counters().exec[pc]);
+    return steps;
+}
+
+std::vector<sched::BodyOp> ops_of(const iss::Program& p, const Ranges& ranges) {
+    std::vector<sched::BodyOp> out;
+    for (auto [a, b] : ranges)
+        for (std::uint32_t pc = a; pc < b; ++pc)
+            for (const isa::Instr& in : p.bundle_instrs(pc))
+                if (in.info().kind != isa::Kind::Nop) out.push_back({in, pc});
+    return out;
+}
+
+bool branches_to(const isa::Instr& in, std::uint32_t target) {
+    const isa::OpInfo& info = in.info();
+    for (int k = 0; k < info.num_operands; ++k)
+        if (info.operands[static_cast<std::size_t>(k)].kind == isa::OperandKind::Target && in.imm == target) return true;
+    return false;
+}
+
+// The bundles from `label` falling through to the first one that branches back to it.
+Ranges path_from(const iss::Program& p, const std::string& label) {
+    const isa::Symbol* s = p.find_symbol(label);
+    if (!s || s->kind != isa::SymbolKind::Code) throw std::runtime_error("kernel report: no code label '" + label + "'");
+    for (std::uint32_t pc = s->value; pc < p.size(); ++pc)
+        for (const isa::Instr& in : p.bundle_instrs(pc))
+            if (branches_to(in, s->value)) return {{s->value, pc + 1}};
+    throw std::runtime_error("kernel report: no branch back to '" + label + "'");
+}
+
+KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
+    const KernelRunner& run = *w.run;
+    KernelRow r;
+    r.metric = k.metric;
+    r.machine = k.machine;
+    r.paper = k.paper;
+    r.note = k.note;
+    if (k.per == PerWhat::Rays) { // the whole kernel's processing cycles, ops, ILP and utilisation
+        const iss::Stats st = iss::compute_stats(*run.proc, 0);
+        r.cycles = static_cast<double>(st.processing_cycles) / w.rays;
+        r.ops = static_cast<double>(st.processing_ops) / w.rays;
+        r.ilp = st.ilp;
+        r.utilization = st.utilisation;
+        return r;
+    }
+    const Measure ms = measure(run, k.labels);
+    double per = k.per == PerWhat::Loads       ? loads(run, ms.ranges)
+                 : k.per == PerWhat::EntriesOf ? measure(run, k.count_labels).entries
+                                               : ms.entries;
+    if (per <= 0) per = ms.entries;
+    r.cycles = per > 0 ? ms.cycles / per : 0;
+    r.ops = per > 0 ? ms.ops / per : 0;
+    r.ilp = ms.cycles > 0 ? ms.ops / ms.cycles : 0;
+    const isa::Machine& m = run.prog->machine();
+    r.utilization = r.ilp / static_cast<double>(m.slots.size());
+    if (k.bounds != BoundsFrom::None) {
+        const auto ops = ops_of(*run.prog, k.bounds == BoundsFrom::Path ? path_from(*run.prog, k.path) : ms.ranges);
+        std::vector<isa::Instr> instrs;
+        for (const sched::BodyOp& o : ops) instrs.push_back(o.instr);
+        const sched::ResBound res = sched::res_mii(m, instrs);
+        const sched::RecBound rec = sched::region_rec_mii(m, ops);
+        r.res_mii = res.cycles / k.iterations;
+        r.rec_mii = rec.cycles / k.iterations;
+        const std::string per = k.iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", k.iterations);
+        r.res_binds = res.binds + per;
+        r.rec_binds = rec.binds.empty() ? "" : rec.binds + per;
+    }
+    return r;
+}
+
+// The runs of the metric being measured: the current machine's two grid runs, or one primitive run.
+class Runs {
+  public:
+    explicit Runs(const kernels::SourceSet& sources) : sources_(sources) {}
+    const WorkloadRun& get(Workload w, const std::string& machine) {
+        if (is_grid(w)) {
+            if (dda_machine_ != machine) {
+                dda_ = DdaRuns{};
+                dda_ = run_dda(sources_, machine);
+                dda_machine_ = machine;
+            }
+            return w == Workload::EmptyGrid ? dda_.empty : dda_.sparse;
+        }
+        if (!prim_.run || prim_workload_ != w || prim_machine_ != machine) {
+            prim_ = WorkloadRun{};
+            prim_ = run_intersect(sources_, machine, w);
+            prim_workload_ = w;
+            prim_machine_ = machine;
+        }
+        return prim_;
+    }
+
+  private:
+    const kernels::SourceSet& sources_;
+    std::string dda_machine_, prim_machine_;
+    DdaRuns dda_;
+    Workload prim_workload_ = Workload::Triangles;
+    WorkloadRun prim_;
+};
+
+std::string goals_line(const KernelReport& r) {
+    std::string line;
+    for (const KernelGoal& g : kernel_goals()) {
+        std::string values;
+        bool met = true;
+        for (const std::string& m : g.machines) {
+            const KernelRow* row = r.find(g.metric, m);
+            if (!row) return {};
+            const double v = g.ilp ? row->ilp : row->cycles;
+            met = met && (g.ilp ? v >= g.limit : v <= g.limit);
+            values += fmt::format("{}{}{:.2f}", values.empty() ? "" : ", ", g.machines.size() > 1 ? m + " " : "", v);
+        }
+        line += fmt::format("{}{} {} {}: {} ({})", line.empty() ? "" : "; ", g.what, g.ilp ? ">=" : "<=",
+                            g.ilp ? fmt::format("{:.1f}", g.limit) : fmt::format("{:.0f}", g.limit), values,
+                            met ? "met" : "NOT met");
+    }
+    return "\ngoals: " + line + "\n";
+}
+
+} // namespace
+
+const KernelRow* KernelReport::find(std::string_view metric, std::string_view machine) const {
+    for (const KernelRow& r : rows)
+        if (r.metric == metric && r.machine == machine) return &r;
+    return nullptr;
+}
+
+std::string KernelReport::text() const {
+    std::string out = fmt::format("{:<13} {:<4} {:>8} {:>7} {:>6} {:>6} {:>6} {:>7} {:>7}  {}\n", "metric", "mach", "cycles",
+                                  "paper", "ops", "ILP", "util", "ResMII", "RecMII", "note");
+    for (const KernelRow& r : rows) {
+        const std::string paper = r.paper ? fmt::format("{:.0f}", *r.paper) : "-";
+        const std::string res = r.res_mii > 0 ? fmt::format("{:.2f}", r.res_mii) : "-";
+        const std::string rec = r.rec_mii > 0 ? fmt::format("{:.2f}", r.rec_mii) : "-";
+        out += fmt::format("{:<13} {:<4} {:>8.2f} {:>7} {:>6.1f} {:>6.2f} {:>6.2f} {:>7} {:>7}  {}\n", r.metric, r.machine,
+                           r.cycles, paper, r.ops, r.ilp, r.utilization, res, rec, r.note);
+    }
+    out += goals_line(*this);
+    out += fmt::format("\ncycles: per voxel step / ray / primitive, measured on the ISS (fast engine) from label regions;\n"
+                       "paper: Gwun et al. 1993 step counts (3DDDA {:.0f} VLIW / {:.0f} sequential, init {:.0f}, FIFO "
+                       "load/store {:.0f},\n"
+                       "triangle {:.0f} + {:.0f} load, quadric {:.0f} + {:.0f} load); ILP = ops / cycles in the measured "
+                       "code; util = ILP /\n"
+                       "issue slots; ResMII, RecMII: lower bounds per step or primitive from the machine description.\n",
+                       kPaper.dda_step_vliw, kPaper.dda_step_seq, kPaper.dda_init, kPaper.fifo_ray, kPaper.triangle,
+                       kPaper.triangle_load, kPaper.quadric, kPaper.quadric_load);
+    return out;
+}
+
+std::string KernelReport::json() const {
+    nlohmann::json j;
+    j["kernels"] = nlohmann::json::array();
+    for (const KernelRow& r : rows) {
+        nlohmann::json e{{"metric", r.metric}, {"machine", r.machine}, {"cycles", r.cycles},   {"ops", r.ops},
+                         {"ilp", r.ilp},       {"utilization", r.utilization}, {"res_mii", r.res_mii},
+                         {"rec_mii", r.rec_mii}, {"note", r.note}};
+        e["paper"] = r.paper ? nlohmann::json(*r.paper) : nlohmann::json(nullptr);
+        j["kernels"].push_back(e);
+    }
+    return j.dump(2);
+}
+
+KernelReport kernel_report(const kernels::SourceSet& sources) {
+    KernelReport r;
+    Runs runs(sources);
+    for (const KernelMetric& k : kernel_metrics()) r.rows.push_back(measure_row(k, runs.get(k.workload, k.machine)));
+    return r;
+}
+
+} // namespace nesshi::machine

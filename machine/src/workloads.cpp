@@ -1,0 +1,170 @@
+// The kernel report's synthetic workloads (workloads.hpp): fixed seeds, so every run of the
+// report measures the same rays on the same grids and shapes.
+#include "workloads.hpp"
+
+#include "base/vec.hpp"
+#include "kernels/abi.hpp"
+#include "kernels/image.hpp"
+#include "kernels/messages.hpp"
+#include "kernels/shape_record.hpp"
+#include "kernels/twins/dda.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace nesshi::machine {
+
+namespace {
+
+constexpr int kGridRays = 300;
+constexpr int kPrimitiveRays = 200;
+constexpr int kPrimitives = 40;
+
+struct Grid {
+    kernels::twins::GridGeom g;
+    std::vector<std::uint8_t> occ;
+};
+
+// An n^3 grid over [-10, 10]^3, each voxel full with probability `density`.
+Grid make_grid(int n, double density, std::mt19937& rng) {
+    Grid t;
+    for (int k = 0; k < 3; ++k) {
+        t.g.n[k] = n;
+        t.g.lo[k] = -10.0f;
+        t.g.cell[k] = 20.0f / static_cast<float>(n);
+        t.g.hi[k] = t.g.lo[k] + static_cast<float>(n) * t.g.cell[k];
+        t.g.inv_cell[k] = 1.0f / t.g.cell[k];
+    }
+    std::bernoulli_distribution full(density);
+    t.occ.resize(static_cast<std::size_t>(n * n * n));
+    for (auto& v : t.occ) v = full(rng) ? 1 : 0;
+    return t;
+}
+
+// Random rays through the grid; each VISIT is answered with a RETURN (no hit).
+void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < rays; ++i) {
+        base::Vec3f o{u(rng) * 30.0f, u(rng) * 30.0f, u(rng) * 30.0f};
+        base::Vec3f tgt{u(rng) * 8.0f, u(rng) * 8.0f, u(rng) * 8.0f};
+        base::Vec3f d = base::normalize(tgt - o);
+        kernels::abi::NewRay nr{kernels::abi::Tag{static_cast<std::uint32_t>(i % 4096), kernels::abi::Kind::eye, 1}.word(),
+                                {o.x, o.y, o.z}, {d.x, d.y, d.z}, 0.0f, std::numeric_limits<float>::infinity()};
+        run.feed(nr.words());
+        for (;;) {
+            run.run();
+            auto w = run.out1.drain_all();
+            run.out2.drain_all();
+            if (w.empty()) break;
+            run.feed(std::array<std::uint32_t, 1>{w[0]});
+        }
+    }
+}
+
+WorkloadRun grid_run(const kernels::SourceSet& sources, const std::string& machine, int n, double density,
+                     std::mt19937& rng) {
+    WorkloadRun w{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(machine != "seq", false), machine)),
+                  kGridRays};
+    Grid g = make_grid(n, density, rng);
+    w.run->load(kernels::os_image(g.g, g.occ));
+    w.run->run();
+    drive_dda(*w.run, rng, kGridRays);
+    return w;
+}
+
+kernels::Shape tri_shape(std::mt19937& rng, bool two) {
+    std::uniform_real_distribution<double> p(-3.0, 3.0);
+    base::Vec3d v0{p(rng), p(rng), p(rng)}, v1{p(rng), p(rng), p(rng)}, v2{p(rng), p(rng), p(rng)};
+    const base::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = base::cross(e1, e2);
+    const double det = base::dot(nn, nn);
+    const base::Vec3d rows[3] = {nn * (1.0 / det), base::cross(e2, nn) * (1.0 / det), base::cross(nn, e1) * (1.0 / det)};
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeTriangle | (two ? kernels::kShapeTwoSided : 0u);
+    for (std::size_t i = 0; i < 3; ++i) {
+        s.w[4 * i] = static_cast<float>(rows[i].x);
+        s.w[4 * i + 1] = static_cast<float>(rows[i].y);
+        s.w[4 * i + 2] = static_cast<float>(rows[i].z);
+        s.w[4 * i + 3] = static_cast<float>(-base::dot(rows[i], v0));
+    }
+    return s;
+}
+
+kernels::Shape sphere_shape(std::mt19937& rng, bool two) {
+    std::uniform_real_distribution<float> p(-2.0f, 2.0f);
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeQuadric | (two ? kernels::kShapeTwoSided : 0u);
+    s.w[0] = p(rng) * 0.2f, s.w[1] = p(rng) * 0.2f, s.w[2] = p(rng) * 0.2f;
+    s.w[3] = s.w[4] = s.w[5] = 1.0f;
+    s.w[12] = -1.0f;
+    return s;
+}
+
+// A cylinder of radius 1 along z through a point near the origin, length 4 (one-sided).
+kernels::Shape cylinder_shape(std::mt19937& rng) {
+    kernels::Shape s = sphere_shape(rng, false);
+    s.w[5] = 0.0f;  // C: no z term
+    s.w[2] = -2.0f; // from z = -2
+    s.w[15] = 1.0f; // axis z
+    s.w[16] = 4.0f; // length
+    return s;
+}
+
+kernels::Shape shape_of(Workload w, std::mt19937& rng) {
+    switch (w) {
+    case Workload::Triangles: return tri_shape(rng, false);
+    case Workload::TwoSidedSpheres: return sphere_shape(rng, true);
+    case Workload::Cylinders: return cylinder_shape(rng);
+    default: return sphere_shape(rng, false);
+    }
+}
+
+} // namespace
+
+bool is_grid(Workload w) { return w == Workload::EmptyGrid || w == Workload::SparseGrid; }
+
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& machine) {
+    std::mt19937 rng(5);
+    DdaRuns r;
+    r.empty = grid_run(sources, machine, 40, 0.0, rng);
+    r.sparse = grid_run(sources, machine, 20, 0.03, rng);
+    return r;
+}
+
+// One voxel whose list holds the 40 shapes; rays from z = 20 aimed at the origin (or past it).
+WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& machine, Workload w) {
+    std::mt19937 rng(7);
+    std::vector<kernels::Shape> shapes;
+    for (int i = 0; i < kPrimitives; ++i) shapes.push_back(shape_of(w, rng));
+    std::vector<std::vector<std::uint32_t>> lists(1);
+    for (int i = 0; i < kPrimitives; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
+    WorkloadRun out{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(machine != "seq", true), machine)),
+                    kPrimitiveRays};
+    KernelRunner& run = *out.run;
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
+    run.load(im.resident);
+    run.load(im.global);
+    run.run();
+    const bool miss = w == Workload::SpheresMissed;
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < kPrimitiveRays; ++i) {
+        base::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
+        base::Vec3f tgt = miss ? base::Vec3f{30.0f, 30.0f, 0.0f} : base::Vec3f{u(rng) * 0.3f, u(rng) * 0.3f, 0.0f};
+        base::Vec3f d = base::normalize(tgt - o);
+        kernels::abi::Visit v;
+        v.tag = kernels::abi::Tag{static_cast<std::uint32_t>(i), kernels::abi::Kind::eye, 1}.word() | kernels::abi::kTagReturn;
+        v.voxel = 0;
+        v.t_out = 1e30f;
+        for (int k = 0; k < 3; ++k) v.o[k] = o[k], v.d[k] = d[k];
+        v.tmax = std::numeric_limits<float>::infinity();
+        run.feed(v.words());
+        run.run();
+        run.out1.drain_all();
+        run.out2.drain_all();
+    }
+    return out;
+}
+
+} // namespace nesshi::machine

@@ -1,0 +1,30 @@
+// The synthetic workloads of the kernel report (machine::Workload): grids and rays for the 3DDDA
+// kernels, voxels of one shape kind and rays for the intersection kernels, run to completion.
+#pragma once
+
+#include "machine/kernel_report.hpp"
+#include "machine/runner.hpp"
+
+#include <memory>
+#include <string>
+
+namespace nesshi::machine {
+
+struct WorkloadRun {
+    std::unique_ptr<KernelRunner> run;
+    double rays = 0;
+};
+
+// The 3DDDA kernel for `machine` (kernels::kernel_path) on the empty grid, then on the sparse
+// grid, whose grid and rays continue the empty run's random stream (seed 5).
+struct DdaRuns {
+    WorkloadRun empty, sparse;
+};
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& machine);
+
+// The intersection kernel for `machine` on a primitive workload (seed 7).
+WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& machine, Workload w);
+
+bool is_grid(Workload w);
+
+} // namespace nesshi::machine

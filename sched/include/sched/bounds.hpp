@@ -1,0 +1,71 @@
+// Lower bounds on the initiation interval of a loop body, each with what binds it.
+//
+// ResMII: every subset S of issue slots must issue, each iteration, the ops whose class only
+// slots of S accept (Hall's condition), so II >= |those ops| / |S| for every S; and each register
+// file's reads and writes over its read and write ports. RecMII of a region taken as a loop
+// body: the longest latency chain from a live-in read of a register to the region's last write
+// of it (the value goes round once per pass). The modulo scheduler (pipeline.hpp) and the kernel
+// report (machine/kernel_report.hpp) use these; neither restates the machine's rules.
+//
+//   const isa::Machine m = isa::load_machine("os");
+//   std::vector<isa::Instr> body = ...;                     // one iteration, e.g. decoded bundles
+//   const sched::ResBound r = sched::res_mii(m, body, sched::kLoopControl);
+//   r.cycles;  // 4.0: cycles per pass at least (unrounded)   r.ii(); // 4
+//   r.binds;   // "FPRF write ports 8/2 = 4"
+//   const sched::RecBound c = sched::region_rec_mii(m, ops_with_their_bundles);
+//   c.binds;   // "r4: add (1) -> lbu (1) = 2 cycles"
+#pragma once
+
+#include "isa/encoding.hpp"
+#include "isa/machine.hpp"
+#include "isa/ops.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace nesshi::sched {
+
+// Operations a scheduler adds to the listed ones (e.g. loop control): they take issue slots of
+// their class; their registers are not counted against the ports.
+struct ExtraOps {
+    isa::OpClass cls = isa::OpClass::Alu;
+    int count = 1;
+};
+// The kernel's loop control: `addi counter, counter, -1` and `bnez counter, kernel`.
+inline constexpr std::array<ExtraOps, 2> kLoopControl = {ExtraOps{isa::OpClass::Branch, 1}, ExtraOps{isa::OpClass::Alu, 1}};
+
+struct ResBound {
+    double cycles = 0; // the largest of ops / slots over slot subsets and accesses / ports per file
+    std::string binds; // "slots {iu0,iu1}: 7 ops / 2 = 3.5", "FPRF write ports 8/2 = 4"; "" when no op
+    int ii() const;    // the smallest whole II it allows: ceil(cycles), at least 1
+};
+
+// ResMII of `ops` (nops count nothing) plus `extra`. Ties name the first found: slot subsets
+// in mask order, then IRF reads, IRF writes, FPRF reads, FPRF writes.
+ResBound res_mii(const isa::Machine& m, std::span<const isa::Instr> ops, std::span<const ExtraOps> extra = {});
+
+// One operation of a measured region and the bundle it issues in; a region lists its ops in
+// bundle order.
+struct BodyOp {
+    isa::Instr instr;
+    std::uint32_t bundle = 0;
+};
+
+struct RecBound {
+    double cycles = 0;              // latency of the longest carried chain; 0 when none
+    std::string reg;                // the register it carries: "r4"
+    std::vector<std::size_t> chain; // indices into the ops: the live-in read first, the last write last
+    std::string binds;              // "r4: add (1) -> lbu (1) = 2 cycles"; "" when none
+};
+
+// RecMII of a region as a loop body (distance 1: one pass is one iteration of the region): for
+// each register read before any bundle writes it and written later, the longest latency path
+// along register reads from that read to the region's last write of it. Control dependences
+// (a branch deciding the next pass) are not edges.
+RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops);
+
+} // namespace nesshi::sched
