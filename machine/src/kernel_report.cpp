@@ -109,9 +109,9 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
         const sched::RecBound rec = sched::region_rec_mii(m, ops);
         r.res_mii = res.cycles / k.iterations;
         r.rec_mii = rec.cycles / k.iterations;
-        const std::string per = k.iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", k.iterations);
-        r.res_binds = res.binds + per;
-        r.rec_binds = rec.binds.empty() ? "" : rec.binds + per;
+        const std::string pass = k.iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", k.iterations);
+        r.res_binds = res.binds + pass;
+        r.rec_binds = rec.binds.empty() ? "" : rec.binds + pass;
     }
     return r;
 }
