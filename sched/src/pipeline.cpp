@@ -975,7 +975,8 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     counter.opcode = isa::opcode("addi");
     counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
     res.rec_mii = rec_mii(g);
-    res.res_mii = res_mii(m, instrs, kLoopControl).ii(); // the loop control takes slots too
+    const ResBound res_bound = res_mii(m, instrs, kLoopControl); // the loop control takes slots too
+    res.res_mii = res_bound.ii();
     res.mii = std::max(res.rec_mii, res.res_mii);
     const int lo = opts.ii > 0 ? opts.ii : res.mii;
     const int hi = opts.ii > 0 ? opts.ii : res.mii + opts.max_ii_search;
@@ -1045,7 +1046,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     std::string rep;
     rep += fmt::format("# SOFTWARE PIPELINE INFORMATION ({} on {}, lines {}-{})\n", filename, m.name, r.begin + 1, r.end + 1);
     rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
-    rep += fmt::format("#   resource bound (ResMII)    {}\n", res.res_mii);
+    rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
     rep += fmt::format("#   recurrence bound (RecMII)  {}\n", res.rec_mii);
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
