@@ -134,6 +134,202 @@ TEST_CASE("an unknown preset or missing file names the presets") {
     }
 }
 
+// The -real presets as flat files, before they inherited from os, ic and seq (comments
+// dropped, every key as it was): the derived presets must load to exactly these machines.
+namespace {
+struct Flat {
+    const char* name;
+    const char* text;
+};
+const Flat kFlatReal[] = {
+    {"os-real", R"TOML(name = "os-real"
+description = "Object search: 2 IU + 2 FPU, pipelined multi-cycle units (for latency studies)"
+branch_penalty = 1
+
+[registers.int]
+count = 128
+read_ports = 5
+write_ports = 2
+
+[registers.float]
+count = 128
+read_ports = 5
+write_ports = 2
+
+[latency]
+alu = 1
+mul = 3
+fadd = 3
+fmul = 3
+fdiv = 12
+load = 2
+store = 1
+branch = 1
+fifo = 1
+misc = 1
+
+[[slot]]
+name = "iu0"
+accepts = ["alu", "mul", "load", "store", "branch", "fifo", "misc"]
+
+[[slot]]
+name = "iu1"
+accepts = ["alu", "mul", "load", "store", "fifo", "misc"]
+
+[[slot]]
+name = "fpu0"
+accepts = ["fadd", "fmul", "fdiv", "fifo", "misc"]
+
+[[slot]]
+name = "fpu1"
+accepts = ["fadd", "fmul", "fdiv", "fifo", "misc"]
+
+[[memory]]
+name = "sram"
+base = 0x00000000
+size = 0x00200000
+)TOML"},
+    {"ic-real", R"TOML(name = "ic-real"
+description = "Intersection: 1 IU + 3 FPU, pipelined multi-cycle units (for latency studies)"
+branch_penalty = 1
+
+[registers.int]
+count = 128
+read_ports = 5
+write_ports = 2
+
+[registers.float]
+count = 128
+read_ports = 7
+write_ports = 3
+
+[latency]
+alu = 1
+mul = 3
+fadd = 3
+fmul = 3
+fdiv = 12
+load = 2
+store = 1
+branch = 1
+fifo = 1
+misc = 1
+
+[[slot]]
+name = "iu0"
+accepts = ["alu", "mul", "load", "store", "branch", "fifo", "misc"]
+
+[[slot]]
+name = "fpu0"
+accepts = ["fadd", "fmul", "fdiv", "fifo", "misc"]
+
+[[slot]]
+name = "fpu1"
+accepts = ["fadd", "fmul", "fdiv", "fifo", "misc"]
+
+[[slot]]
+name = "fpu2"
+accepts = ["fadd", "fmul", "fdiv", "fifo", "misc"]
+
+[[memory]]
+name = "resident"
+base = 0x00400000
+size = 0x00100000
+
+[[memory]]
+name = "global"
+base = 0x10000000
+size = 0x04000000
+cached = true
+)TOML"},
+    {"seq-real", R"TOML(name = "seq-real"
+description = "Sequential: 1 general unit, pipelined multi-cycle units (for latency studies)"
+branch_penalty = 1
+
+[registers.int]
+count = 128
+read_ports = 3
+write_ports = 1
+
+[registers.float]
+count = 128
+read_ports = 3
+write_ports = 1
+
+[latency]
+alu = 1
+mul = 3
+fadd = 3
+fmul = 3
+fdiv = 12
+load = 2
+store = 1
+branch = 1
+fifo = 1
+misc = 1
+
+[[slot]]
+name = "u0"
+accepts = ["alu", "mul", "fadd", "fmul", "fdiv", "load", "store", "branch", "fifo", "misc"]
+
+[[memory]]
+name = "sram"
+base = 0x00000000
+size = 0x00200000
+
+[[memory]]
+name = "resident"
+base = 0x00400000
+size = 0x00100000
+
+[[memory]]
+name = "local"
+base = 0x00800000
+size = 0x00800000
+
+[[memory]]
+name = "global"
+base = 0x10000000
+size = 0x04000000
+cached = true
+)TOML"},
+};
+} // namespace
+
+TEST_CASE("the -real presets inherit and load exactly as their flat descriptions did") {
+    for (const auto& f : kFlatReal) {
+        INFO(f.name);
+        CHECK(preset_text(f.name).find("inherits = ") != std::string_view::npos);
+        const Machine flat = parse_machine(f.text, fmt::format("builtin:{}", f.name));
+        const Machine now = load_machine(f.name);
+        CHECK(now.name == flat.name);
+        CHECK(now.description == flat.description);
+        CHECK(now.source == flat.source);
+        CHECK(now.branch_penalty == flat.branch_penalty);
+        REQUIRE(now.slots.size() == flat.slots.size());
+        for (size_t i = 0; i < now.slots.size(); ++i) {
+            CHECK(now.slots[i].name == flat.slots[i].name);
+            CHECK(now.slots[i].classes == flat.slots[i].classes);
+        }
+        for (int c = 0; c < kNumOpClasses; ++c) CHECK(now.latency[c] == flat.latency[c]);
+        for (int r = 0; r < kNumRegFiles; ++r) {
+            CHECK(now.regs[r].count == flat.regs[r].count);
+            CHECK(now.regs[r].read_ports == flat.regs[r].read_ports);
+            CHECK(now.regs[r].write_ports == flat.regs[r].write_ports);
+        }
+        REQUIRE(now.memories.size() == flat.memories.size());
+        for (size_t i = 0; i < now.memories.size(); ++i) {
+            CHECK(now.memories[i].name == flat.memories[i].name);
+            CHECK(now.memories[i].base == flat.memories[i].base);
+            CHECK(now.memories[i].size == flat.memories[i].size);
+            CHECK(now.memories[i].latency == flat.memories[i].latency);
+            CHECK(now.memories[i].cached == flat.memories[i].cached);
+        }
+        CHECK(now == flat); // catches a field added to Machine later
+        CHECK(now.fingerprint() == flat.fingerprint());
+    }
+}
+
 TEST_CASE("preset fingerprints are those committed objects carry") {
     // Recorded before the -real presets inherited; an object assembled for a preset keeps
     // loading only while these hold.
