@@ -9,21 +9,38 @@
 namespace nesshi::isa {
 
 namespace {
+// A source register is named after the field it is encoded in (rs1, rs2, rs3), as the row's
+// summary names it: a store's value is rs2 beside its base rs1, whatever their order in the text.
+int source_number(Field f) { return f == Field::Rs1 ? 1 : f == Field::Rs2 ? 2 : 3; }
+
 std::string operand_syntax(const OpInfo& op) {
     std::string s;
-    int src = 1;
     for (int i = 0; i < op.num_operands; ++i) {
         const Operand& o = op.operands[i];
         if (i) s += ", ";
         switch (o.kind) {
-        case OperandKind::IntReg: s += o.is_dest ? "rd" : fmt::format("rs{}", src++); break;
-        case OperandKind::FloatReg: s += o.is_dest ? "fd" : fmt::format("fs{}", src++); break;
+        case OperandKind::IntReg:
+            s += o.is_dest ? "rd" : fmt::format("rs{}", source_number(o.field));
+            break;
+        case OperandKind::FloatReg:
+            s += o.is_dest ? "fd" : fmt::format("fs{}", source_number(o.field));
+            break;
         case OperandKind::Imm: s += "imm"; break;
         case OperandKind::FloatImm: s += "fimm"; break;
         case OperandKind::Mem: s += "imm(rs1)"; break;
         case OperandKind::Target: s += "target"; break;
         case OperandKind::Channel: s += "ch"; break;
         }
+    }
+    return s;
+}
+
+// A '|' in a table cell (`or`: rd = rs1 | rs2) would end the cell; Markdown takes it escaped.
+std::string table_cell(std::string_view text) {
+    std::string s;
+    for (char c : text) {
+        if (c == '|') s += '\\';
+        s += c;
     }
     return s;
 }
@@ -53,6 +70,11 @@ std::string isa_reference_markdown() {
            "counts against the write ports in the cycle it lands (issue + latency).\n"
            "- Exposed pipeline: a result can be read by a bundle issued `latency` cycles after "
            "its producer, not earlier; there are no interlocks. All units are pipelined.\n"
+           "- A register may not be read while a newer write to it is in flight: a reader of the "
+           "old value issues no later than the producer that overwrites it (the same bundle is "
+           "allowed, as a bundle reads its sources at issue), so the value a read sees never "
+           "depends on timing. The assembler reports every such read and the checked ISS stops "
+           "at one.\n"
            "- A taken branch redirects the next bundle (plus the machine's `branch_penalty` "
            "bubble cycles). Branch targets are absolute bundle addresses.\n"
            "- Memory is byte-addressed; accesses must be aligned to their width.\n"
@@ -70,7 +92,8 @@ std::string isa_reference_markdown() {
     for (int i = 0; i < kNumOps; ++i) {
         const OpInfo& op = kOps[i];
         out += fmt::format("| {} | `{}` | `{}` | {} | {} | {} |\n", i, op.mnemonic,
-                           operand_syntax(op), kOpClassNames[int(op.cls)], ports(op), op.summary);
+                           operand_syntax(op), kOpClassNames[int(op.cls)], ports(op),
+                           table_cell(op.summary));
     }
     out += "\n## Machine presets\n\n";
     for (auto name : preset_names()) {
