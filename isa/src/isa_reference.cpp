@@ -1,6 +1,7 @@
 // Renders docs/isa.md from kOps and the built-in machine presets; a test keeps the file current.
 #include "isa/reference.hpp"
 
+#include "isa/encoding.hpp"
 #include "isa/machine.hpp"
 #include "isa/ops.hpp"
 
@@ -54,6 +55,54 @@ std::string ports(const OpInfo& op) {
     }
     return s.empty() ? "-" : s;
 }
+// The description file format and the inheritance rules (isa/src/machine.cpp implements them).
+std::string machine_files_section() {
+    std::string out = "\n## Machine description files\n\n";
+    out += "A machine is a TOML file, given wherever a preset name is accepted (`-m FILE`); "
+           "the presets below are such files (`isa/machines/*.toml`, printed by "
+           "`nesshi isa --machine-toml NAME`). Keys:\n\n"
+           "| key | meaning |\n|---|---|\n"
+           "| `name` | the machine's name (required; objects record it) |\n"
+           "| `description` | one line for listings |\n"
+           "| `inherits` | a parent description (below) |\n"
+           "| `branch_penalty` | bubble cycles after a taken branch (default 0) |\n";
+    out += fmt::format("| `[registers.int]`, `[registers.float]` | `count` (1..{}), `read_ports` "
+                       "and `write_ports` (1..64) of the IRF and the FPRF |\n",
+                       kMaxRegs);
+    out += fmt::format("| `[latency]` | cycles from issue until the result lands, at least 1, for "
+                       "each operation class: {} |\n",
+                       fmt::join(kOpClassNames.begin(), kOpClassNames.end(), ", "));
+    out += fmt::format("| `[[slot]]` | one issue slot each (at most {}): `name`, and `accepts`, "
+                       "the classes it issues; every class needs a slot |\n",
+                       kMaxSlots);
+    out += "| `[[memory]]` | one region each: `name`, `base` and `size` (multiples of 4, no "
+           "overlaps), `latency` (extra stall cycles per access, default 0), `cached` (default "
+           "false) |\n\n"
+           "Errors name the file, line and column (`file:line:col: error: ...`); unknown keys "
+           "are errors.\n\n";
+    out += "### Inheritance\n\n"
+           "`inherits = \"NAME\"` starts the description as a copy of the machine NAME, and the "
+           "file lists only its differences. NAME is a preset, else a file path relative to the "
+           "directory of the inheriting file (a preset may inherit only presets). The parent is "
+           "a complete description (it may inherit in turn) and is checked on its own first. The "
+           "rules:\n\n"
+           "- `name` must be given by the child; `description` is never inherited (a child "
+           "without one has none).\n"
+           "- `branch_penalty` is the child's if given, else the parent's.\n"
+           "- `[registers.int]`, `[registers.float]` and `[latency]` override key by key: a key "
+           "the child gives replaces the parent's, the others stay the parent's.\n"
+           "- `[[slot]]` and `[[memory]]`: a child that gives any entry of the array replaces the "
+           "parent's whole array (to add a slot, list them all); without entries the child keeps "
+           "the parent's.\n"
+           "- What the child gives is checked as in a complete file (ranges, every class "
+           "issuable, memories not overlapping).\n";
+    out += fmt::format("- Errors: an unknown parent, a cycle (a description that reaches itself), "
+                       "or a chain of more than {} ancestors, each at the `inherits` line.\n\n"
+                       "The `-real` presets are written this way: each inherits its ideal "
+                       "preset and lists its latencies and branch penalty.\n\n",
+                       kMaxInheritDepth);
+    return out;
+}
 } // namespace
 
 std::string isa_reference_markdown() {
@@ -95,7 +144,8 @@ std::string isa_reference_markdown() {
                            operand_syntax(op), kOpClassNames[int(op.cls)], ports(op),
                            table_cell(op.summary));
     }
-    out += "\n## Machine presets\n\n";
+    out += machine_files_section();
+    out += "## Machine presets\n\n";
     for (auto name : preset_names()) {
         Machine m = load_machine(name);
         out += fmt::format("### `{}`\n\n{}\n\n", m.name, m.description);
