@@ -2,7 +2,7 @@
 # Installs the Debian packages Nesshisen builds with, only those missing.
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libfmt-dev libcli11-dev catch2
-      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev)
+      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev python3)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

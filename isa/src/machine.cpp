@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -65,49 +66,58 @@ int class_index(std::string_view name) {
     return -1;
 }
 
-void parse_regs(const Ctx& ctx, const toml::table& root, Machine& m) {
+// Each parse_* step reads one part of the description into `m`. When `inherited`, `m` starts as
+// the parent's copy: an absent table or key keeps the parent's value, and a given array replaces
+// the parent's whole array. Without a parent every part is required, as in a flat file.
+void parse_regs(const Ctx& ctx, const toml::table& root, Machine& m, bool inherited) {
     const toml::node* rn = root.get("registers");
+    if (!rn && inherited) return;
     if (!rn || !rn->is_table()) ctx.fail_top("missing table [registers.int] / [registers.float]");
     const auto& regs = *rn->as_table();
     reject_unknown_keys(ctx, regs, {"int", "float"}, "[registers]");
     const char* names[] = {"int", "float"};
     for (int f = 0; f < kNumRegFiles; ++f) {
         const toml::node* n = regs.get(names[f]);
+        if (!n && inherited) continue;
         if (!n || !n->is_table())
             ctx.fail(rn->source(), fmt::format("missing table [registers.{}]", names[f]));
         const auto& t = *n->as_table();
         reject_unknown_keys(ctx, t, {"count", "read_ports", "write_ports"},
                             fmt::format("[registers.{}]", names[f]));
         RegFileDesc& d = m.regs[f];
-        d.count = get_uint(ctx, t, "count", true, 0, kMaxRegs, t.source());
-        d.read_ports = get_uint(ctx, t, "read_ports", true, 0, 64, t.source());
-        d.write_ports = get_uint(ctx, t, "write_ports", true, 0, 64, t.source());
+        d.count = get_uint(ctx, t, "count", !inherited, d.count, kMaxRegs, t.source());
+        d.read_ports = get_uint(ctx, t, "read_ports", !inherited, d.read_ports, 64, t.source());
+        d.write_ports = get_uint(ctx, t, "write_ports", !inherited, d.write_ports, 64, t.source());
         if (d.count == 0) ctx.fail(t.source(), "a register file needs at least one register");
         if (d.read_ports == 0 || d.write_ports == 0)
             ctx.fail(t.source(), "a register file needs at least one read and one write port");
     }
 }
 
-void parse_latency(const Ctx& ctx, const toml::table& root, Machine& m) {
+void parse_latency(const Ctx& ctx, const toml::table& root, Machine& m, bool inherited) {
     const toml::node* n = root.get("latency");
+    if (!n && inherited) return;
     if (!n || !n->is_table()) ctx.fail_top("missing table [latency]");
     const auto& t = *n->as_table();
     for (auto&& [k, v] : t)
         if (class_index(k.str()) < 0)
             ctx.fail(v.source(), fmt::format("unknown operation class '{}'", k.str()));
     for (int c = 0; c < kNumOpClasses; ++c)
-        m.latency[c] = get_uint(ctx, t, kOpClassNames[c], true, 1, 1000, t.source());
+        m.latency[c] =
+            get_uint(ctx, t, kOpClassNames[c], !inherited, m.latency[c], 1000, t.source());
     for (int c = 0; c < kNumOpClasses; ++c)
-        if (m.latency[c] == 0)
-            ctx.fail(t.get(kOpClassNames[c])->source(), "latencies are at least 1 cycle");
+        if (const toml::node* v = t.get(kOpClassNames[c]); v && m.latency[c] == 0)
+            ctx.fail(v->source(), "latencies are at least 1 cycle");
 }
 
-void parse_slots(const Ctx& ctx, const toml::table& root, Machine& m) {
+void parse_slots(const Ctx& ctx, const toml::table& root, Machine& m, bool inherited) {
     const toml::node* n = root.get("slot");
+    if (!n && inherited) return;
     if (!n || !n->is_array_of_tables()) ctx.fail_top("missing [[slot]] entries");
     const auto& arr = *n->as_array();
     if (arr.size() > size_t(kMaxSlots))
         ctx.fail(arr.source(), fmt::format("at most {} issue slots", kMaxSlots));
+    m.slots.clear();
     for (const auto& e : arr) {
         const auto& t = *e.as_table();
         reject_unknown_keys(ctx, t, {"name", "accepts"}, "[[slot]]");
@@ -138,9 +148,11 @@ void parse_slots(const Ctx& ctx, const toml::table& root, Machine& m) {
     }
 }
 
-void parse_memories(const Ctx& ctx, const toml::table& root, Machine& m) {
+void parse_memories(const Ctx& ctx, const toml::table& root, Machine& m, bool inherited) {
     const toml::node* n = root.get("memory");
+    if (!n && inherited) return;
     if (!n || !n->is_array_of_tables()) ctx.fail_top("missing [[memory]] entries");
+    m.memories.clear();
     for (const auto& e : *n->as_array()) {
         const auto& t = *e.as_table();
         reject_unknown_keys(ctx, t, {"name", "base", "size", "latency", "cached"}, "[[memory]]");
@@ -164,9 +176,67 @@ void parse_memories(const Ctx& ctx, const toml::table& root, Machine& m) {
     }
 }
 
-} // namespace
+// The descriptions being read, outermost first: `identity` detects cycles (a canonical path or
+// "builtin:NAME"), `source` names them in the message.
+struct Link {
+    std::string identity;
+    std::string source;
+};
+using Chain = std::vector<Link>;
 
-Machine parse_machine(std::string_view text, std::string_view source) {
+bool read_file(const std::string& path, std::string& text) {
+    std::ifstream in{path};
+    if (!in) return false;
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+    return true;
+}
+
+std::string identity_of(std::string_view source) {
+    if (source.rfind("builtin:", 0) == 0) return std::string(source);
+    std::error_code ec;
+    auto canon = std::filesystem::weakly_canonical(std::filesystem::path(source), ec);
+    return ec ? std::string(source) : canon.string();
+}
+
+Machine parse_in_chain(std::string_view text, std::string_view source, Chain& chain);
+
+// The parent named by `inherits`: a preset, else a file relative to the inheriting file.
+Machine parse_parent(const Ctx& ctx, const toml::node& node, Chain& chain) {
+    if (!node.is_string()) ctx.fail(node.source(), "'inherits' must be a string");
+    const std::string want(*node.value<std::string_view>());
+    std::string text, source;
+    if (auto preset = preset_text(want); !preset.empty()) {
+        text = std::string(preset);
+        source = fmt::format("builtin:{}", want);
+    } else {
+        // A preset cannot reach outside the binary; a file's parent is found beside it.
+        namespace fs = std::filesystem;
+        const bool builtin = ctx.source.rfind("builtin:", 0) == 0;
+        source = (fs::path(ctx.source).parent_path() / fs::path(want)).lexically_normal().string();
+        if (want.empty() || builtin || !read_file(source, text))
+            ctx.fail(node.source(),
+                     fmt::format("unknown parent machine '{}': no such preset{} (presets: {})",
+                                 want, builtin ? "" : fmt::format(" or file {}", source),
+                                 fmt::join(preset_names(), ", ")));
+    }
+    const std::string id = identity_of(source);
+    for (size_t i = 0; i < chain.size(); ++i)
+        if (chain[i].identity == id) {
+            std::vector<std::string_view> names;
+            for (size_t j = i; j < chain.size(); ++j) names.push_back(chain[j].source);
+            names.push_back(source);
+            ctx.fail(node.source(), fmt::format("machine inheritance cycle: {}",
+                                                fmt::join(names, " -> ")));
+        }
+    if (chain.size() > size_t(kMaxInheritDepth))
+        ctx.fail(node.source(), fmt::format("machine inheritance deeper than {} levels",
+                                            kMaxInheritDepth));
+    return parse_in_chain(text, source, chain);
+}
+
+Machine parse_in_chain(std::string_view text, std::string_view source, Chain& chain) {
     Ctx ctx{std::string(source)};
     toml::table root;
     try {
@@ -175,20 +245,36 @@ Machine parse_machine(std::string_view text, std::string_view source) {
         ctx.fail(e.source(), std::string(e.description()));
     }
     reject_unknown_keys(ctx, root,
-                        {"name", "description", "branch_penalty", "registers", "latency", "slot",
-                         "memory"},
+                        {"name", "description", "inherits", "branch_penalty", "registers",
+                         "latency", "slot", "memory"},
                         "the top level");
     Machine m;
+    const toml::node* parent = root.get("inherits");
+    if (parent) {
+        chain.push_back({identity_of(source), std::string(source)});
+        m = parse_parent(ctx, *parent, chain);
+        chain.pop_back();
+    }
+    const bool inherited = parent != nullptr;
+    // name and description name this machine, not its parent: never inherited.
     m.source = std::string(source);
     m.name = get_string(ctx, root, "name", true, root.source());
     m.description = get_string(ctx, root, "description", false, root.source());
     if (m.name.empty()) ctx.fail_top("machine name is empty");
-    m.branch_penalty = get_uint(ctx, root, "branch_penalty", false, 0, 1000, root.source());
-    parse_regs(ctx, root, m);
-    parse_latency(ctx, root, m);
-    parse_slots(ctx, root, m);
-    parse_memories(ctx, root, m);
+    m.branch_penalty =
+        get_uint(ctx, root, "branch_penalty", false, m.branch_penalty, 1000, root.source());
+    parse_regs(ctx, root, m, inherited);
+    parse_latency(ctx, root, m, inherited);
+    parse_slots(ctx, root, m, inherited);
+    parse_memories(ctx, root, m, inherited);
     return m;
+}
+
+} // namespace
+
+Machine parse_machine(std::string_view text, std::string_view source) {
+    Chain chain;
+    return parse_in_chain(text, source, chain);
 }
 
 const MemoryDesc* Machine::memory_at(uint32_t addr, uint32_t bytes) const {
@@ -240,14 +326,12 @@ std::string_view preset_text(std::string_view name) {
 Machine load_machine(std::string_view name_or_path) {
     if (auto text = preset_text(name_or_path); !text.empty())
         return parse_machine(text, fmt::format("builtin:{}", name_or_path));
-    std::ifstream in{std::string(name_or_path)};
-    if (!in)
+    std::string text;
+    if (!read_file(std::string(name_or_path), text))
         throw MachineError(fmt::format(
             "{}: error: no such machine preset or file (presets: {})", name_or_path,
             fmt::join(preset_names(), ", ")));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_machine(ss.str(), name_or_path);
+    return parse_machine(text, name_or_path);
 }
 
 } // namespace nesshi::isa

@@ -1,5 +1,8 @@
 #!/usr/bin/env python3
-"""gen_ic.py: writes kernels/ic/intersect.pk, the IC kernel's source before pack.py schedules it.
+"""gen_ic.py: prints intersect.pk, the IC kernel's source before pack.py schedules it.
+
+build.sh keeps that intermediate out of the tree (a temporary or build directory) and commits
+only kernels/ic/intersect.s.
 
 The kernel has eight primitive bodies: {one-sided, two-sided} x {triangle, quadric} x {A, B}.
 Body X processes primitive m from payload buffer X (already loaded), and at the same time

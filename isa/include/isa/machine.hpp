@@ -2,7 +2,8 @@
 //
 // Built-in presets (os, ic, seq and their -real variants) are embedded copies of
 // isa/machines/*.toml; users load their own with `-m PATH`. Both go through one parser that
-// reports `file:line:col: error:` for anything malformed or inconsistent.
+// reports `file:line:col: error:` for anything malformed or inconsistent. A description may
+// start from another (`inherits = "os"`) and list only its differences.
 #pragma once
 
 #include "isa/ops.hpp"
@@ -20,12 +21,14 @@ struct SlotDesc {
     std::string name;
     uint32_t classes = 0; // bit i set: accepts OpClass(i)
     bool accepts(OpClass c) const { return (classes >> static_cast<int>(c)) & 1u; }
+    bool operator==(const SlotDesc&) const = default;
 };
 
 struct RegFileDesc {
     uint32_t count = 128;
     uint32_t read_ports = 1;
     uint32_t write_ports = 1;
+    bool operator==(const RegFileDesc&) const = default;
 };
 
 struct MemoryDesc {
@@ -37,6 +40,7 @@ struct MemoryDesc {
     bool contains(uint32_t addr, uint32_t bytes) const {
         return addr >= base && uint64_t{addr} + bytes <= uint64_t{base} + size;
     }
+    bool operator==(const MemoryDesc&) const = default;
 };
 
 struct Machine {
@@ -56,6 +60,8 @@ struct Machine {
     uint32_t max_latency() const;
     // A hash of everything that affects assembly or timing; objects record it.
     uint64_t fingerprint() const;
+    // Every field, source and description included (compare fingerprints to ignore those).
+    bool operator==(const Machine&) const = default;
 };
 
 // A malformed description; what() is `file:line:col: error: message`.
@@ -64,7 +70,12 @@ class MachineError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// Parses a description; `source` names it in error messages.
+// How many ancestors a description may have through `inherits` (a parent that inherits in turn
+// is a second level, and so on).
+inline constexpr int kMaxInheritDepth = 8;
+
+// Parses a description; `source` names it in error messages, and a file named by `inherits` is
+// found relative to the directory of `source` (docs/isa.md gives the merge rules).
 Machine parse_machine(std::string_view toml_text, std::string_view source);
 // A preset name (os, ic, seq, os-real, ic-real, seq-real) or a path to a .toml file.
 Machine load_machine(std::string_view name_or_path);
