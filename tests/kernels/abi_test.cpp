@@ -27,7 +27,8 @@ const isa::MemoryDesc& region(const isa::Machine& m, const std::string& name) {
 TEST_CASE("the ABI's memory limits are the presets' [[memory]] regions", "[unit][kernels][abi]") {
     for (const char* os : {"os", "os-real", "seq", "seq-real"}) {
         INFO(os);
-        const isa::MemoryDesc& sram = region(isa::load_machine(os), "sram");
+        const isa::Machine m = isa::load_machine(os);
+        const isa::MemoryDesc& sram = region(m, "sram");
         CHECK(sram.base == abi::get("OS_GEOM"));
         CHECK(std::uint64_t{sram.base} + sram.size == abi::get("OS_OCC_LIMIT"));
     }
