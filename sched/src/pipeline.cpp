@@ -997,7 +997,8 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
             Allocation alloc = allocate(r, g, *s, named, m, filename);
             const Emitter em(r, g, *s, alloc, m);
             std::string code = em.code(r.trip, "__sa");
-            const assembler::AsmResult check = assembler::assemble_string(before + code + after, filename, m, {});
+            const assembler::AsmResult check =
+                assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, {});
             if (!check.ok || check.warnings > 0) {
                 why_not = fmt::format("II {}: {}", ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
                 continue;
@@ -1067,7 +1068,6 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     res.report = rep;
 
     res.pipelined = rep + before + force_trip_line(r, opts, m) + emitted + after;
-    assemble_or_fail(res.pipelined, filename, m, "pipelined loop");
     return res;
 }
 
