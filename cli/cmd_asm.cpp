@@ -1,5 +1,6 @@
 // `nesshi asm`: assemble a source file into an object (diagnostics to stderr, exit 1 on error).
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -37,19 +38,13 @@ void add_asm(CLI::App& app) {
     cmd->add_option("--listing", o->listing, "Write a listing (encodings, slots, port usage)");
     cmd->add_option("-I,--include-dir", o->includes, "Directory searched by .include");
     cmd->callback([o] {
-        isa::Machine m;
-        try {
-            m = isa::load_machine(o->machine.empty() ? source_machine(o->input) : o->machine);
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "{}\n", e.what());
-            throw CLI::RuntimeError(1);
-        }
+        const isa::Machine m = isa::load_machine(o->machine.empty() ? source_machine(o->input) : o->machine);
         assembler::AsmOptions opts;
         opts.include_dirs = o->includes;
         opts.listing = !o->listing.empty();
         auto r = assembler::assemble_file(o->input, m, opts);
         fmt::print(stderr, "{}", r.diagnostics);
-        if (!r.ok) throw CLI::RuntimeError(1);
+        if (!r.ok) throw Reported(kExitInput);
         std::string out = o->output;
         if (out.empty()) {
             auto dot = o->input.find_last_of('.');
@@ -57,16 +52,11 @@ void add_asm(CLI::App& app) {
             bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
             out = (has_ext ? o->input.substr(0, dot) : o->input) + ".o";
         }
-        try {
-            isa::write_object_file(r.object, out);
-            if (!o->listing.empty()) {
-                std::ofstream lst(o->listing, std::ios::trunc);
-                lst << r.listing;
-                if (!lst) throw isa::ObjectError(fmt::format("{}: error: cannot write listing", o->listing));
-            }
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "{}\n", e.what());
-            throw CLI::RuntimeError(1);
+        isa::write_object_file(r.object, out);
+        if (!o->listing.empty()) {
+            std::ofstream lst(o->listing, std::ios::trunc);
+            lst << r.listing;
+            if (!lst) throw base::Error(base::SourceLoc(o->listing), "cannot write listing");
         }
     });
 }

@@ -34,11 +34,7 @@ void run_debug(const DebugOpts& o) {
             file = spec.substr(eq + 1);
         }
         auto q = std::make_unique<iss::QueueChannel>();
-        try {
-            for (uint32_t w : iss::read_word_file(file)) q->feed(w);
-        } catch (const std::exception& e) {
-            throw CLI::RuntimeError(e.what(), 1);
-        }
+        for (uint32_t w : iss::read_word_file(file)) q->feed(w);
         q->close();
         chans[ch] = std::move(q);
     }
@@ -57,11 +53,7 @@ void run_debug(const DebugOpts& o) {
                prog->machine().name, prog->size(), o.engine);
     dbg.execute("disas");
     if (!o.script.empty()) {
-        try {
-            iss::debug_script(dbg, o.script, stdout);
-        } catch (const std::exception& e) {
-            throw CLI::RuntimeError(e.what(), 1);
-        }
+        iss::debug_script(dbg, o.script, stdout);
     } else {
         iss::debug_interactive(dbg);
     }

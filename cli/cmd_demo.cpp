@@ -36,7 +36,7 @@ void run_demo(const std::string& dir_opt, const std::string& main_example) {
     for (const auto& e : fs::directory_iterator(dir, ec))
         if (e.path().extension() == ".s") files.push_back(e.path());
     if (ec || files.empty())
-        throw CLI::RuntimeError(fmt::format("no examples found in {} (use --examples DIR)", dir.string()), 1);
+        throw base::Error(fmt::format("no examples found in {} (use --examples DIR)", dir.string()));
     std::sort(files.begin(), files.end());
 
     fmt::print("Nesshisen ISS demo: the bundled examples on their machines (checked engine)\n\n");
@@ -109,7 +109,7 @@ void run_machine_demo(const DemoArgs& a) {
                same ? "identical" : "DIFFERENT", mr.machine.wall_seconds / std::max(native_s, 1e-9));
     fmt::print("wrote {}\n", a.out);
     fmt::print("next: nesshi render {} --model M (or S, native) --size 512, nesshi paper --help\n", a.scene);
-    if (!same) throw CLI::RuntimeError("the simulated machine and the native tracer disagree", 1);
+    if (!same) throw base::Error("the simulated machine and the native tracer disagree");
 }
 
 } // namespace
@@ -132,13 +132,7 @@ void add_demo(CLI::App& app) {
             run_demo(a->examples, a->detail);
             return;
         }
-        try {
-            run_machine_demo(*a);
-        } catch (const CLI::Error&) {
-            throw;
-        } catch (const std::exception& e) {
-            throw CLI::RuntimeError(fmt::format("demo: {}", e.what()), 1);
-        }
+        run_machine_demo(*a);
     });
 }
 

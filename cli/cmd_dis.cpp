@@ -1,5 +1,6 @@
 // `nesshi dis`: print an object as assembly that re-assembles to the same bytes.
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -27,21 +28,16 @@ void add_dis(CLI::App& app) {
             isa::ObjectFile obj = isa::read_object_file(o->input);
             std::string name = o->machine.empty() ? obj.machine : o->machine;
             if (o->machine.empty() && !isa::is_preset(name))
-                throw isa::ObjectError(fmt::format("{}: error: machine '{}' is not a preset; name its "
-                                                   "description with -m", o->input, name));
+                throw isa::ObjectError(base::SourceLoc(o->input),
+                                       fmt::format("machine '{}' is not a preset; name its description with -m", name));
             isa::Machine m = isa::load_machine(name);
             assembler::DisOptions opts;
             opts.slots = !o->no_slots;
             opts.lines = !o->no_lines;
             fmt::print("{}", assembler::disassemble(obj, m, opts));
-        } catch (const isa::ObjectError& e) {
-            std::string msg = e.what();
-            if (msg.find("error:") == std::string::npos) msg = fmt::format("{}: error: {}", o->input, msg);
-            fmt::print(stderr, "{}\n", msg);
-            throw CLI::RuntimeError(1);
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "{}\n", e.what());
-            throw CLI::RuntimeError(1);
+        } catch (const isa::ObjectError& e) { // the decoder's errors name no file
+            if (e.loc().known()) throw;
+            throw isa::ObjectError(base::SourceLoc(o->input), e.message());
         }
     });
 }

@@ -1,5 +1,6 @@
 // `nesshi isa`: the operation table and machine presets, as a reference.
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "isa/machine.hpp"
 #include "isa/reference.hpp"
@@ -16,7 +17,7 @@ void add_isa(CLI::App& app) {
     cmd->callback([opts] {
         if (!opts->machine.empty()) {
             auto text = isa::preset_text(opts->machine);
-            if (text.empty()) throw CLI::RuntimeError(fmt::format("no preset named '{}'", opts->machine), 1);
+            if (text.empty()) throw UsageError(fmt::format("no preset named '{}'", opts->machine));
             fmt::print("{}", text);
             return;
         }

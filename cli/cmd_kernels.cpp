@@ -1,6 +1,8 @@
 // `nesshi kernels`: the cycle report of the hand-scheduled kernels measured on the ISS
 // (machine/kernel_report.hpp holds the measurements, the paper's figures and the goals).
 #include "commands.hpp"
+#include "errors.hpp"
+#include "errors.hpp"
 
 #include "machine/kernel_report.hpp"
 
@@ -24,7 +26,7 @@ void add_kernels(CLI::App& app) {
         fmt::print("{}", report.text());
         if (!json->empty()) {
             std::ofstream f(*json);
-            if (!f) throw CLI::RuntimeError("cannot write " + *json, 1);
+            if (!f) throw base::Error(base::SourceLoc(*json), "cannot write");
             f << report.json() << "\n";
         }
     });

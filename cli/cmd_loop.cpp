@@ -1,5 +1,6 @@
 // `nesshi loop FILE.s`: the report of each hand-written loop in a program (sched/loop_report.hpp).
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -24,14 +25,14 @@ void add_loop(CLI::App& app) {
     cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE");
     cmd->callback([a] {
         std::ifstream in(a->input, std::ios::binary);
-        if (!in) throw CLI::RuntimeError(fmt::format("{}: cannot open", a->input), 1);
+        if (!in) throw base::Error(base::SourceLoc(a->input), "cannot open");
         std::stringstream ss;
         ss << in.rdbuf();
         const std::string name = a->machine.empty() ? assembler::header_machine(ss.str()) : a->machine;
         const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
         const assembler::AsmResult r = assembler::assemble_string(ss.str(), a->input, m, {});
         fmt::print(stderr, "{}", r.diagnostics);
-        if (!r.ok) throw CLI::RuntimeError(1);
+        if (!r.ok) throw Reported(kExitInput);
         const std::vector<sched::LoopReport> loops = sched::analyse_loops(r.object, m, a->label);
         if (loops.empty()) fmt::print("{}: no loops (a label whose block ends in a branch back to it)\n", a->input);
         std::string json = "[";
@@ -42,7 +43,7 @@ void add_loop(CLI::App& app) {
         if (!a->json.empty()) {
             std::ofstream f(a->json, std::ios::binary | std::ios::trunc);
             f << json << "\n]\n";
-            if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a->json), 1);
+            if (!f) throw base::Error(base::SourceLoc(a->json), "cannot write");
         }
     });
 }

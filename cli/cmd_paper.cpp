@@ -1,6 +1,7 @@
 // `nesshi paper`: re-run the paper's evaluation (scenes x grids x models S, M, V) and write Tables
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "base/progress.hpp"
 
@@ -43,7 +44,7 @@ std::vector<int> parse_grids(const std::string& s) {
         int g = 0;
         auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), g);
         if (ec != std::errc() || p != part.data() + part.size())
-            throw paper::PaperError(fmt::format("bad grid '{}'", part));
+            throw UsageError(fmt::format("bad grid '{}'", part));
         grids.push_back(g); // range checked by paper::validate
     }
     return grids;
@@ -54,7 +55,7 @@ std::vector<machine::Model> parse_models(const std::string& s) {
     for (const std::string& part : split(s)) {
         machine::Model m{};
         if (!machine::parse_model(part, m))
-            throw paper::PaperError(fmt::format("unknown model '{}' (available: S, M, V)", part));
+            throw UsageError(fmt::format("unknown model '{}' (available: S, M, V)", part));
         models.push_back(m);
     }
     return models;
@@ -117,7 +118,11 @@ void run_paper_command(const PaperArgs& a) {
     o.models = parse_models(a.models);
     o.out_dir = a.out;
     o.threads = a.threads;
-    paper::validate(o); // before any output
+    try {
+        paper::validate(o); // before any output
+    } catch (const paper::PaperError& e) { // every check of validate is about the options
+        throw UsageError(e.message());
+    }
     auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDOUT_FILENO) != 0);
     if (!a.quiet) o.progress = [printer](const paper::PaperProgress& p) { (*printer)(p); };
     try {
@@ -145,14 +150,7 @@ void add_paper(CLI::App& app) {
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
     cmd->callback([a] {
-        try {
-            run_paper_command(*a);
-        } catch (const std::exception& e) {
-            std::string msg = e.what();
-            if (msg.find(": error: ") == std::string::npos) msg = "nesshi paper: error: " + msg;
-            fmt::print(stderr, "{}\n", msg);
-            throw CLI::RuntimeError(1);
-        }
+        run_paper_command(*a);
     });
 }
 

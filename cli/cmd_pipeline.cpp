@@ -1,6 +1,7 @@
 // `nesshi pipeline FILE.sa`: linear assembly in, a software-pipelined loop out (sched/pipeline.hpp),
 // optionally verified by simulation against the region's sequential meaning.
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -26,7 +27,7 @@ struct PipelineArgs {
 
 void run_pipeline(const PipelineArgs& a) {
     std::ifstream in(a.input, std::ios::binary);
-    if (!in) throw CLI::RuntimeError(fmt::format("{}: cannot open", a.input), 1);
+    if (!in) throw base::Error(base::SourceLoc(a.input), "cannot open");
     std::stringstream ss;
     ss << in.rdbuf();
     const std::string text = ss.str();
@@ -39,12 +40,12 @@ void run_pipeline(const PipelineArgs& a) {
     if (!a.out.empty()) {
         std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
         f << r.pipelined;
-        if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a.out), 1);
+        if (!f) throw base::Error(base::SourceLoc(a.out), "cannot write");
     }
     if (!a.sequential.empty()) {
         std::ofstream f(a.sequential, std::ios::binary | std::ios::trunc);
         f << r.linear;
-        if (!f) throw CLI::RuntimeError(fmt::format("{}: cannot write", a.sequential), 1);
+        if (!f) throw base::Error(base::SourceLoc(a.sequential), "cannot write");
     }
     if (!a.quiet) fmt::print("{}", a.out.empty() ? r.pipelined : r.report);
     std::fflush(stdout);
@@ -56,7 +57,7 @@ void run_pipeline(const PipelineArgs& a) {
                                     [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip) {
                                         return iss::run_differential(lin, pip, m, d);
                                     });
-    if (diff) throw CLI::RuntimeError(fmt::format("{}: verification failed: {}", a.input, *diff), 1);
+    if (diff) throw base::Error(base::SourceLoc(a.input), fmt::format("verification failed: {}", *diff));
     std::string list;
     for (std::uint32_t t : trips) list += (list.empty() ? "" : ", ") + std::to_string(t);
     fmt::print(stderr, "{}: verified: the pipelined loop equals the sequential one (memory and registers) for trip "

@@ -1,5 +1,6 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "base/progress.hpp"
 
@@ -45,7 +46,7 @@ int parse_int(const std::string& s, const char* what) {
     int v = 0;
     auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
     if (ec != std::errc() || p != s.data() + s.size() || v < 1)
-        throw std::runtime_error(fmt::format("bad {} '{}'", what, s));
+        throw UsageError(fmt::format("bad {} '{}'", what, s));
     return v;
 }
 
@@ -56,21 +57,21 @@ void check_combinations(const RenderArgs& a, bool native, machine::Model model) 
     if (native)
         for (const CLI::Option* o : a.machine_only)
             if (given(o))
-                throw std::runtime_error(fmt::format("{} needs --model S, M or V (the simulated machine); --model native "
+                throw UsageError(fmt::format("{} needs --model S, M or V (the simulated machine); --model native "
                                                      "is the C++ tracer",
                                                      o->get_name()));
     for (const CLI::Option* o : a.cache_params)
         if (given(o) && !a.cache)
-            throw std::runtime_error(
+            throw UsageError(
                 fmt::format("{} needs --cache (without it the IC cache is ideal: every access hits)", o->get_name()));
     if (given(a.no_resident) && !a.cache)
-        throw std::runtime_error("--no-resident needs --cache (with the ideal cache global memory costs what resident "
+        throw UsageError("--no-resident needs --cache (with the ideal cache global memory costs what resident "
                                  "memory does, so it would change nothing)");
-    if (given(a.epoch) && a.balance != "dynamic") throw std::runtime_error("--epoch needs --balance dynamic");
+    if (given(a.epoch) && a.balance != "dynamic") throw UsageError("--epoch needs --balance dynamic");
     if (model == machine::Model::S)
         for (const CLI::Option* o : {a.fifo_latency, a.quantum})
             if (given(o))
-                throw std::runtime_error(fmt::format(
+                throw UsageError(fmt::format(
                     "{} has no effect on model S (one processor runs the three stages on one clock)", o->get_name()));
 }
 
@@ -79,7 +80,7 @@ void run_render(const RenderArgs& a) {
     machine::Options mo = a.mo;
     mo.resident = a.no_resident->count() == 0;
     if (!native && !machine::parse_model(a.model, mo.model))
-        throw std::runtime_error(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
+        throw UsageError(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
     // (machine::Options::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
@@ -94,9 +95,9 @@ void run_render(const RenderArgs& a) {
     } else {
         opt.width = opt.height = parse_int(a.size, "size");
     }
-    if (opt.width > 16384 || opt.height > 16384) throw std::runtime_error("image size is limited to 16384");
+    if (opt.width > 16384 || opt.height > 16384) throw UsageError("image size is limited to 16384");
     int grid = a.grid == "auto" ? 0 : parse_int(a.grid, "grid resolution");
-    if (grid > 512) throw std::runtime_error("grid resolution is limited to 512");
+    if (grid > 512) throw UsageError("grid resolution is limited to 512");
     opt.threads = a.threads;
     mo.threads = a.threads;
     opt.cutoff = a.cutoff;
@@ -122,7 +123,7 @@ void run_render(const RenderArgs& a) {
         std::ofstream f(a.stats_json);
         f << (native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid, prep.shapes.shapes.size())
                      : machine::stats_json(prep, opt, mo, mr));
-        if (!f) throw std::runtime_error(fmt::format("{}: cannot write", a.stats_json));
+        if (!f) throw base::Error(base::SourceLoc(a.stats_json), "cannot write");
     }
     if (!a.quiet) {
         fmt::print("{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
@@ -202,14 +203,7 @@ void add_render(CLI::App& app) {
     a->window = cmd->get_option("--window");
     a->ray_slots = cmd->get_option("--ray-slots");
     cmd->callback([a] {
-        try {
-            run_render(*a);
-        } catch (const std::exception& e) {
-            std::string msg = e.what();
-            if (msg.find(": error: ") == std::string::npos) msg = "nesshi render: error: " + msg;
-            fmt::print(stderr, "{}\n", msg);
-            throw CLI::RuntimeError(1);
-        }
+        run_render(*a);
     });
 }
 

@@ -1,5 +1,6 @@
 // `nesshi scene`: `info` (counts, view, bounds, grid sizes against the machine's memories) and `gen`.
 #include "commands.hpp"
+#include "errors.hpp"
 
 #include "machine/memory_report.hpp"
 #include "rt/grid.hpp"
@@ -56,12 +57,7 @@ void add_scene(CLI::App& app) {
     info->add_option("--grid", *grids, "grid resolutions to report (0 = auto)")->delimiter(',');
     info->add_flag("--no-grid", *no_grid, "skip the grid report");
     info->callback([=] {
-        try {
-            scene_info(*file, *no_grid ? std::vector<int>{} : *grids);
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "{}\n", e.what());
-            throw CLI::RuntimeError(1);
-        }
+        scene_info(*file, *no_grid ? std::vector<int>{} : *grids);
     });
 
     auto* gen = cmd->add_subcommand("gen", "Write a built-in SPD scene as NFF");
@@ -72,24 +68,19 @@ void add_scene(CLI::App& app) {
     gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)");
     gen->add_option("-o,--output", *out, "output file (default: stdout)");
     gen->callback([=] {
-        try {
-            std::string nm = *name;
-            int sz = *size;
-            if (auto p = rt::parse_spd_name(nm)) {
-                nm = p->name;
-                if (sz == 0) sz = p->size;
-            }
-            std::string text = rt::generate_spd(nm, sz);
-            if (out->empty()) {
-                fmt::print("{}", text);
-            } else {
-                std::ofstream f(*out, std::ios::binary);
-                f << text;
-                if (!f) throw std::runtime_error(fmt::format("{}: cannot write", *out));
-            }
-        } catch (const std::exception& e) {
-            fmt::print(stderr, "nesshi scene gen: error: {}\n", e.what());
-            throw CLI::RuntimeError(1);
+        std::string nm = *name;
+        int sz = *size;
+        if (auto p = rt::parse_spd_name(nm)) {
+            nm = p->name;
+            if (sz == 0) sz = p->size;
+        }
+        std::string text = rt::generate_spd(nm, sz);
+        if (out->empty()) {
+            fmt::print("{}", text);
+        } else {
+            std::ofstream f(*out, std::ios::binary);
+            f << text;
+            if (!f) throw base::Error(base::SourceLoc(*out), "cannot write");
         }
     });
 }

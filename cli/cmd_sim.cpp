@@ -64,7 +64,7 @@ Fifos make_fifos(const SimOpts& o, const std::vector<std::vector<uint32_t>>& inp
 void write_file(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::trunc | std::ios::binary);
     out << text;
-    if (!out) throw CLI::RuntimeError(fmt::format("{}: cannot write", path), 1);
+    if (!out) throw base::Error(base::SourceLoc(path), "cannot write");
 }
 
 // --expect SPEC=FILE: the dump spec and the values read from FILE.
@@ -79,18 +79,18 @@ std::vector<Expectation> read_expectations(const SimOpts& o, const iss::Program&
     for (const auto& e : o.expect) {
         const auto eq = e.find('=');
         if (eq == std::string::npos || eq + 1 == e.size())
-            throw CLI::RuntimeError(fmt::format("--expect '{}': expected LABEL[:COUNT][:FORMAT]=FILE", e), 2);
+            throw UsageError(fmt::format("--expect '{}': expected LABEL[:COUNT][:FORMAT]=FILE", e));
         Expectation x;
         const std::string file = e.substr(eq + 1);
         try {
             x.spec = iss::parse_dump_spec(e.substr(0, eq));
-            std::ifstream in(file, std::ios::binary);
-            if (!in) throw std::invalid_argument(fmt::format("{}: cannot open", file));
-            const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            x.values = iss::parse_values(text, file, x.spec.format);
         } catch (const std::invalid_argument& err) {
-            throw CLI::RuntimeError(err.what(), 1);
+            throw UsageError(err.what());
         }
+        std::ifstream in(file, std::ios::binary);
+        if (!in) throw base::Error(base::SourceLoc(file), "cannot open");
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        x.values = iss::parse_values(text, file, x.spec.format);
         if (!x.spec.count) x.spec.count = static_cast<uint32_t>(std::max<std::size_t>(1, x.values.size()));
         out.push_back(std::move(x));
     }
@@ -101,27 +101,23 @@ std::vector<Expectation> read_expectations(const SimOpts& o, const iss::Program&
             if (!sym || sym->kind != isa::SymbolKind::Data)
                 throw std::invalid_argument(fmt::format("--dump {}: no data label '{}' in {}", d, spec.label, o.input));
         } catch (const std::invalid_argument& err) {
-            throw CLI::RuntimeError(err.what(), 2);
+            throw UsageError(err.what());
         }
     }
     for (const auto& x : out) {
         const isa::Symbol* sym = prog.find_symbol(x.spec.label);
         if (!sym || sym->kind != isa::SymbolKind::Data)
-            throw CLI::RuntimeError(fmt::format("--expect: no data label '{}' in {}", x.spec.label, o.input), 2);
+            throw UsageError(fmt::format("--expect: no data label '{}' in {}", x.spec.label, o.input));
     }
     return out;
 }
 
 // After the run: the dumps on stdout, then the first difference from an expectation, if any.
 void dump_and_check(const SimOpts& o, const iss::Processor& p, const std::vector<Expectation>& expect) {
-    try {
-        for (const auto& d : o.dump) fmt::print("{}", iss::dump_memory(p, iss::parse_dump_spec(d)).text());
-        for (const auto& x : expect) {
-            const iss::Mismatch m = iss::compare(iss::dump_memory(p, x.spec), x.values, o.ulp);
-            if (m) throw CLI::RuntimeError(m.message, 1);
-        }
-    } catch (const std::invalid_argument& err) {
-        throw CLI::RuntimeError(err.what(), 1);
+    for (const auto& d : o.dump) fmt::print("{}", iss::dump_memory(p, iss::parse_dump_spec(d)).text());
+    for (const auto& x : expect) {
+        const iss::Mismatch m = iss::compare(iss::dump_memory(p, x.spec), x.values, o.ulp);
+        if (m) throw base::Error(m.message);
     }
 }
 
@@ -129,13 +125,7 @@ void run_sim(const SimOpts& o) {
     auto prog = load_sim_input(o.input, o.machine);
     const std::vector<Expectation> expect = read_expectations(o, *prog);
     std::vector<std::vector<uint32_t>> inputs;
-    for (const auto& spec : o.fifo_in) {
-        try {
-            inputs.push_back(iss::read_word_file(channel_spec(spec, 0).second));
-        } catch (const std::exception& e) {
-            throw CLI::RuntimeError(e.what(), 1);
-        }
-    }
+    for (const auto& spec : o.fifo_in) inputs.push_back(iss::read_word_file(channel_spec(spec, 0).second));
     bool lockstep = o.engine == "lockstep";
     iss::Processor p(prog, o.engine == "checked" ? iss::Engine::Checked : iss::Engine::Fast);
     Fifos fifos = make_fifos(o, inputs);
@@ -145,7 +135,7 @@ void run_sim(const SimOpts& o) {
     std::unique_ptr<iss::Tracer> tracer;
     if (!o.trace.empty()) {
         trace_file = o.trace == "-" ? stdout : std::fopen(o.trace.c_str(), "wb");
-        if (!trace_file) throw CLI::RuntimeError(fmt::format("{}: cannot write", o.trace), 1);
+        if (!trace_file) throw base::Error(base::SourceLoc(o.trace), "cannot write");
         bool chrome = o.trace_format == "chrome" ||
                       (o.trace_format == "auto" && o.trace.size() > 5 && o.trace.ends_with(".json"));
         if (chrome) tracer = std::make_unique<iss::ChromeTracer>(trace_file);
@@ -201,7 +191,7 @@ void run_sim(const SimOpts& o) {
     std::fflush(stdout);
     if (fault) {
         fmt::print(stderr, "{}", iss::format_fault(p.program(), *fault));
-        throw CLI::RuntimeError(2);
+        throw Reported(kExitFault);
     }
 }
 

@@ -3,9 +3,8 @@
 #include <CLI/CLI.hpp>
 
 namespace nesshi::cli {
-// Each adds its subcommand to the app; the callback runs it and throws
-// CLI::RuntimeError(message, code) on failure: main() prints "nesshi: error: message" (unless the
-// message is empty, for commands that printed their own diagnostics) and exits with code.
+// Each adds its subcommand to the app; the callback runs it and throws on failure (errors.hpp
+// says what each exception means and how it is printed).
 void add_asm(CLI::App& app);
 void add_dis(CLI::App& app);
 void add_sim(CLI::App& app);

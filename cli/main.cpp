@@ -1,14 +1,13 @@
-// Entry point of `nesshi`: builds the subcommand tree and maps errors to exit codes.
+// Entry point of `nesshi`: builds the subcommand tree; errors.cpp turns failures into exit codes.
 #include "commands.hpp"
-
-#include <fmt/core.h>
+#include "errors.hpp"
 
 #include <exception>
-#include <string>
 
 int main(int argc, char** argv) {
     CLI::App app{"nesshi: toolchain and simulator for the Nesshisen ray-tracing machine"};
     app.set_version_flag("--version", "nesshi " NESSHI_VERSION);
+    app.footer(nesshi::cli::exit_status_help());
     app.require_subcommand(1);
     nesshi::cli::add_asm(app);
     nesshi::cli::add_dis(app);
@@ -24,17 +23,8 @@ int main(int argc, char** argv) {
     nesshi::cli::add_loop(app);
     try {
         app.parse(argc, argv);
-    } catch (const CLI::RuntimeError& e) {
-        // Commands signal failure with RuntimeError(message, exit code); an empty message means
-        // the command already printed its own diagnostics.
-        std::string what = e.what();
-        if (!what.empty() && what != "Runtime error") fmt::print(stderr, "nesshi: error: {}\n", what);
-        return e.get_exit_code();
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "nesshi: error: {}\n", e.what());
-        return 1;
+    } catch (...) {
+        return nesshi::cli::report_error(app, std::current_exception());
     }
-    return 0;
+    return nesshi::cli::kExitOk;
 }

@@ -4,10 +4,11 @@
 // comment `# machine: NAME`, else `os`. Anything else is read as an object file.
 #pragma once
 
+#include "errors.hpp"
+
 #include "assembler/assembler.hpp"
 #include "iss/program.hpp"
 
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
 #include <fstream>
@@ -16,26 +17,19 @@
 
 namespace nesshi::cli {
 
-// Prints diagnostics to stderr and throws CLI::RuntimeError(1) on any loading problem.
+// Prints the assembler's diagnostics to stderr; throws (errors.hpp) on any loading problem.
 inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& path, const std::string& machine) {
-    try {
-        bool source = path.size() > 2 && path.compare(path.size() - 2, 2, ".s") == 0;
-        if (!source) return iss::load_program_file(path, machine);
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw iss::LoadError(fmt::format("{}: error: cannot open", path));
-        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        std::string name = !machine.empty() ? machine : assembler::header_machine(text);
-        isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
-        auto r = assembler::assemble_string(text, path, m, {});
-        fmt::print(stderr, "{}", r.diagnostics);
-        if (!r.ok) throw CLI::RuntimeError(1);
-        return iss::load_program(r.object, m);
-    } catch (const CLI::RuntimeError&) {
-        throw;
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "nesshi: error: {}\n", e.what());
-        throw CLI::RuntimeError(1);
-    }
+    bool source = path.size() > 2 && path.compare(path.size() - 2, 2, ".s") == 0;
+    if (!source) return iss::load_program_file(path, machine);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw iss::LoadError(base::SourceLoc(path), "cannot open");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string name = !machine.empty() ? machine : assembler::header_machine(text);
+    isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+    auto r = assembler::assemble_string(text, path, m, {});
+    fmt::print(stderr, "{}", r.diagnostics);
+    if (!r.ok) throw Reported(kExitInput);
+    return iss::load_program(r.object, m);
 }
 
 } // namespace nesshi::cli

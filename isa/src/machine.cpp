@@ -20,11 +20,10 @@ namespace {
 struct Ctx {
     std::string source;
     [[noreturn]] void fail(const toml::source_region& where, const std::string& msg) const {
-        throw MachineError(fmt::format("{}:{}:{}: error: {}", source, where.begin.line,
-                                       where.begin.column, msg));
+        throw MachineError(base::SourceLoc(source, int(where.begin.line), int(where.begin.column)), msg);
     }
     [[noreturn]] void fail_top(const std::string& msg) const {
-        throw MachineError(fmt::format("{}:1:1: error: {}", source, msg));
+        throw MachineError(base::SourceLoc(source, 1, 1), msg);
     }
 };
 
@@ -328,9 +327,8 @@ Machine load_machine(std::string_view name_or_path) {
         return parse_machine(text, fmt::format("builtin:{}", name_or_path));
     std::string text;
     if (!read_file(std::string(name_or_path), text))
-        throw MachineError(fmt::format(
-            "{}: error: no such machine preset or file (presets: {})", name_or_path,
-            fmt::join(preset_names(), ", ")));
+        throw MachineError(base::SourceLoc(name_or_path), fmt::format("no such machine preset or file (presets: {})",
+                                                                      fmt::join(preset_names(), ", ")));
     return parse_machine(text, name_or_path);
 }
 

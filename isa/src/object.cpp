@@ -35,7 +35,7 @@ class Reader {
     Reader(const uint8_t* p, size_t n, std::string_view name, std::string_view what)
         : p_(p), n_(n), name_(name), what_(what) {}
     [[noreturn]] void fail(std::string_view msg) const {
-        throw ObjectError(fmt::format("{}: error: {} (in {} at byte {})", name_, msg, what_, pos_));
+        throw ObjectError(base::SourceLoc(name_), fmt::format("{} (in {} at byte {})", msg, what_, pos_));
     }
     void need(size_t k) const {
         if (n_ - pos_ < k) fail("truncated");
@@ -148,19 +148,18 @@ std::vector<uint8_t> write_object(const ObjectFile& obj) {
 ObjectFile read_object(const std::vector<uint8_t>& bytes, std::string_view name) {
     Reader hdr(bytes.data(), bytes.size(), name, "header");
     if (bytes.size() < sizeof kMagic || !std::equal(std::begin(kMagic), std::end(kMagic), bytes.begin()))
-        throw ObjectError(fmt::format("{}: error: not a Nesshisen object file (bad magic)", name));
+        throw ObjectError(base::SourceLoc(name), "not a Nesshisen object file (bad magic)");
     if (bytes.size() < sizeof kMagic + 4)
-        throw ObjectError(fmt::format("{}: error: truncated object file", name));
+        throw ObjectError(base::SourceLoc(name), "truncated object file");
     uint32_t stored = 0;
     for (int i = 0; i < 4; ++i) stored |= uint32_t(bytes[bytes.size() - 4 + i]) << (8 * i);
     ObjectFile obj;
     hdr.bytes(sizeof kMagic);
     uint16_t version = hdr.u16();
     if (version != kObjectVersion)
-        throw ObjectError(fmt::format("{}: error: object format version {} (this tool reads {})",
-                                      name, version, kObjectVersion));
+        throw ObjectError(base::SourceLoc(name), fmt::format("object format version {} (this tool reads {})", version, kObjectVersion));
     if (stored != crc32(bytes.data(), bytes.size() - 4))
-        throw ObjectError(fmt::format("{}: error: checksum mismatch: the file is corrupt or truncated", name));
+        throw ObjectError(base::SourceLoc(name), "checksum mismatch: the file is corrupt or truncated");
     Reader r(bytes.data(), bytes.size() - 4, name, "header");
     r.bytes(sizeof kMagic + 2);
     if (r.u16() != 0) r.fail("reserved header field is not zero");
@@ -244,7 +243,7 @@ ObjectFile read_object(const std::vector<uint8_t>& bytes, std::string_view name)
 
 ObjectFile read_object_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw ObjectError(fmt::format("{}: error: cannot open", path));
+    if (!in) throw ObjectError(base::SourceLoc(path), "cannot open");
     std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     return read_object(bytes, path);
 }
@@ -252,9 +251,9 @@ ObjectFile read_object_file(const std::string& path) {
 void write_object_file(const ObjectFile& obj, const std::string& path) {
     auto bytes = write_object(obj);
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw ObjectError(fmt::format("{}: error: cannot write", path));
+    if (!out) throw ObjectError(base::SourceLoc(path), "cannot write");
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out) throw ObjectError(fmt::format("{}: error: write failed", path));
+    if (!out) throw ObjectError(base::SourceLoc(path), "write failed");
 }
 
 std::vector<std::vector<Instr>> decode_bundles(const ObjectFile& obj) {

@@ -1,6 +1,8 @@
 // The in-memory FIFO and the word-file format of `nesshi sim --fifo-in/--fifo-out`.
 #include "iss/channel.hpp"
 
+#include "base/error.hpp"
+
 #include <fmt/core.h>
 
 #include <bit>
@@ -92,8 +94,8 @@ std::vector<uint32_t> parse_words(std::string_view text, std::string_view name) 
             if (j > i) {
                 uint32_t w;
                 if (!parse_token(line.substr(i, j - i), w))
-                    throw std::runtime_error(fmt::format("{}:{}:{}: error: bad word '{}'", name, line_no, i + 1,
-                                                         line.substr(i, j - i)));
+                    throw base::Error(base::SourceLoc(name, int(line_no), int(i + 1)),
+                                      fmt::format("bad word '{}'", line.substr(i, j - i)));
                 out.push_back(w);
             }
             i = j;
@@ -106,7 +108,7 @@ std::vector<uint32_t> parse_words(std::string_view text, std::string_view name) 
 
 std::vector<uint32_t> read_word_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error(fmt::format("{}: error: cannot open", path));
+    if (!in) throw base::Error(base::SourceLoc(path), "cannot open");
     std::stringstream ss;
     ss << in.rdbuf();
     return parse_words(ss.str(), path);

@@ -1,6 +1,8 @@
 // The debugger's input loops: interactive (libedit line editing and history) and scripted.
 #include "iss/debugger.hpp"
 
+#include "base/error.hpp"
+
 #include <editline/readline.h>
 
 #include <cstdlib>
@@ -25,7 +27,7 @@ void debug_interactive(Debugger& d) {
 
 void debug_script(Debugger& d, const std::string& path, std::FILE* out) {
     std::ifstream in(path);
-    if (!in) throw std::runtime_error(fmt::format("{}: error: cannot open", path));
+    if (!in) throw base::Error(base::SourceLoc(path), "cannot open");
     std::string line;
     while (std::getline(in, line)) {
         if (!line.empty() && line.back() == '\r') line.pop_back();

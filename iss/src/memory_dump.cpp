@@ -1,6 +1,8 @@
 // Memory dumps by label and their comparison with expected values.
 #include "iss/memory_dump.hpp"
 
+#include "base/error.hpp"
+
 #include <fmt/format.h>
 
 #include <bit>
@@ -151,8 +153,8 @@ std::vector<Expected> parse_values(std::string_view text, std::string_view file,
             e.bits = static_cast<std::uint32_t>(v);
         }
         if (!ok)
-            throw std::invalid_argument(fmt::format("{}:{}: '{}' is not a{} value", file, line, tok,
-                                                    format == DumpFormat::f32 ? " float" : "n integer"));
+            throw base::Error(base::SourceLoc(file, line), fmt::format("'{}' is not a{} value", tok,
+                                                                     format == DumpFormat::f32 ? " float" : "n integer"));
         out.push_back(std::move(e));
         i = j;
     }

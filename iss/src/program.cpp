@@ -59,7 +59,7 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     try {
         decoded = isa::decode_bundles(obj);
     } catch (const isa::ObjectError& e) {
-        throw LoadError(e.what());
+        throw LoadError(e.loc(), e.message());
     }
     if (decoded.empty()) throw LoadError("object has no code");
     if (!obj.lines.empty() && obj.lines.size() != decoded.size())
@@ -187,20 +187,21 @@ std::shared_ptr<const Program> load_program_file(const std::string& path, const 
     try {
         obj = isa::read_object_file(path);
     } catch (const isa::ObjectError& e) {
-        throw LoadError(e.what());
+        throw LoadError(e.loc(), e.message());
     }
     std::string name = machine_override.empty() ? obj.machine : machine_override;
-    if (name.empty()) throw LoadError(fmt::format("{}: object names no machine; pass --machine", path));
+    if (name.empty()) throw LoadError(base::SourceLoc(path), "object names no machine; pass --machine");
     isa::Machine m;
     try {
         m = isa::load_machine(name);
     } catch (const isa::MachineError& e) {
-        throw LoadError(e.what());
+        throw LoadError(e.loc(), e.message());
     }
     try {
         return load_program(obj, m);
     } catch (const LoadError& e) {
-        throw LoadError(fmt::format("{}: {}", path, e.what()));
+        if (e.loc().known()) throw;
+        throw LoadError(base::SourceLoc(path), e.message());
     }
 }
 

@@ -1,6 +1,7 @@
 // Machine reports: stats JSON (render's keys plus "cycles" and "host"), the terminal summary and
 // the sampled activity trace.
 #include "pe.hpp"
+#include "base/error.hpp"
 
 #include "machine/memory_report.hpp"
 
@@ -121,7 +122,7 @@ void write_trace_json(const std::string& path, const std::vector<PeResult>& pes)
                           {"otherData", {{"time_unit", "1 trace microsecond = 1 machine cycle"}}}};
     std::ofstream f(path);
     f << doc.dump() << "\n";
-    if (!f) throw std::runtime_error(fmt::format("{}: cannot write", path));
+    if (!f) throw base::Error(base::SourceLoc(path), "cannot write");
 }
 
 } // namespace nesshi::machine

@@ -85,8 +85,7 @@ CellRecord parse_cell(const CellKey& key, const std::string& text, const std::st
         r.wall_seconds = number_or_zero(host, "wall_seconds");
         return r;
     } catch (const std::exception& e) { // json::exception or PaperError
-        throw PaperError(
-            fmt::format("{}: error: malformed cell file: {} (delete it to run the cell again)", file, e.what()));
+        throw PaperError(base::SourceLoc(file), fmt::format("malformed cell file: {} (delete it to run the cell again)", e.what()));
     }
 }
 
@@ -96,11 +95,11 @@ void write_file_atomically(const std::string& file, const std::string& text) {
         std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
         f << text;
         f.close();
-        if (!f) throw PaperError(fmt::format("{}: error: cannot write", tmp));
+        if (!f) throw PaperError(base::SourceLoc(tmp), "cannot write");
     }
     std::error_code ec;
     fs::rename(tmp, file, ec);
-    if (ec) throw PaperError(fmt::format("{}: error: cannot rename to {}: {}", tmp, file, ec.message()));
+    if (ec) throw PaperError(base::SourceLoc(tmp), fmt::format("cannot rename to {}: {}", file, ec.message()));
 }
 
 const CellRecord* PaperData::find(const std::string& scene, int grid, machine::Model m) const {

@@ -30,7 +30,7 @@ std::string read_file(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     std::ostringstream s;
     s << f.rdbuf();
-    if (!f) throw PaperError(fmt::format("{}: error: cannot read", p.string()));
+    if (!f) throw PaperError(base::SourceLoc(p.string()), "cannot read");
     return s.str();
 }
 
@@ -115,7 +115,7 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
     const fs::path dir = fs::path(o.out_dir) / "cells";
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (ec) throw PaperError(fmt::format("{}: error: cannot create: {}", dir.string(), ec.message()));
+    if (ec) throw PaperError(base::SourceLoc(dir.string()), fmt::format("cannot create: {}", ec.message()));
 
     for (std::size_t i = 0; i < m.keys.size(); ++i) {
         const fs::path file = dir / cell_file_name(m.keys[i]);

@@ -11,7 +11,7 @@ std::vector<std::string> write_reports(const PaperData& d, const std::string& ou
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::create_directories(out_dir, ec);
-    if (ec) throw PaperError(fmt::format("{}: error: cannot create: {}", out_dir, ec.message()));
+    if (ec) throw PaperError(base::SourceLoc(out_dir), fmt::format("cannot create: {}", ec.message()));
     std::vector<std::string> names;
     auto write = [&](const std::string& name, const std::string& text) {
         write_file_atomically((fs::path(out_dir) / name).string(), text);

@@ -1,5 +1,6 @@
 // PNG writer (libpng) and the raw little-endian ID / t buffers.
 #include "rt/image.hpp"
+#include "base/error.hpp"
 
 #include <fmt/format.h>
 #include <png.h>
@@ -20,7 +21,7 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
 
 File open_write(const std::string& path) {
     File f(std::fopen(path.c_str(), "wb"));
-    if (!f) throw std::runtime_error(fmt::format("{}: cannot open for writing: {}", path, std::strerror(errno)));
+    if (!f) throw base::Error(base::SourceLoc(path), fmt::format("cannot open for writing: {}", std::strerror(errno)));
     return f;
 }
 
@@ -30,7 +31,7 @@ void write_words(const std::string& path, const std::uint32_t* words, std::size_
     for (std::size_t i = 0; i < n; ++i)
         for (int b = 0; b < 4; ++b) bytes[i * 4 + static_cast<std::size_t>(b)] = static_cast<unsigned char>(words[i] >> (8 * b));
     if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
-        throw std::runtime_error(fmt::format("{}: write failed", path));
+        throw base::Error(base::SourceLoc(path), "write failed");
 }
 } // namespace
 
@@ -41,7 +42,7 @@ void write_png(const std::string& path, const Image& img) {
     png_infop info = png_create_info_struct(png);
     if (!info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
-        throw std::runtime_error(fmt::format("{}: PNG write failed", path));
+        throw base::Error(base::SourceLoc(path), "PNG write failed");
     }
     png_init_io(png, f.get());
     png_set_IHDR(png, info, static_cast<png_uint_32>(img.width), static_cast<png_uint_32>(img.height), 8,

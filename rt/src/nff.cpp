@@ -11,13 +11,6 @@
 
 namespace nesshi::rt {
 
-std::string SourceLoc::str() const {
-    return fmt::format("{}:{}:{}", file ? *file : std::string("<input>"), line, col);
-}
-
-SceneError::SceneError(const SourceLoc& loc, const std::string& msg)
-    : std::runtime_error(fmt::format("{}: error: {}", loc.str(), msg)) {}
-
 namespace {
 
 struct Token {
@@ -270,7 +263,7 @@ Scene parse_nff(std::string_view text, const std::string& file) {
 
 Scene load_nff_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw SceneError(fmt::format("{}: error: cannot open file", path));
+    if (!in) throw SceneError(SourceLoc(path), "cannot open file");
     std::ostringstream ss;
     ss << in.rdbuf();
     return parse_nff(ss.str(), path);

@@ -145,7 +145,7 @@ Scene load_scene(const std::string& file_or_name) {
         try {
             spd = parse_spd_name(file_or_name);
         } catch (const std::invalid_argument& e) {
-            throw SceneError(fmt::format("{}: error: {}", file_or_name, e.what()));
+            throw SceneError(SourceLoc(file_or_name), e.what());
         }
         if (spd) {
             std::string label = spd->size ? fmt::format("{}:{}", spd->name, spd->size) : spd->name;

@@ -42,6 +42,8 @@ std::optional<SpdName> parse_spd_name(std::string_view text) {
 }
 
 std::string generate_spd(std::string_view name, int size) {
+    if (spd_default_size(name) == 0)
+        throw std::invalid_argument(fmt::format("unknown scene '{}' (built-in: balls mount rings tetra tree gears)", name));
     if (size == 0) size = spd_default_size(name);
     if (size < 1 || size > 20) throw std::invalid_argument(fmt::format("size factor {} out of range [1, 20]", size));
     NffWriter w;
@@ -50,8 +52,7 @@ std::string generate_spd(std::string_view name, int size) {
     else if (name == "rings") gen_rings(w, size);
     else if (name == "tetra") gen_tetra(w, size);
     else if (name == "tree") gen_tree(w, size);
-    else if (name == "gears") gen_gears(w, size);
-    else throw std::invalid_argument(fmt::format("unknown scene '{}' (built-in: balls mount rings tetra tree gears)", name));
+    else gen_gears(w, size);
     return w.str();
 }
 

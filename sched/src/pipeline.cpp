@@ -7,6 +7,7 @@
 #include "sched/bounds.hpp"
 
 #include "assembler/assembler.hpp"
+#include "base/error.hpp"
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
 #include "isa/ops.hpp"
@@ -28,12 +29,11 @@ namespace nesshi::sched {
 
 namespace {
 
-constexpr int kMaxDistance = 16;
-constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next (different op orders) // memory dependences are looked for up to this many iterations apart
+constexpr int kMaxDistance = 16;  // memory dependences are looked for up to this many iterations apart
+constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next (different op orders)
 
 [[noreturn]] void fail(std::string_view file, int line, const std::string& msg) {
-    throw std::runtime_error(line > 0 ? fmt::format("{}:{}: error: {}", file, line, msg)
-                                      : fmt::format("{}: error: {}", file, msg));
+    throw base::Error(base::SourceLoc(file, line), msg);
 }
 
 std::string trim(std::string_view s) {
@@ -906,7 +906,7 @@ isa::ObjectFile assemble_or_fail(const std::string& text, std::string_view file,
                                  const std::string& what) {
     const assembler::AsmResult res = assembler::assemble_string(text, file, m, {});
     if (!res.ok || res.warnings > 0)
-        throw std::runtime_error(fmt::format("{}: error: the {} does not assemble cleanly:\n{}", file, what, res.diagnostics));
+        throw base::Error(base::SourceLoc(file), fmt::format("the {} does not assemble cleanly:\n{}", what, res.diagnostics));
     return res.object;
 }
 

@@ -73,8 +73,8 @@ TEST_CASE("compare: the first difference, with both values and the ulp distance"
     CHECK(compare(xs, parse_values("1 2", "x.txt", DumpFormat::f32), 0).message == "xs: the file holds 2 values, the dump 3 words");
     const MemoryDump ys = dump_memory(p, parse_dump_spec("ys:i32"));
     CHECK(!compare(ys, parse_values("7 0xffffffff", "y.txt", DumpFormat::i32), 0));
-    CHECK_THROWS_WITH(parse_values("7\n1.5", "y.txt", DumpFormat::i32), "y.txt:2: '1.5' is not an integer value");
-    CHECK_THROWS_WITH(parse_values("x", "f.txt", DumpFormat::f32), "f.txt:1: 'x' is not a float value");
+    CHECK_THROWS_WITH(parse_values("7\n1.5", "y.txt", DumpFormat::i32), "y.txt:2: error: '1.5' is not an integer value");
+    CHECK_THROWS_WITH(parse_values("x", "f.txt", DumpFormat::f32), "f.txt:1: error: 'x' is not a float value");
 }
 
 TEST_CASE("ulp_distance counts representable floats between two patterns", "[unit][iss][dump]") {

@@ -6,6 +6,7 @@
 // start from another (`inherits = "os"`) and list only its differences.
 #pragma once
 
+#include "base/error.hpp"
 #include "isa/ops.hpp"
 
 #include <array>
@@ -65,9 +66,9 @@ struct Machine {
 };
 
 // A malformed description; what() is `file:line:col: error: message`.
-class MachineError : public std::runtime_error {
+class MachineError : public base::Error {
   public:
-    using std::runtime_error::runtime_error;
+    using base::Error::Error;
 };
 
 // How many ancestors a description may have through `inherits` (a parent that inherits in turn

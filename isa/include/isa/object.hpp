@@ -9,6 +9,7 @@
 // foreign file gives a clear error, never a crash.
 #pragma once
 
+#include "base/error.hpp"
 #include "isa/encoding.hpp"
 
 #include <cstdint>
@@ -57,9 +58,9 @@ struct ObjectFile {
     friend bool operator==(const ObjectFile&, const ObjectFile&) = default;
 };
 
-class ObjectError : public std::runtime_error {
+class ObjectError : public base::Error {
   public:
-    using std::runtime_error::runtime_error;
+    using base::Error::Error;
 };
 
 std::vector<uint8_t> write_object(const ObjectFile& obj);

@@ -52,7 +52,7 @@ struct Expected {
 };
 // Values separated by whitespace or commas, `#` comments to the end of a line. f32 takes decimal
 // floats (`1.5`, `-2e-3`, `inf`, `nan`); i32 and hex take decimal or 0x integers. Throws
-// std::invalid_argument "FILE:LINE: ..." on a value that does not parse.
+// base::Error at FILE:LINE on a value that does not parse.
 std::vector<Expected> parse_values(std::string_view text, std::string_view file, DumpFormat format);
 
 // Distance in units in the last place between two binary32 patterns (0 for equal, +0 and -0 are 1 apart).

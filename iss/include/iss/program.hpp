@@ -4,6 +4,7 @@
 // Processor instances, so many processors running one kernel cost one copy of the code.
 #pragma once
 
+#include "base/error.hpp"
 #include "isa/encoding.hpp"
 #include "isa/machine.hpp"
 #include "isa/object.hpp"
@@ -58,9 +59,9 @@ struct Region {
 };
 
 // A loading problem: illegal encoding, bundle that breaks a static rule, data outside memory.
-class LoadError : public std::runtime_error {
+class LoadError : public base::Error {
   public:
-    using std::runtime_error::runtime_error;
+    using base::Error::Error;
 };
 
 class Program {

@@ -12,6 +12,8 @@
 // Everything but simulate_cell() and run_paper() works on cell records, so the tables, chart and resumable
 // runner are testable with synthetic cells and a stand-in CellRunner.
 #pragma once
+
+#include "base/error.hpp"
 #include "machine/machine.hpp"
 
 #include <array>
@@ -25,9 +27,9 @@
 namespace nesshi::paper {
 
 // Bad options, a malformed cell file ("FILE: error: ..."), failed cells.
-class PaperError : public std::runtime_error {
+class PaperError : public base::Error {
   public:
-    using std::runtime_error::runtime_error;
+    using base::Error::Error;
 };
 
 // One cell of the matrix; its file is out_dir/cells/<cell_file_name>.

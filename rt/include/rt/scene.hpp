@@ -1,5 +1,6 @@
 // Parsed NFF scene: plain records that keep their source location (the runtime shapes are built after).
 #pragma once
+#include "base/error.hpp"
 #include "base/vec.hpp"
 
 #include <array>
@@ -15,20 +16,12 @@ namespace nesshi::rt {
 using base::Vec3;
 using base::Vec3d;
 using base::Vec3f;
-
-
-struct SourceLoc {
-    std::shared_ptr<const std::string> file; // shared by all records of one file
-    int line = 0;
-    int col = 0;
-    std::string str() const; // "file:line:col"
-};
+using base::SourceLoc;
 
 // Malformed input: what() is "file:line:col: error: message".
-class SceneError : public std::runtime_error {
+class SceneError : public base::Error {
 public:
-    SceneError(const SourceLoc& loc, const std::string& msg);
-    explicit SceneError(const std::string& full) : std::runtime_error(full) {}
+    using base::Error::Error;
 };
 
 struct Color {

@@ -1,0 +1,68 @@
+#include "errors.hpp"
+
+#include "base/error.hpp"
+
+#include <fmt/core.h>
+
+#include <string>
+
+namespace nesshi::cli {
+
+namespace {
+
+// "nesshi scene info": the chain of subcommands that parsed.
+std::string command_name(const CLI::App& app) {
+    std::string name = "nesshi";
+    const CLI::App* a = &app;
+    for (;;) {
+        const auto subs = a->get_subcommands();
+        if (subs.empty()) break;
+        a = subs.front();
+        name += " " + a->get_name();
+    }
+    return name;
+}
+
+void print_usage_error(const std::string& who, const std::string& msg) {
+    fmt::print(stderr, "{}: error: {}\nRun '{} --help' for more information.\n", who, msg, who);
+}
+
+} // namespace
+
+const char* exit_status_help() {
+    return "Exit status: 0 success, 1 bad input or failed check, 2 usage error, 3 simulated fault.";
+}
+
+int report_error(const CLI::App& app, std::exception_ptr error) {
+    const std::string who = command_name(app);
+    try {
+        std::rethrow_exception(error);
+    } catch (const CLI::Success& e) { // --help, --help-all, --version
+        return app.exit(e);
+    } catch (const CLI::RequiredError& e) {
+        // CLI11 reads an unknown first word as a missing subcommand.
+        if (who == "nesshi" && !app.remaining().empty())
+            print_usage_error(who, fmt::format("unknown command '{}' (see the list in 'nesshi --help')", app.remaining().front()));
+        else
+            print_usage_error(who, e.what());
+        return kExitUsage;
+    } catch (const CLI::ParseError& e) {
+        print_usage_error(who, e.what());
+        return kExitUsage;
+    } catch (const UsageError& e) {
+        print_usage_error(who, e.what());
+        return kExitUsage;
+    } catch (const Reported& e) {
+        return e.status();
+    } catch (const base::Error& e) {
+        if (e.loc().known()) fmt::print(stderr, "{}\n", e.what());
+        else fmt::print(stderr, "{}: error: {}\n", who, e.message());
+        return kExitInput;
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "{}: error: {}\n", who, e.what());
+        return kExitInput;
+    }
+    return kExitInput;
+}
+
+} // namespace nesshi::cli
