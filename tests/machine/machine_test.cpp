@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -308,7 +309,8 @@ TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machi
     const PreparedScene prep = prepare(load_scene("tetra:1"), 6);
     const RenderOptions opt = small(16);
     machine::Options mo = model(machine::Model::V);
-    mo.trace_json = "machine_test_trace.json";
+    const std::string trace_path = (std::filesystem::temp_directory_path() / "nesshi_machine_test_trace.json").string();
+    mo.trace_json = trace_path; // not the working directory: a run by hand would litter the checkout
     const machine::Result r = machine::render(prep, opt, mo);
     nlohmann::json j = nlohmann::json::parse(machine::stats_json(prep, opt, mo, r));
     for (const char* stage : {"os", "ic", "sc"})
@@ -335,7 +337,7 @@ TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machi
     std::stringstream want;
     want << f.rdbuf();
     CHECK(got == want.str());
-    std::ifstream t("machine_test_trace.json");
+    std::ifstream t(trace_path);
     const nlohmann::json trace = nlohmann::json::parse(t);
     CHECK(trace["traceEvents"].size() > 10);
 }
