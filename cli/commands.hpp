@@ -17,4 +17,5 @@ void add_kernels(CLI::App& app);
 void add_paper(CLI::App& app);
 void add_pipeline(CLI::App& app);
 void add_loop(CLI::App& app);
+void add_schedule(CLI::App& app);
 } // namespace nesshi::cli

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_paper(app);
     nesshi::cli::add_pipeline(app);
     nesshi::cli::add_loop(app);
+    nesshi::cli::add_schedule(app);
     try {
         app.parse(argc, argv);
     } catch (...) {

@@ -5,7 +5,7 @@
 # lower shape index; HIT to the SC, or the tag back to the OS (RETURN). Float operations exactly as
 # the twins rt/twins/triangle.hpp and quadric.hpp; protocol and memory layout: kernels/abi.hpp.
 #
-# GENERATED: kernels/tools/gen_ic.py writes intersect.pk, kernels/tools/pack.py list-schedules
+# GENERATED: kernels/tools/gen_ic.py writes intersect.pk, `nesshi schedule` list-schedules
 # each straight-line body into the bundles below (run kernels/tools/build.sh after editing).
 #
 # The software pipeline: three primitives in flight

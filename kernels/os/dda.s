@@ -4,7 +4,7 @@
 # step (the paper: 11). Protocol, record layouts and memory map: kernels/abi.hpp.
 #
 # Generated: the straight-line blocks (setup, VISIT, resume) are list-scheduled from dda.pk by
-# kernels/tools/pack.py; the loop and the leave paths are scheduled by hand and copied verbatim.
+# `nesshi schedule`; the loop and the leave paths are scheduled by hand and copied verbatim.
 #
 # What a ray does here
 #   NEW ray (9 words)   dda_setup: grid entry t_in and exit t_exit, entry voxel, per-axis

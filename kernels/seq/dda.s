@@ -13,7 +13,7 @@
 # twin's choice). No interlocks are needed: every result is used one bundle later at the earliest.
 # Setup branches once on "some direction component is zero": the common case (fast_setup) has
 # none of the twin's inside/outside selects, which only change results for zero components.
-# The straight-line blocks (setup, VISIT, resume) are ordered by kernels/tools/pack.py, which
+# The straight-line blocks (setup, VISIT, resume) are ordered by `nesshi schedule`, which
 # fills the 4-cycle divide latency of the setup with independent work.
 # Registers: as kernels/os/dda.s (f10-f12 the three nexts, f16-f18 deltas, r4 voxel address,
 # r5-r7 address steps, f9 t_exit, f40 t_in, f41 t_out).

@@ -4,7 +4,7 @@
 # exits as soon as a test fails (back face, t outside (tmin, bound), a < 0, b < 0, a + b > 1;
 # quadrics: negative discriminant, root out of range). Same float operations, in the twins'
 # order, as kernels/ic/intersect.s, so the results are bit-identical; only the control differs.
-# The straight-line pieces between branches are ordered by kernels/tools/pack.py (it fills the
+# The straight-line pieces between branches are ordered by `nesshi schedule` (it fills the
 # divide and square-root latencies with independent work).
 # Protocol, memory layout and dispatch codes: kernels/abi.hpp.
 # Registers: f1-f3 o, f4-f6 d, f7 tmin, f8 tmax, f9 t_out, f10 bound (= best t so far),

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""gen_ic.py: prints intersect.pk, the IC kernel's source before pack.py schedules it.
+"""gen_ic.py: prints intersect.pk, the IC kernel's source before `nesshi schedule` bundles it.
 
 build.sh keeps that intermediate out of the tree (a temporary or build directory) and commits
 only kernels/ic/intersect.s.
@@ -10,7 +10,7 @@ Body X processes primitive m from payload buffer X (already loaded), and at the 
   - prefetches primitive m+1 (dispatch code, jump target, first 12 payload words into buffer Y),
   - loads the list entry of primitive m+2,
 then jumps (jr) to the body of m+1's kind in variant Y. The bodies are straight-line code, so
-pack.py list-schedules each one; their overlap across primitives is this hand-made software
+`nesshi schedule` list-schedules each one; their overlap across primitives is this hand-made software
 pipeline (three primitives in flight: m+1 loading, m computing, m-1 being accepted).
 """
 

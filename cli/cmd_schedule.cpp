@@ -1,0 +1,56 @@
+// `nesshi schedule FILE`: list-schedule the `#pack begin` ... `#pack end` blocks of an assembly
+// file into bundles (sched/block.hpp); everything else is copied.
+#include "commands.hpp"
+#include "errors.hpp"
+
+#include "assembler/assembler.hpp"
+#include "isa/machine.hpp"
+#include "sched/block.hpp"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace nesshi::cli {
+
+void add_schedule(CLI::App& app) {
+    auto* cmd = app.add_subcommand("schedule", "Bundle the straight-line '#pack begin' ... '#pack end' blocks of a file");
+    struct Args {
+        std::string input, machine, output;
+        std::vector<std::string> includes;
+        bool report = false;
+    };
+    auto a = std::make_shared<Args>();
+    cmd->add_option("input", a->input, "Assembly source with blocks written one op per line, in order")->required();
+    cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
+    cmd->add_option("-o,--output", a->output, "Write the scheduled assembly here (default: stdout)");
+    cmd->add_option("-I,--include-dir", a->includes, "Directory searched by .include");
+    cmd->add_flag("--report", a->report, "Print each block's ops and bundles to stderr");
+    cmd->callback([a] {
+        std::ifstream in(a->input, std::ios::binary);
+        if (!in) throw base::Error(base::SourceLoc(a->input), "cannot open");
+        std::stringstream ss;
+        ss << in.rdbuf();
+        const std::string name = a->machine.empty() ? assembler::header_machine(ss.str()) : a->machine;
+        const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+        const sched::PackResult r = sched::pack_source(ss.str(), a->input, m, a->includes);
+        if (a->report)
+            for (const sched::BlockStats& b : r.blocks)
+                fmt::print(stderr, "{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);
+        if (a->output.empty()) {
+            fmt::print("{}", r.text);
+            return;
+        }
+        const std::string tmp = a->output + ".tmp"; // a failed run leaves the old file whole
+        {
+            std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+            f << r.text;
+            if (!f) throw base::Error(base::SourceLoc(tmp), "cannot write");
+        }
+        if (std::rename(tmp.c_str(), a->output.c_str()) != 0) throw base::Error(base::SourceLoc(a->output), "cannot write");
+    });
+}
+
+} // namespace nesshi::cli

@@ -1,0 +1,56 @@
+// List scheduling of straight-line blocks: the `#pack begin` ... `#pack end` regions of an
+// assembly file, written one operation per line in sequential order, become bundles that obey
+// the machine's issue slots, register-file ports and exposed latencies; everything outside the
+// regions is copied unchanged. `nesshi schedule FILE -m MACHINE` runs it; the kernels' setup,
+// VISIT and resume blocks come from it (kernels/tools/build.sh).
+//
+//   const sched::PackResult r = sched::pack_source(text, "dda.pk", isa::load_machine("os"));
+//   write(r.text);                       // assembly, the blocks bundled
+//   for (const auto& b : r.blocks) ...   // line, ops and bundles of each block
+//
+// The schedule is critical-path list scheduling, cycle by cycle: an op is ready when every dependence is met
+// (true: the producer's latency; anti: a reader issues no later than the overwriting producer
+// lands, i.e. distance 1 - latency; output: writes land in order; memory: loads and stores keep
+// their order except load/load; FIFO words of a channel keep their order; a branch or halt waits
+// for every earlier op to land and stays last). Among ready ops the one with the longest path to
+// the block's end goes first; ops that only the integer units accept are also ranked by how many
+// of them follow, since those units are the scarce ones. Slots come from the machine description
+// (in a bundle with FIFO words, in program order, because the ISS moves a bundle's words in slot
+// order); read ports are counted per bundle and write ports per landing cycle. A block assumes
+// that every result of the code before it has landed (the assembler reports it when not).
+#pragma once
+
+#include "isa/encoding.hpp"
+#include "isa/machine.hpp"
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nesshi::sched {
+
+// The bundles of one block: op indices, each bundle in program order; an empty bundle is a nop.
+std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> ops);
+
+// Slots for one bundle's ops (in program order) with FIFO words in ascending slot order: the
+// first such assignment in lexicographic order, or empty when none exists.
+std::vector<int> fifo_ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops);
+
+struct BlockStats {
+    int line = 0;    // of its `#pack begin`
+    int ops = 0;
+    int bundles = 0; // nops included
+};
+
+struct PackResult {
+    std::string text;
+    std::vector<BlockStats> blocks;
+};
+
+// Throws base::Error (with the file's location) when the file does not assemble with its blocks
+// written sequentially, or a block is not closed.
+PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
+                       const std::vector<std::string>& include_dirs = {});
+
+} // namespace nesshi::sched

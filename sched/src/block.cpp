@@ -1,0 +1,380 @@
+// Critical-path list scheduling of straight-line blocks (see block.hpp).
+#include "sched/block.hpp"
+
+#include "assembler/assembler.hpp"
+#include "base/error.hpp"
+#include "isa/object.hpp"
+#include "isa/ops.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <optional>
+
+namespace nesshi::sched {
+
+namespace {
+
+// One op as the scheduler sees it.
+struct BlockOp {
+    isa::OpClass cls;
+    int latency = 1;
+    std::optional<std::pair<int, int>> dst;  // (file, register)
+    std::vector<std::pair<int, int>> srcs;   // every register read, repeats included
+    std::optional<std::uint32_t> channel;    // FIFO ops: both directions share the order
+    bool barrier = false;                    // branch or halt: waits for every earlier op
+    bool branch = false;
+};
+
+BlockOp describe(const isa::Machine& m, const isa::Instr& in) {
+    const isa::OpInfo& info = in.info();
+    BlockOp b;
+    b.cls = info.cls;
+    b.latency = static_cast<int>(m.latency_of(info));
+    for (const isa::RegOperand& o : isa::register_operands(in)) {
+        const std::pair<int, int> reg{static_cast<int>(o.file), o.reg};
+        if (o.write) b.dst = reg;
+        else b.srcs.push_back(reg);
+    }
+    if (info.kind == isa::Kind::Recv || info.kind == isa::Kind::Send) b.channel = in.imm;
+    b.branch = info.cls == isa::OpClass::Branch;
+    b.barrier = b.branch || (info.cls == isa::OpClass::Misc && info.kind != isa::Kind::Nop);
+    return b;
+}
+
+struct Pred {
+    int op;
+    int distance; // this op issues at least `distance` cycles after `op`
+};
+
+std::vector<std::vector<Pred>> dependences(std::span<const BlockOp> ops) {
+    const int n = static_cast<int>(ops.size());
+    std::vector<std::vector<Pred>> preds(static_cast<std::size_t>(n));
+    std::map<std::pair<int, int>, int> last_write;
+    std::map<std::pair<int, int>, std::vector<int>> readers; // since the last write
+    std::optional<int> last_store;
+    std::vector<int> loads; // since the last store
+    std::map<std::uint32_t, int> channel_last;
+    for (int j = 0; j < n; ++j) {
+        const BlockOp& op = ops[static_cast<std::size_t>(j)];
+        auto& p = preds[static_cast<std::size_t>(j)];
+        for (const auto& s : op.srcs)
+            if (auto w = last_write.find(s); w != last_write.end())
+                p.push_back({w->second, ops[static_cast<std::size_t>(w->second)].latency});
+        if (op.dst) {
+            for (int i : readers[*op.dst])
+                if (i != j) p.push_back({i, 1 - op.latency});
+            if (auto w = last_write.find(*op.dst); w != last_write.end())
+                p.push_back({w->second, ops[static_cast<std::size_t>(w->second)].latency + 1 - op.latency});
+        }
+        if (op.cls == isa::OpClass::Load && last_store) p.push_back({*last_store, 1});
+        if (op.cls == isa::OpClass::Store) {
+            for (int i : loads) p.push_back({i, 0});
+            if (last_store) p.push_back({*last_store, 1});
+        }
+        if (op.channel)
+            if (auto c = channel_last.find(*op.channel); c != channel_last.end()) p.push_back({c->second, 0});
+        if (op.barrier)
+            for (int i = 0; i < j; ++i) p.push_back({i, std::max(ops[static_cast<std::size_t>(i)].latency - 1, 0)});
+        for (const auto& s : op.srcs) readers[s].push_back(j);
+        if (op.dst) {
+            last_write[*op.dst] = j;
+            readers[*op.dst].clear();
+        }
+        if (op.cls == isa::OpClass::Load) loads.push_back(j);
+        if (op.cls == isa::OpClass::Store) {
+            last_store = j;
+            loads.clear();
+        }
+        if (op.channel) channel_last[*op.channel] = j;
+    }
+    return preds;
+}
+
+// Ops no float unit (a slot that accepts fadd) accepts: the integer units are the scarce ones.
+bool integer_only(const isa::Machine& m, isa::OpClass c) {
+    if (m.slots.size() <= 1) return false;
+    return std::none_of(m.slots.begin(), m.slots.end(),
+                        [&](const isa::SlotDesc& s) { return s.accepts(c) && s.accepts(isa::OpClass::FAdd); });
+}
+
+// Highest first: the longest path to the block's end, raised for integer-only ops by how many
+// of them remain from here on.
+std::vector<int> priorities(const isa::Machine& m, std::span<const BlockOp> ops, const std::vector<std::vector<Pred>>& preds) {
+    const int n = static_cast<int>(ops.size());
+    std::vector<std::vector<Pred>> succs(static_cast<std::size_t>(n));
+    for (int j = 0; j < n; ++j)
+        for (const Pred& p : preds[static_cast<std::size_t>(j)]) succs[static_cast<std::size_t>(p.op)].push_back({j, p.distance});
+    std::vector<int> height(static_cast<std::size_t>(n)), prio(static_cast<std::size_t>(n));
+    for (int i = n - 1; i >= 0; --i) {
+        int h = ops[static_cast<std::size_t>(i)].latency;
+        for (const Pred& s : succs[static_cast<std::size_t>(i)]) h = std::max(h, s.distance + height[static_cast<std::size_t>(s.op)]);
+        height[static_cast<std::size_t>(i)] = h;
+    }
+    int remaining = 0;
+    for (int i = n - 1; i >= 0; --i) {
+        int p = height[static_cast<std::size_t>(i)];
+        if (integer_only(m, ops[static_cast<std::size_t>(i)].cls)) p = std::max(p, ++remaining + 1);
+        for (const Pred& s : succs[static_cast<std::size_t>(i)]) p = std::max(p, s.distance + prio[static_cast<std::size_t>(s.op)]);
+        prio[static_cast<std::size_t>(i)] = p;
+    }
+    return prio;
+}
+
+bool next_permutation_prefix(std::vector<int>& pick, int slots) {
+    // The next k-permutation of 0..slots-1 in lexicographic order (pick holds k distinct values).
+    const int k = static_cast<int>(pick.size());
+    for (int pos = k - 1; pos >= 0; --pos) {
+        for (int v = pick[static_cast<std::size_t>(pos)] + 1; v < slots; ++v) {
+            if (std::find(pick.begin(), pick.begin() + pos, v) != pick.begin() + pos) continue;
+            pick[static_cast<std::size_t>(pos)] = v;
+            // the rest: the smallest unused values in order
+            int fill = 0;
+            for (int q = pos + 1; q < k; ++q) {
+                while (std::find(pick.begin(), pick.begin() + q, fill) != pick.begin() + q) ++fill;
+                pick[static_cast<std::size_t>(q)] = fill++;
+            }
+            return true;
+        }
+    }
+    return false;
+}
+
+} // namespace
+
+std::vector<int> fifo_ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops) {
+    const int slots = static_cast<int>(m.slots.size());
+    const int k = static_cast<int>(ops.size());
+    if (k > slots) return {};
+    std::vector<int> pick(static_cast<std::size_t>(k));
+    std::iota(pick.begin(), pick.end(), 0);
+    do {
+        bool ok = true;
+        int last_fifo = -1;
+        for (int i = 0; i < k && ok; ++i) {
+            const isa::OpInfo& info = ops[static_cast<std::size_t>(i)].info();
+            const int s = pick[static_cast<std::size_t>(i)];
+            ok = m.slots[static_cast<std::size_t>(s)].accepts(info.cls);
+            if (ok && info.cls == isa::OpClass::Fifo) {
+                ok = s > last_fifo;
+                last_fifo = s;
+            }
+        }
+        if (ok) return pick;
+    } while (next_permutation_prefix(pick, slots));
+    return {};
+}
+
+std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> instrs) {
+    const int n = static_cast<int>(instrs.size());
+    std::vector<BlockOp> ops;
+    for (const isa::Instr& in : instrs) ops.push_back(describe(m, in));
+    const auto preds = dependences(ops);
+    const std::vector<int> prio = priorities(m, ops, preds);
+
+    std::vector<int> cycle_of(static_cast<std::size_t>(n), -1);
+    std::vector<std::vector<int>> bundles;
+    std::vector<std::array<std::uint32_t, isa::kNumRegFiles>> reads;
+    std::map<int, std::array<std::uint32_t, isa::kNumRegFiles>> writes; // per landing cycle
+    int done = 0, c = 0;
+    bool progress = true;
+    while (done < n) {
+        while (static_cast<int>(bundles.size()) <= c) {
+            bundles.emplace_back();
+            reads.push_back({});
+        }
+        if (!progress) { // nothing more fits in this cycle
+            ++c;
+            progress = true;
+            continue;
+        }
+        progress = false;
+        std::vector<int> ready;
+        for (int j = 0; j < n; ++j) {
+            if (cycle_of[static_cast<std::size_t>(j)] >= 0) continue;
+            const bool met = std::all_of(preds[static_cast<std::size_t>(j)].begin(), preds[static_cast<std::size_t>(j)].end(), [&](const Pred& p) {
+                const int at = cycle_of[static_cast<std::size_t>(p.op)];
+                return at >= 0 && at + p.distance <= c;
+            });
+            if (met && !(ops[static_cast<std::size_t>(j)].branch && done != n - 1)) ready.push_back(j);
+        }
+        std::stable_sort(ready.begin(), ready.end(),
+                         [&](int a, int b) { return prio[static_cast<std::size_t>(a)] > prio[static_cast<std::size_t>(b)]; });
+        for (int j : ready) {
+            const BlockOp& op = ops[static_cast<std::size_t>(j)];
+            std::vector<int> trial = bundles[static_cast<std::size_t>(c)];
+            trial.insert(std::upper_bound(trial.begin(), trial.end(), j), j);
+            std::vector<isa::Instr> trial_ops;
+            for (int i : trial) trial_ops.push_back(instrs[static_cast<std::size_t>(i)]);
+            if (fifo_ordered_slots(m, trial_ops).empty()) continue;
+            auto r = reads[static_cast<std::size_t>(c)];
+            for (const auto& s : op.srcs) ++r[static_cast<std::size_t>(s.first)];
+            bool ports = true;
+            for (int f = 0; f < isa::kNumRegFiles; ++f)
+                ports = ports && r[static_cast<std::size_t>(f)] <= m.regs[static_cast<std::size_t>(f)].read_ports;
+            if (!ports) continue;
+            if (op.dst) {
+                const auto& w = writes[c + op.latency];
+                const auto f = static_cast<std::size_t>(op.dst->first);
+                if (w[f] + 1 > m.regs[f].write_ports) continue;
+            }
+            bundles[static_cast<std::size_t>(c)] = trial;
+            reads[static_cast<std::size_t>(c)] = r;
+            if (op.dst) ++writes[c + op.latency][static_cast<std::size_t>(op.dst->first)];
+            cycle_of[static_cast<std::size_t>(j)] = c;
+            ++done;
+            progress = true;
+        }
+    }
+    while (!bundles.empty() && bundles.back().empty()) bundles.pop_back();
+    return bundles;
+}
+
+namespace {
+
+std::string trim(std::string_view s) {
+    const auto a = s.find_first_not_of(" \t\r");
+    if (a == std::string_view::npos) return {};
+    const auto b = s.find_last_not_of(" \t\r");
+    return std::string(s.substr(a, b - a + 1));
+}
+
+struct Block {
+    int begin_line = 0; // 1-based, of `#pack begin`
+    std::vector<std::string> texts;
+    std::vector<int> lines; // of each op in the sequential text (1-based)
+};
+
+bool marker(std::string_view line, std::string_view word) {
+    return trim(line).starts_with(word);
+}
+
+} // namespace
+
+PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
+                       const std::vector<std::string>& include_dirs) {
+    std::vector<std::string> lines;
+    for (std::size_t pos = 0; pos <= text.size();) {
+        const auto nl = text.find('\n', pos);
+        if (nl == std::string_view::npos) {
+            if (pos < text.size()) lines.emplace_back(text.substr(pos));
+            break;
+        }
+        lines.emplace_back(text.substr(pos, nl - pos));
+        pos = nl + 1;
+    }
+    // The sequential meaning: each block op alone in its bundle, followed by enough nops for its
+    // result to land, so the file assembles and every op decodes exactly.
+    std::vector<Block> blocks;
+    std::string sequential;
+    int out_line = 0;
+    auto emit = [&](const std::string& s) {
+        sequential += s;
+        sequential += '\n';
+        ++out_line;
+    };
+    Block* open = nullptr;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const std::string& s = lines[i];
+        if (marker(s, "#pack begin")) {
+            if (open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack begin' inside a block");
+            blocks.push_back({static_cast<int>(i + 1), {}, {}});
+            open = &blocks.back();
+            emit("");
+            continue;
+        }
+        if (marker(s, "#pack end")) {
+            if (!open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack end' without '#pack begin'");
+            open = nullptr;
+            emit("");
+            continue;
+        }
+        if (!open) {
+            emit(s);
+            continue;
+        }
+        const std::string op = trim(s.substr(0, s.find('#')));
+        if (op.empty()) {
+            emit("");
+            continue;
+        }
+        open->texts.push_back(op);
+        emit("        " + op);
+        open->lines.push_back(out_line);
+        for (std::uint32_t k = 1; k < m.max_latency(); ++k) emit("        nop");
+    }
+    if (open) throw base::Error(base::SourceLoc(filename, open->begin_line), "'#pack begin' is never closed by '#pack end'");
+
+    assembler::AsmOptions opts;
+    opts.include_dirs = include_dirs;
+    const assembler::AsmResult res = assembler::assemble_string(sequential, filename, m, opts);
+    if (!res.ok)
+        throw base::Error(base::SourceLoc(filename),
+                          fmt::format("does not assemble with its blocks written sequentially:\n{}", res.diagnostics));
+    const std::vector<std::vector<isa::Instr>> decoded = isa::decode_bundles(res.object);
+    std::map<int, isa::Instr> by_line; // sequential line -> its op (main file only)
+    for (std::size_t b = 0; b < decoded.size() && b < res.object.lines.size(); ++b) {
+        const isa::LineEntry& le = res.object.lines[b];
+        if (le.file < res.object.files.size() && res.object.files[le.file] == filename && decoded[b].size() == 1)
+            by_line[static_cast<int>(le.line)] = decoded[b][0];
+    }
+
+    PackResult out;
+    std::size_t next_block = 0;
+    bool in_block = false;
+    std::vector<std::string> result;
+    for (const std::string& s : lines) {
+        if (marker(s, "#pack begin")) {
+            in_block = true;
+            continue;
+        }
+        if (marker(s, "#pack end")) {
+            in_block = false;
+            const Block& b = blocks[next_block++];
+            std::vector<isa::Instr> instrs;
+            for (int l : b.lines) {
+                const auto it = by_line.find(l);
+                if (it == by_line.end())
+                    throw base::Error(base::SourceLoc(filename, b.begin_line), "an op of this block did not assemble to one operation");
+                instrs.push_back(it->second);
+            }
+            const auto bundles = list_schedule(m, instrs);
+            for (const auto& bundle : bundles) {
+                if (bundle.empty()) {
+                    result.push_back("        nop");
+                    continue;
+                }
+                std::vector<isa::Instr> ops;
+                bool fifo = false;
+                for (int i : bundle) {
+                    ops.push_back(instrs[static_cast<std::size_t>(i)]);
+                    fifo = fifo || ops.back().info().cls == isa::OpClass::Fifo;
+                }
+                std::vector<std::string> texts;
+                if (fifo && bundle.size() > 1) { // pin the slots: the words move in slot order
+                    const std::vector<int> slots = fifo_ordered_slots(m, ops);
+                    std::vector<std::size_t> order(bundle.size());
+                    std::iota(order.begin(), order.end(), 0);
+                    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return slots[a] < slots[c]; });
+                    for (std::size_t k : order)
+                        texts.push_back(fmt::format("{}: {}", m.slots[static_cast<std::size_t>(slots[k])].name,
+                                                    b.texts[static_cast<std::size_t>(bundle[k])]));
+                } else {
+                    for (int i : bundle) texts.push_back(b.texts[static_cast<std::size_t>(i)]);
+                }
+                std::string line = "        { ";
+                for (std::size_t k = 0; k < texts.size(); ++k) line += (k ? " ; " : "") + texts[k];
+                result.push_back(line + " }");
+            }
+            out.blocks.push_back({b.begin_line, static_cast<int>(instrs.size()), static_cast<int>(bundles.size())});
+            continue;
+        }
+        if (!in_block) result.push_back(s);
+    }
+    for (const std::string& s : result) out.text += s + '\n';
+    return out;
+}
+
+} // namespace nesshi::sched

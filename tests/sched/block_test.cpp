@@ -1,0 +1,152 @@
+// sched/block.hpp: straight-line blocks list-scheduled into bundles. A property test draws random
+// blocks (registers reused on purpose, so anti and output dependences are common, and memory
+// accesses that may alias) and checks on the ISS that the bundles compute what the sequential
+// block computes, on the ideal and the -real presets.
+#include "sched/block.hpp"
+
+#include "assembler/assembler.hpp"
+#include "base/error.hpp"
+#include "isa/machine.hpp"
+#include "isa/ops.hpp"
+#include "iss/differential.hpp"
+
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace nesshi;
+
+namespace {
+
+isa::Instr instr(const isa::Machine& m, const std::string& op) {
+    const auto r = assembler::assemble_string("        " + op + "\n        halt\n", "t.s", m, {});
+    REQUIRE(r.ok);
+    return isa::decode_bundles(r.object).front().front();
+}
+
+// A block of `n` ops over f1-f6 and r2-r6 (few registers: values are overwritten while still
+// needed elsewhere), with loads and stores to one buffer.
+std::vector<std::string> random_block(std::mt19937_64& rng, int n) {
+    auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+    auto f = [&] { return fmt::format("f{}", pick(1, 6)); };
+    auto r = [&] { return fmt::format("r{}", pick(2, 6)); };
+    std::vector<std::string> ops;
+    for (int k = 0; k < n; ++k) {
+        switch (pick(0, 9)) {
+        case 0: ops.push_back(fmt::format("fadd {}, {}, {}", f(), f(), f())); break;
+        case 1: ops.push_back(fmt::format("fmul {}, {}, {}", f(), f(), f())); break;
+        case 2: ops.push_back(fmt::format("fdiv {}, {}, {}", f(), f(), f())); break;
+        case 3: ops.push_back(fmt::format("add {}, {}, {}", r(), r(), r())); break;
+        case 4: ops.push_back(fmt::format("addi {}, {}, {}", r(), r(), pick(-3, 3))); break;
+        case 5: ops.push_back(fmt::format("fle {}, {}, {}", r(), f(), f())); break;
+        case 6: ops.push_back(fmt::format("fsel {}, {}, {}, {}", f(), r(), f(), f())); break;
+        case 7: ops.push_back(fmt::format("flw {}, buf+{}(r1)", f(), 4 * pick(0, 7))); break;
+        case 8: ops.push_back(fmt::format("fsw {}, buf+{}(r1)", f(), 4 * pick(0, 7))); break;
+        default: ops.push_back(fmt::format("mul {}, {}, {}", r(), r(), r())); break;
+        }
+    }
+    return ops;
+}
+
+// The program around a block: the block itself (`packed`, markers kept) or its sequential
+// meaning (each op followed by enough nops for it to land).
+std::string program(const isa::Machine& m, const std::vector<std::string>& ops, bool sequential) {
+    std::string s = fmt::format("        .data 0x{:x}\nbuf:    .float 1.5, -2, 3.25, 0.5, 7, -1, 2, 9\n        .text\n"
+                                "        li r1, 0\n        li r2, 3\n        li r3, -5\n        li r4, 7\n        li r5, 1\n        li r6, 2\n",
+                                m.memories.front().base + 0x100);
+    for (int k = 1; k <= 6; ++k) s += fmt::format("        fli f{}, {}.5\n", k, k - 3);
+    for (std::uint32_t k = 0; k < m.max_latency(); ++k) s += "        nop\n"; // a block starts with nothing in flight
+    if (!sequential) s += "#pack begin\n";
+    for (const std::string& op : ops) {
+        s += "        " + op + "\n";
+        if (sequential)
+            for (std::uint32_t k = 1; k < m.max_latency(); ++k) s += "        nop\n";
+    }
+    if (!sequential) s += "#pack end\n";
+    for (std::uint32_t k = 0; k < m.max_latency(); ++k) s += "        nop\n"; // the last results land
+    return s + "        halt\n";
+}
+
+} // namespace
+
+TEST_CASE("a divide's latency is filled with independent work, its user waits", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("os");
+    const std::vector<isa::Instr> ops = {instr(m, "fdiv f1, f2, f3"), instr(m, "fadd f4, f1, f1"), instr(m, "add r1, r2, r3")};
+    const auto b = sched::list_schedule(m, ops);
+    REQUIRE(b.size() == 5);
+    CHECK(b[0] == std::vector<int>{0, 2});
+    CHECK(b[1].empty());
+    CHECK(b[4] == std::vector<int>{1});
+}
+
+TEST_CASE("an overwrite waits for the reader of the old value; a branch stays last", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("os");
+    // fadd reads f1 in bundle 0; the fli overwriting f1 may share that bundle but not precede it.
+    const std::vector<isa::Instr> ops = {instr(m, "fadd f4, f1, f2"), instr(m, "fli f1, 2.0"), instr(m, "jmp 0")};
+    const auto b = sched::list_schedule(m, ops);
+    REQUIRE(b.size() == 2);
+    CHECK(b[0] == std::vector<int>{0, 1});
+    CHECK(b[1] == std::vector<int>{2});
+}
+
+TEST_CASE("FIFO words of a bundle take slots in program order", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("os");
+    const std::vector<isa::Instr> ops = {instr(m, "recv r1, 0"), instr(m, "fadd f1, f2, f3"), instr(m, "frecv f4, 0")};
+    const std::vector<int> slots = sched::fifo_ordered_slots(m, ops);
+    REQUIRE(slots.size() == 3);
+    CHECK(slots[0] < slots[2]);
+    CHECK(m.slots[static_cast<std::size_t>(slots[1])].accepts(isa::OpClass::FAdd));
+    CHECK(sched::fifo_ordered_slots(m, std::vector<isa::Instr>(5, ops[1])).empty()); // 5 ops, 4 slots
+}
+
+TEST_CASE("pack_source keeps what is outside the blocks and reports each block", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("ic");
+    const std::string text = "# machine: ic\n        li r1, 1\n#pack begin\n        fadd f1, f2, f3   # one\n\n"
+                             "        fmul f4, f5, f6\n#pack end\n        halt\n";
+    const sched::PackResult r = sched::pack_source(text, "t.pk", m);
+    CHECK(r.text == "# machine: ic\n        li r1, 1\n        { fadd f1, f2, f3 ; fmul f4, f5, f6 }\n        halt\n");
+    REQUIRE(r.blocks.size() == 1);
+    CHECK(r.blocks[0].line == 3);
+    CHECK(r.blocks[0].ops == 2);
+    CHECK(r.blocks[0].bundles == 1);
+}
+
+TEST_CASE("malformed blocks are errors with a location", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("os");
+    CHECK_THROWS_WITH(sched::pack_source("#pack begin\n        nop\n", "t.pk", m),
+                      "t.pk:1: error: '#pack begin' is never closed by '#pack end'");
+    CHECK_THROWS_WITH(sched::pack_source("        nop\n#pack end\n", "t.pk", m), "t.pk:2: error: '#pack end' without '#pack begin'");
+    CHECK_THROWS_AS(sched::pack_source("#pack begin\n        frob r1\n#pack end\n", "t.pk", m), base::Error);
+}
+
+TEST_CASE("random blocks: the bundles compute what the sequential block computes", "[unit][sched][block]") {
+    std::vector<std::string> regs;
+    for (int k = 1; k <= 6; ++k) regs.push_back(fmt::format("f{}", k));
+    for (int k = 2; k <= 6; ++k) regs.push_back(fmt::format("r{}", k));
+    int blocks = 0;
+    for (const char* name : {"os", "ic", "seq", "os-real", "ic-real"}) {
+        const isa::Machine m = isa::load_machine(name);
+        std::mt19937_64 rng(std::hash<std::string>{}(name));
+        for (int trial = 0; trial < 40; ++trial) {
+            const auto ops = random_block(rng, 4 + trial % 20);
+            INFO(name << " trial " << trial << ":\n" << program(m, ops, true));
+            const sched::PackResult packed = sched::pack_source(program(m, ops, false), "t.pk", m);
+            const auto a = assembler::assemble_string(program(m, ops, true), "seq.s", m, {});
+            const auto b = assembler::assemble_string(packed.text, "packed.s", m, {});
+            INFO(packed.text << b.diagnostics);
+            REQUIRE(a.ok);
+            REQUIRE(b.ok);
+            REQUIRE(packed.blocks.size() == 1);
+            CHECK(packed.blocks[0].bundles <= static_cast<int>(ops.size() * m.max_latency()));
+            iss::DiffOptions d;
+            d.registers = regs;
+            d.randomize_data = false;
+            CHECK(iss::run_differential(a.object, b.object, m, d) == std::nullopt);
+            ++blocks;
+        }
+    }
+    CHECK(blocks == 200);
+}
