@@ -1,6 +1,7 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
 
 #include "base/progress.hpp"
 
@@ -82,6 +83,7 @@ void run_render(const RenderArgs& a) {
     if (!native && !machine::parse_model(a.model, mo.model))
         throw UsageError(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
+    check_outputs({a.out, a.stats_json, a.id_buffer, a.t_buffer, mo.trace_json});
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
     // (machine::Options::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
     const bool auto_slots = mo.fifo_capacity > 0 && a.window->count() == 0 && a.ray_slots->count() == 0;

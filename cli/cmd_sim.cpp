@@ -1,5 +1,6 @@
 // `nesshi sim`: run one processor standalone, print statistics, trace, FIFO files.
 #include "commands.hpp"
+#include "outputs.hpp"
 #include "sim_load.hpp"
 
 #include "iss/channel.hpp"
@@ -122,6 +123,8 @@ void dump_and_check(const SimOpts& o, const iss::Processor& p, const std::vector
 }
 
 void run_sim(const SimOpts& o) {
+    check_outputs({o.trace, o.stats_json});
+    for (const auto& spec : o.fifo_out) check_output(channel_spec(spec, 1).second);
     auto prog = load_sim_input(o.input, o.machine);
     const std::vector<Expectation> expect = read_expectations(o, *prog);
     std::vector<std::vector<uint32_t>> inputs;
