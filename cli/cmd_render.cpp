@@ -38,7 +38,7 @@ struct RenderArgs {
     std::vector<const CLI::Option*> machine_only;
     std::vector<const CLI::Option*> cache_params; // --cache-size, --cache-ways, --cache-line, --miss-cycles
     const CLI::Option *epoch = nullptr, *fifo_latency = nullptr, *quantum = nullptr, *no_resident = nullptr;
-    const CLI::Option *window = nullptr, *ray_slots = nullptr;
+    const CLI::Option *window = nullptr, *ray_slots = nullptr, *size_opt = nullptr;
 };
 
 const char* const kModels = "native, S, M, V";
@@ -112,7 +112,12 @@ void run_render(const RenderArgs& a) {
         mo.progress = bar;
     }
 
-    rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), grid);
+    rt::Scene scene = rt::load_scene(a.scene);
+    if (a.size_opt->count() == 0) { // the file's resolution (512 x 512 when it names none)
+        opt.width = scene.view.width;
+        opt.height = scene.view.height;
+    }
+    rt::PreparedScene prep = rt::prepare(std::move(scene), grid);
     machine::Result mr;
     if (native) mr.render = rt::render_native(prep, opt);
     else mr = machine::render(prep, opt, mo);
@@ -152,7 +157,7 @@ void add_render(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
     cmd->add_option("scene", a->scene, "NFF file or built-in name (balls mount rings tetra tree gears, NAME:SIZE)")->required();
     cmd->add_option("--model", a->model, "native (C++ tracer, the default), V (VLIW OS + IC), M (sequential pipeline), S (one sequential processor)");
-    cmd->add_option("--size", a->size, "image size W or WxH (default 512)");
+    cmd->add_option("--size", a->size, "image size W or WxH (default: the scene file's resolution, else 512)");
     cmd->add_option("--grid", a->grid, "voxels per axis, or 'auto' (default 50)");
     cmd->add_option("--threads", a->threads, "host threads (default: all cores); never changes the cycles")->check(CLI::NonNegativeNumber);
     cmd->add_option("-o,--output", a->out, "PNG image");
@@ -204,6 +209,7 @@ void add_render(CLI::App& app) {
     a->no_resident = cmd->get_option("--no-resident");
     a->window = cmd->get_option("--window");
     a->ray_slots = cmd->get_option("--ray-slots");
+    a->size_opt = cmd->get_option("--size");
     cmd->callback([a] {
         run_render(*a);
     });

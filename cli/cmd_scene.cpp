@@ -54,8 +54,8 @@ void add_scene(CLI::App& app) {
     auto grids = std::make_shared<std::vector<int>>(std::vector<int>{20, 50, 100});
     auto no_grid = std::make_shared<bool>(false);
     info->add_option("scene", *file, "NFF file or built-in name (balls mount rings tetra tree gears, NAME:SIZE)")->required();
-    info->add_option("--grid", *grids, "grid resolutions to report (0 = auto)")->delimiter(',');
-    info->add_flag("--no-grid", *no_grid, "skip the grid report");
+    auto* grid_opt = info->add_option("--grid", *grids, "grid resolutions to report (0 = auto)")->delimiter(',');
+    info->add_flag("--no-grid", *no_grid, "skip the grid report")->excludes(grid_opt);
     info->callback([=] {
         scene_info(*file, *no_grid ? std::vector<int>{} : *grids);
     });

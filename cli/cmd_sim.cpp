@@ -211,7 +211,8 @@ void add_sim(CLI::App& app) {
     cmd->add_option("--stats-json", o->stats_json, "Write statistics as JSON");
     cmd->add_option("--trace", o->trace, "Write a per-cycle trace ('-' for stdout; *.json: Chrome trace events)");
     cmd->add_option("--trace-format", o->trace_format, "auto, text or chrome")
-        ->check(CLI::IsMember({"auto", "text", "chrome"}))->capture_default_str();
+        ->check(CLI::IsMember({"auto", "text", "chrome"}))->capture_default_str()
+        ->needs(cmd->get_option("--trace"));
     cmd->add_option("--engine", o->engine, "fast, checked, or lockstep (both, compared every bundle)")
         ->check(CLI::IsMember({"fast", "checked", "lockstep"}))->capture_default_str();
     cmd->add_option("--dump", o->dump, "LABEL[:COUNT][:f32|i32|hex]: print memory at a data label after the run "
