@@ -21,8 +21,9 @@ using namespace machine;
 
 namespace {
 
-OpPrices seq_prices() {
-    const isa::Machine m = isa::load_machine("seq");
+std::string or_preset(const std::string& name, const char* preset) { return name.empty() ? preset : name; }
+
+OpPrices seq_prices(const isa::Machine& m) {
     auto lat = [&](isa::OpClass c) { return m.latency[static_cast<std::size_t>(c)]; };
     OpPrices p;
     p.alu = lat(isa::OpClass::Alu);
@@ -39,8 +40,9 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const Options& mo) {
     const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
     const bool vliw = mo.model == Model::V;
     MachineSetup s;
-    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? "os" : "seq");
-    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? "ic" : "seq");
+    const isa::Machine seq = isa::load_machine(or_preset(mo.seq_machine, "seq"));
+    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? isa::load_machine(or_preset(mo.os_machine, "os")) : seq);
+    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? isa::load_machine(or_preset(mo.ic_machine, "ic")) : seq);
     const rt::Grid& g = prep.grid;
     if (!abi::os_sram_fits(g.geom.n[0], g.geom.n[1], g.geom.n[2]))
         throw std::runtime_error(fmt::format(
@@ -61,7 +63,7 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const Options& mo) {
     s.ic_resident = std::move(ic.resident);
     s.global = std::make_shared<iss::PagedMemory>(global->size);
     if (!ic.global.bytes.empty()) s.global->write_bytes(ic.global.base - abi::kIcGlobal, ic.global.bytes);
-    s.sc_prices = seq_prices();
+    s.sc_prices = seq_prices(seq);
     return s;
 }
 

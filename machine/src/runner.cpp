@@ -17,7 +17,9 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
         return true;
     };
     assembler::AsmResult r = assembler::assemble_string(sources.text(path), kPrefix + path, m, opts);
-    if (!r.ok) throw std::runtime_error(kPrefix + path + " (" + sources.origin + "): assembly failed:\n" + r.diagnostics);
+    if (!r.ok)
+        throw std::runtime_error(kPrefix + path + " (" + sources.origin + ") does not assemble for machine '" + m.name +
+                                 "' (" + m.source + "):\n" + r.diagnostics);
     return iss::load_program(r.object, m);
 }
 

@@ -61,6 +61,11 @@ struct Options {
     bool resident = true;
     bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
     std::string kernels_dir;          // a folder of kernel sources overriding the built-in ones ("" = built in)
+    // The stages' machine descriptions, each a preset name or a TOML file ("" = os, ic, seq): model
+    // V runs OS and IC on os_machine and ic_machine, models S and M both on seq_machine; the SC's
+    // operation prices come from seq_machine. The kernels are assembled for them; a description
+    // they cannot run on is an error that names the first problem.
+    std::string os_machine, ic_machine, seq_machine;
     std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
     std::uint64_t max_cycles = 0;     // per PE; 0 = no limit. Exceeding it is an error.
     // Called from the calling thread about 10 times a second with (corner rays done, total).
