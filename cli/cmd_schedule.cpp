@@ -35,7 +35,9 @@ void add_schedule(CLI::App& app) {
         ss << in.rdbuf();
         const std::string name = a->machine.empty() ? assembler::header_machine(ss.str()) : a->machine;
         const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
-        const sched::PackResult r = sched::pack_source(ss.str(), a->input, m, a->includes);
+        assembler::AsmOptions opts;
+        opts.include_dirs = a->includes;
+        const sched::PackResult r = sched::pack_source(ss.str(), a->input, m, opts);
         if (a->report)
             for (const sched::BlockStats& b : r.blocks)
                 fmt::print(stderr, "{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);

@@ -1,10 +1,21 @@
 #include "machine/runner.hpp"
 
 #include "assembler/assembler.hpp"
+#include "sched/block.hpp"
 
 #include <stdexcept>
 
 namespace nesshi::machine {
+
+namespace {
+
+// Whether `m` is the machine the scheduled kernel `text` names on its first line (same fingerprint).
+bool scheduled_for(std::string_view text, const isa::Machine& m) {
+    const std::string name = assembler::header_machine(text);
+    return !name.empty() && isa::is_preset(name) && isa::load_machine(name).fingerprint() == m.fingerprint();
+}
+
+} // namespace
 
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const isa::Machine& m) {
@@ -16,9 +27,16 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
         text = sources.text(p.substr(kPrefix.size()));
         return true;
     };
-    assembler::AsmResult r = assembler::assemble_string(sources.text(path), kPrefix + path, m, opts);
+    std::string text = sources.text(path);
+    std::string name = kPrefix + path;
+    const std::string pk = path.substr(0, path.rfind('.')) + ".pk";
+    if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its blocks for m
+        name = kPrefix + pk;
+        text = sched::pack_source(sources.text(pk), name, m, opts).text;
+    }
+    assembler::AsmResult r = assembler::assemble_string(text, name, m, opts);
     if (!r.ok)
-        throw std::runtime_error(kPrefix + path + " (" + sources.origin + ") does not assemble for machine '" + m.name +
+        throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name +
                                  "' (" + m.source + "):\n" + r.diagnostics);
     return iss::load_program(r.object, m);
 }

@@ -254,7 +254,7 @@ bool marker(std::string_view line, std::string_view word) {
 } // namespace
 
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
-                       const std::vector<std::string>& include_dirs) {
+                       const assembler::AsmOptions& opts) {
     std::vector<std::string> lines;
     for (std::size_t pos = 0; pos <= text.size();) {
         const auto nl = text.find('\n', pos);
@@ -307,12 +307,11 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     }
     if (open) throw base::Error(base::SourceLoc(filename, open->begin_line), "'#pack begin' is never closed by '#pack end'");
 
-    assembler::AsmOptions opts;
-    opts.include_dirs = include_dirs;
     const assembler::AsmResult res = assembler::assemble_string(sequential, filename, m, opts);
     if (!res.ok)
         throw base::Error(base::SourceLoc(filename),
-                          fmt::format("does not assemble with its blocks written sequentially:\n{}", res.diagnostics));
+                          fmt::format("does not assemble for machine '{}' even with its blocks written sequentially (the "
+                                      "code outside the blocks is scheduled by hand):\n{}", m.name, res.diagnostics));
     const std::vector<std::vector<isa::Instr>> decoded = isa::decode_bundles(res.object);
     std::map<int, isa::Instr> by_line; // sequential line -> its op (main file only)
     for (std::size_t b = 0; b < decoded.size() && b < res.object.lines.size(); ++b) {

@@ -22,7 +22,10 @@
 namespace nesshi::machine {
 
 // Assembles kernel `path` of `sources` ("os/dda.s") for machine `m`; its .include of
-// "../abi.inc" resolves inside `sources`. Throws std::runtime_error with the diagnostics.
+// "../abi.inc" resolves inside `sources`. When `m` is not the preset the kernel was scheduled for
+// and `sources` hold its source before scheduling ("os/dda.pk"), that source's straight-line
+// blocks are scheduled for `m` first (sched/block.hpp); hand-scheduled loops stay as written.
+// Throws std::runtime_error with the diagnostics.
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const isa::Machine& m);
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,

@@ -20,6 +20,7 @@
 // that every result of the code before it has landed (the assembler reports it when not).
 #pragma once
 
+#include "assembler/assembler.hpp"
 #include "isa/encoding.hpp"
 #include "isa/machine.hpp"
 
@@ -50,7 +51,8 @@ struct PackResult {
 
 // Throws base::Error (with the file's location) when the file does not assemble with its blocks
 // written sequentially, or a block is not closed.
+// `opts` says where .include files are found (include_dirs, or read_file for embedded sources).
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
-                       const std::vector<std::string>& include_dirs = {});
+                       const assembler::AsmOptions& opts = {});
 
 } // namespace nesshi::sched

@@ -1,0 +1,54 @@
+// Machine variants: the stages on user descriptions. Models change timing, never results; a
+// variant gets its kernels' straight-line blocks scheduled for it from the .pk sources.
+#include "support.hpp"
+
+#include "kernels/sources.hpp"
+#include "machine/runner.hpp"
+#include "rt/scene.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <string>
+
+using namespace nesshi;
+using namespace nesshi::machine::test;
+
+namespace {
+const std::string kData = NESSHI_TEST_DATA;
+} // namespace
+
+TEST_CASE("Variants render what the native renderer renders; a second IU speeds the IC up, latencies slow it", "[unit][machine]") {
+    const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 6);
+    const rt::RenderOptions opt = small(16);
+    const rt::RenderResult native = rt::render_native(prep, opt);
+    const machine::Result base = machine::render(prep, opt, model(machine::Model::V));
+    machine::Options mo = model(machine::Model::V);
+    mo.os_machine = kData + "/os-3fpu.toml";
+    mo.ic_machine = kData + "/ic-2iu.toml";
+    const machine::Result var = machine::render(prep, opt, mo);
+    CHECK(var.render.image.rgb == native.image.rgb);
+    CHECK(var.render.stats.rays == native.stats.rays);
+    CHECK(var.render.id_buffer == native.id_buffer);
+    CHECK(var.render.t_buffer == native.t_buffer);
+    CHECK(var.machine.ic.processing < base.machine.ic.processing);
+    machine::Options real = model(machine::Model::V);
+    real.ic_machine = "ic-real";
+    const machine::Result slow = machine::render(prep, opt, real);
+    CHECK(slow.render.id_buffer == native.id_buffer);
+    CHECK(slow.render.image.rgb == native.image.rgb);
+    CHECK(slow.machine.ic.processing > 2 * base.machine.ic.processing);
+}
+
+TEST_CASE("A variant's kernel is scheduled from its .pk source; the preset's is the committed one", "[unit][machine]") {
+    const kernels::SourceSet src = kernels::embedded();
+    const auto preset = machine::assemble_kernel(src, "ic/intersect.s", "ic");
+    const auto variant = machine::assemble_kernel(src, "ic/intersect.s", kData + "/ic-2iu.toml");
+    CHECK(preset->machine().name == "ic");
+    CHECK(variant->machine().name == "ic-2iu");
+    CHECK(variant->size() < preset->size()); // the second IU shortens the straight-line bodies
+    CHECK_THROWS_WITH(machine::assemble_kernel(src, "os/dda.s", "os-real"),
+                      Catch::Contains("does not assemble for machine 'os-real'"));
+    // The IC kernel is straight-line bodies only (its pipeline across primitives is in the data
+    // flow), so it is scheduled for realistic latencies as a whole.
+    CHECK(machine::assemble_kernel(src, "ic/intersect.s", "ic-real")->machine().name == "ic-real");
+}
