@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cctype>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -247,6 +248,28 @@ struct Block {
     std::vector<int> lines; // of each op in the sequential text (1-based)
 };
 
+// The assembler's diagnostics of the sequential text, with its line numbers turned back into the
+// file's (the sequential text has padding nops the file does not have).
+std::string source_lines(const std::string& diagnostics, std::string_view filename, const std::vector<int>& line_of) {
+    std::string out;
+    const std::string prefix = std::string(filename) + ":";
+    std::size_t pos = 0;
+    while (pos < diagnostics.size()) {
+        const std::size_t hit = diagnostics.find(prefix, pos);
+        if (hit == std::string::npos) break;
+        std::size_t end = hit + prefix.size();
+        int line = 0;
+        while (end < diagnostics.size() && std::isdigit(static_cast<unsigned char>(diagnostics[end])))
+            line = line * 10 + (diagnostics[end++] - '0');
+        out.append(diagnostics, pos, hit + prefix.size() - pos);
+        if (line > 0 && static_cast<std::size_t>(line) < line_of.size()) out += std::to_string(line_of[static_cast<std::size_t>(line)]);
+        else out.append(diagnostics, hit + prefix.size(), end - hit - prefix.size());
+        pos = end;
+    }
+    out.append(diagnostics, pos, std::string::npos);
+    return out;
+}
+
 bool marker(std::string_view line, std::string_view word) {
     return trim(line).starts_with(word);
 }
@@ -270,14 +293,18 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     std::vector<Block> blocks;
     std::string sequential;
     int out_line = 0;
+    std::vector<int> source_line{0}; // of each line of `sequential` (1-based), for diagnostics
+    std::size_t current = 0;         // the source line being copied
     auto emit = [&](const std::string& s) {
         sequential += s;
         sequential += '\n';
         ++out_line;
+        source_line.push_back(static_cast<int>(current + 1));
     };
     Block* open = nullptr;
     for (std::size_t i = 0; i < lines.size(); ++i) {
         const std::string& s = lines[i];
+        current = i;
         if (marker(s, "#pack begin")) {
             if (open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack begin' inside a block");
             blocks.push_back({static_cast<int>(i + 1), {}, {}});
@@ -311,7 +338,8 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     if (!res.ok)
         throw base::Error(base::SourceLoc(filename),
                           fmt::format("does not assemble for machine '{}' even with its blocks written sequentially (the "
-                                      "code outside the blocks is scheduled by hand):\n{}", m.name, res.diagnostics));
+                                      "code outside the blocks is scheduled by hand):\n{}", m.name,
+                                      source_lines(res.diagnostics, filename, source_line)));
     const std::vector<std::vector<isa::Instr>> decoded = isa::decode_bundles(res.object);
     std::map<int, isa::Instr> by_line; // sequential line -> its op (main file only)
     for (std::size_t b = 0; b < decoded.size() && b < res.object.lines.size(); ++b) {

@@ -120,6 +120,11 @@ TEST_CASE("malformed blocks are errors with a location", "[unit][sched][block]")
                       "t.pk:1: error: '#pack begin' is never closed by '#pack end'");
     CHECK_THROWS_WITH(sched::pack_source("        nop\n#pack end\n", "t.pk", m), "t.pk:2: error: '#pack end' without '#pack begin'");
     CHECK_THROWS_AS(sched::pack_source("#pack begin\n        frob r1\n#pack end\n", "t.pk", m), base::Error);
+    // A hazard in the hand-written code is reported at its line in the file (not in the padded
+    // sequential text the scheduler assembles).
+    CHECK_THROWS_WITH(sched::pack_source("#pack begin\n        fadd f4, f5, f6\n#pack end\n        fdiv f1, f2, f3\n"
+                                         "        fadd f7, f1, f1\n        halt\n", "t.pk", m),
+                      Catch::Contains("t.pk:5:9: error: f1 is read before its new value lands"));
 }
 
 TEST_CASE("random blocks: the bundles compute what the sequential block computes", "[unit][sched][block]") {
