@@ -2,7 +2,6 @@
 // (machine/kernel_report.hpp holds the measurements, the paper's figures and the goals).
 #include "commands.hpp"
 #include "errors.hpp"
-#include "errors.hpp"
 
 #include "machine/kernel_report.hpp"
 
@@ -20,9 +19,13 @@ void add_kernels(CLI::App& app) {
     auto dir = std::make_shared<std::string>();
     cmd->add_option("--json", *json, "Also write the table as JSON to FILE");
     cmd->add_option("--kernels", *dir, "A folder of kernel sources to measure instead of the built-in ones");
-    cmd->callback([json, dir] {
+    auto machines = std::make_shared<machine::KernelMachines>();
+    cmd->add_option("--os-machine", machines->os, "measure the os rows on this machine: preset or TOML (default os)");
+    cmd->add_option("--ic-machine", machines->ic, "measure the ic rows on this machine (default ic)");
+    cmd->add_option("--seq-machine", machines->seq, "measure the seq rows on this machine (default seq)");
+    cmd->callback([json, dir, machines] {
         const machine::KernelReport report =
-            machine::kernel_report(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir));
+            machine::kernel_report(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir), *machines);
         fmt::print("{}", report.text());
         if (!json->empty()) {
             std::ofstream f(*json);

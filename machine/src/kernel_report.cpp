@@ -119,19 +119,20 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
 // The runs of the metric being measured: the current machine's two grid runs, or one primitive run.
 class Runs {
   public:
-    explicit Runs(const kernels::SourceSet& sources) : sources_(sources) {}
+    Runs(const kernels::SourceSet& sources, const KernelMachines& machines) : sources_(sources), machines_(machines) {}
     const WorkloadRun& get(Workload w, const std::string& machine) {
+        const std::string& desc = machines_.of(machine);
         if (is_grid(w)) {
             if (dda_machine_ != machine) {
                 dda_ = DdaRuns{};
-                dda_ = run_dda(sources_, machine);
+                dda_ = run_dda(sources_, machine, desc);
                 dda_machine_ = machine;
             }
             return w == Workload::EmptyGrid ? dda_.empty : dda_.sparse;
         }
         if (!prim_.run || prim_workload_ != w || prim_machine_ != machine) {
             prim_ = WorkloadRun{};
-            prim_ = run_intersect(sources_, machine, w);
+            prim_ = run_intersect(sources_, machine, desc, w);
             prim_workload_ = w;
             prim_machine_ = machine;
         }
@@ -140,6 +141,7 @@ class Runs {
 
   private:
     const kernels::SourceSet& sources_;
+    const KernelMachines& machines_;
     std::string dda_machine_, prim_machine_;
     DdaRuns dda_;
     Workload prim_workload_ = Workload::Triangles;
@@ -174,7 +176,10 @@ const KernelRow* KernelReport::find(std::string_view metric, std::string_view ma
 }
 
 std::string KernelReport::text() const {
-    std::string out = fmt::format("{:<13} {:<4} {:>8} {:>7} {:>6} {:>6} {:>6} {:>7} {:>7}  {}\n", "metric", "mach", "cycles",
+    std::string out;
+    for (const auto& [role, name] : machines) out += fmt::format("{} rows: machine {}\n", role, name);
+    if (!machines.empty()) out += "\n";
+    out += fmt::format("{:<13} {:<4} {:>8} {:>7} {:>6} {:>6} {:>6} {:>7} {:>7}  {}\n", "metric", "mach", "cycles",
                                   "paper", "ops", "ILP", "util", "ResMII", "RecMII", "note");
     for (const KernelRow& r : rows) {
         const std::string paper = r.paper ? fmt::format("{:.0f}", *r.paper) : "-";
@@ -198,6 +203,7 @@ std::string KernelReport::text() const {
 std::string KernelReport::json() const {
     nlohmann::json j;
     j["kernels"] = nlohmann::json::array();
+    if (!machines.empty()) j["machines"] = machines;
     for (const KernelRow& r : rows) {
         nlohmann::json e{{"metric", r.metric}, {"machine", r.machine}, {"cycles", r.cycles},   {"ops", r.ops},
                          {"ilp", r.ilp},       {"utilization", r.utilization}, {"res_mii", r.res_mii},
@@ -208,10 +214,16 @@ std::string KernelReport::json() const {
     return j.dump(2);
 }
 
-KernelReport kernel_report(const kernels::SourceSet& sources) {
+const std::string& KernelMachines::of(std::string_view role) const { return role == "os" ? os : role == "ic" ? ic : seq; }
+
+KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines) {
     KernelReport r;
-    Runs runs(sources);
-    for (const KernelMetric& k : kernel_metrics()) r.rows.push_back(measure_row(k, runs.get(k.workload, k.machine)));
+    Runs runs(sources, machines);
+    for (const KernelMetric& k : kernel_metrics()) {
+        const WorkloadRun& run = runs.get(k.workload, k.machine);
+        if (machines.of(k.machine) != k.machine) r.machines[k.machine] = run.run->prog->machine().name;
+        r.rows.push_back(measure_row(k, run));
+    }
     return r;
 }
 

@@ -64,9 +64,9 @@ void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
     }
 }
 
-WorkloadRun grid_run(const kernels::SourceSet& sources, const std::string& machine, int n, double density,
+WorkloadRun grid_run(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, int n, double density,
                      std::mt19937& rng) {
-    WorkloadRun w{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(machine != "seq", false), machine)),
+    WorkloadRun w{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), machine)),
                   kGridRays};
     Grid g = make_grid(n, density, rng);
     w.run->load(kernels::os_image(g.g, g.occ));
@@ -125,22 +125,22 @@ kernels::Shape shape_of(Workload w, std::mt19937& rng) {
 
 bool is_grid(Workload w) { return w == Workload::EmptyGrid || w == Workload::SparseGrid; }
 
-DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& machine) {
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine) {
     std::mt19937 rng(5);
     DdaRuns r;
-    r.empty = grid_run(sources, machine, 40, 0.0, rng);
-    r.sparse = grid_run(sources, machine, 20, 0.03, rng);
+    r.empty = grid_run(sources, role, machine, 40, 0.0, rng);
+    r.sparse = grid_run(sources, role, machine, 20, 0.03, rng);
     return r;
 }
 
 // One voxel whose list holds the 40 shapes; rays from z = 20 aimed at the origin (or past it).
-WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& machine, Workload w) {
+WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w) {
     std::mt19937 rng(7);
     std::vector<kernels::Shape> shapes;
     for (int i = 0; i < kPrimitives; ++i) shapes.push_back(shape_of(w, rng));
     std::vector<std::vector<std::uint32_t>> lists(1);
     for (int i = 0; i < kPrimitives; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
-    WorkloadRun out{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(machine != "seq", true), machine)),
+    WorkloadRun out{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), machine)),
                     kPrimitiveRays};
     KernelRunner& run = *out.run;
     const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);

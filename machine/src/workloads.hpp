@@ -20,10 +20,12 @@ struct WorkloadRun {
 struct DdaRuns {
     WorkloadRun empty, sparse;
 };
-DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& machine);
+// `role` is the stage the kernel is written for (os or seq: kernels::kernel_path), `machine` the
+// description it runs on (a preset name or a TOML file).
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine);
 
 // The intersection kernel for `machine` on a primitive workload (seed 7).
-WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& machine, Workload w);
+WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w);
 
 bool is_grid(Workload w);
 

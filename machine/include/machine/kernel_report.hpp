@@ -15,6 +15,7 @@
 
 #include "kernels/sources.hpp"
 
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -103,6 +104,9 @@ struct KernelRow {
 
 struct KernelReport {
     std::vector<KernelRow> rows;
+    // The rows' machine column names the stage (os, ic, seq); a stage measured on another
+    // description than its preset is listed here with that description's name.
+    std::map<std::string, std::string> machines;
 
     const KernelRow* find(std::string_view metric, std::string_view machine) const;
     // The table, the goals line (when every goal's rows are present), the legend.
@@ -114,6 +118,13 @@ struct KernelReport {
 
 // Runs every metric of kernel_metrics() on the kernels of `sources`. Throws std::runtime_error
 // when a kernel does not assemble or does not behave (machine::KernelRunner).
-KernelReport kernel_report(const kernels::SourceSet& sources);
+// The machine each stage's rows are measured on: a preset name or a TOML file. A description
+// other than the preset gets the kernel's straight-line blocks scheduled for it (runner.hpp).
+struct KernelMachines {
+    std::string os = "os", ic = "ic", seq = "seq";
+    const std::string& of(std::string_view role) const;
+};
+
+KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines = {});
 
 } // namespace nesshi::machine
