@@ -69,7 +69,7 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
         c.next_pc = d.imm;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpLink) {
-        put(c.pc + 1);
+        put(d.bundle + 1); // not c.pc: the fast engine updates it only at the end of a run
         c.next_pc = d.imm;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpReg) {
