@@ -72,11 +72,10 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
         put(eval(a, b, cc, d.imm));
     } else if constexpr (info.kind == Kind::Load) {
         const uint32_t addr = eval(a, b, cc, d.imm);
-        const uint8_t* p = c.fast_access<info.mem_bytes>(addr);
-        if (!p) [[unlikely]]
+        if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
             return load_miss<O, Direct>(c, d, addr);
         uint32_t v = 0;
-        std::memcpy(&v, p, info.mem_bytes); // little-endian host assumed, as in PagedMemory
+        std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes); // little-endian host assumed, as in PagedMemory
         put(extend<O>(v));
     } else if constexpr (info.kind == Kind::Store) {
         c.store<info.mem_bytes>(d, eval(a, b, cc, d.imm), b);
