@@ -154,10 +154,14 @@ template <bool Checked, bool Traced> struct EngineLoop {
         for (;;) {
             const DecodedBundle& b = bundles[pc];
             for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
-            if (pc == last || c.event) [[unlikely]]
+            if (pc == last) [[unlikely]]
                 break;
-            for (uint32_t i = 0; i < c.nwb; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
-            c.nwb = 0;
+            if (c.event) [[unlikely]]
+                break;
+            if (const uint32_t n = c.nwb) {
+                for (uint32_t i = 0; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
+                c.nwb = 0;
+            }
             ++exec[pc];
             ++c.cycle;
             ++pc;
