@@ -1,10 +1,20 @@
 // ISS throughput: simulated bundles/s and ops/s of the fast and checked engines on a synthetic
-// mix, against a native C++ loop doing the same arithmetic. All figures come from one run.
+// mix, against a native C++ loop doing the same arithmetic; then the fast engine on the built-in
+// kernels (3DDDA on an empty grid, sphere intersection), against their native twins. All figures
+// come from one run.
 //
-//   build/bench_iss [--iterations N]
+//   build/bench_iss [--iterations N] [--rays N] [--only mix|kernels|dda-os|dda-seq|spheres-ic|spheres-seq]
 #include "assembler/assembler.hpp"
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
+#include "kernels/abi.hpp"
+#include "kernels/image.hpp"
+#include "kernels/messages.hpp"
+#include "kernels/shape_record.hpp"
+#include "kernels/sources.hpp"
+#include "kernels/twins/dda.hpp"
+#include "kernels/twins/quadric.hpp"
+#include "machine/runner.hpp"
 
 #include "isa/machine.hpp"
 
@@ -16,6 +26,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -103,13 +115,191 @@ Run run_iss(const std::shared_ptr<const iss::Program>& prog, iss::Engine e) {
     return r;
 }
 
+// --- The built-in kernels --------------------------------------------------------------------
+
+struct Ray {
+    base::Vec3f o, d;
+};
+
+// Rays from random points outside the 40^3 grid over [-10, 10]^3, aimed into it.
+std::vector<Ray> grid_rays(int n, std::mt19937& rng) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < n; ++i) {
+        base::Vec3f o{u(rng) * 30.0f, u(rng) * 30.0f, u(rng) * 30.0f};
+        base::Vec3f t{u(rng) * 8.0f, u(rng) * 8.0f, u(rng) * 8.0f};
+        rays.push_back({o, base::normalize(t - o)});
+    }
+    return rays;
+}
+
+kernels::twins::GridGeom empty_grid(int n) {
+    kernels::twins::GridGeom g;
+    for (int k = 0; k < 3; ++k) {
+        g.n[k] = n;
+        g.lo[k] = -10.0f;
+        g.cell[k] = 20.0f / float(n);
+        g.hi[k] = g.lo[k] + float(n) * g.cell[k];
+        g.inv_cell[k] = 1.0f / g.cell[k];
+    }
+    return g;
+}
+
+struct KernelRun {
+    std::string name, machine;
+    double seconds = 0, native_seconds = 0;
+    uint64_t bundles = 0, ops = 0;
+};
+
+// The time of the whole drive loop (host feeding and draining included: a few words per ray
+// against hundreds of bundles).
+template <class Drive> void time_kernel(KernelRun& r, machine::KernelRunner& run, Drive&& drive) {
+    run.run();
+    const iss::Stats s0 = iss::compute_stats(*run.proc);
+    double t0 = cpu_seconds();
+    drive();
+    r.seconds = cpu_seconds() - t0;
+    const iss::Stats s1 = iss::compute_stats(*run.proc);
+    r.bundles = s1.bundles - s0.bundles;
+    r.ops = s1.ops - s0.ops;
+}
+
+KernelRun bench_dda(const kernels::SourceSet& src, const std::string& m, int nrays) {
+    KernelRun r{"3DDDA, empty 40^3 grid", m};
+    machine::KernelRunner run(machine::assemble_kernel(src, kernels::kernel_path(m != "seq", false), m));
+    const kernels::twins::GridGeom g = empty_grid(40);
+    run.load(kernels::os_image(g, std::vector<uint8_t>(40 * 40 * 40, 0)));
+    std::mt19937 rng(5);
+    const std::vector<Ray> rays = grid_rays(nrays, rng);
+    time_kernel(r, run, [&] {
+        uint32_t i = 0;
+        for (const Ray& ray : rays) {
+            namespace abi = kernels::abi;
+            abi::NewRay nr{abi::Tag{i++ % 4096, abi::Kind::eye, 1}.word(), {ray.o.x, ray.o.y, ray.o.z},
+                           {ray.d.x, ray.d.y, ray.d.z}, 0.0f, std::numeric_limits<float>::infinity()};
+            run.feed(nr.words());
+            run.run();
+            run.out1.drain_all();
+            run.out2.drain_all();
+        }
+    });
+    // The twin: set-up and every voxel step, repeated so that it runs long enough to time.
+    volatile int sink = 0;
+    double best = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+        double t0 = cpu_seconds();
+        int steps = 0;
+        for (int k = 0; k < 20; ++k)
+            for (const Ray& ray : rays) {
+                kernels::twins::DdaState st;
+                if (!kernels::twins::dda_setup(g, ray.o, ray.d, 0.0f, std::numeric_limits<float>::infinity(), st))
+                    continue;
+                do ++steps;
+                while (kernels::twins::dda_step(st));
+            }
+        sink = sink + steps;
+        best = std::min(best, (cpu_seconds() - t0) / 20);
+    }
+    r.native_seconds = best;
+    return r;
+}
+
+KernelRun bench_spheres(const kernels::SourceSet& src, const std::string& m, int nrays) {
+    KernelRun r{"intersection, 40 spheres", m};
+    machine::KernelRunner run(machine::assemble_kernel(src, kernels::kernel_path(m != "seq", true), m));
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> p(-2.0f, 2.0f);
+    std::vector<kernels::Shape> shapes(40);
+    std::vector<std::vector<uint32_t>> lists(1);
+    for (uint32_t i = 0; i < shapes.size(); ++i) {
+        kernels::Shape& s = shapes[i];
+        s.kind_flags = kernels::kShapeQuadric;
+        s.w[0] = p(rng) * 0.2f, s.w[1] = p(rng) * 0.2f, s.w[2] = p(rng) * 0.2f;
+        s.w[3] = s.w[4] = s.w[5] = 1.0f;
+        s.w[12] = -1.0f;
+        lists[0].push_back(i);
+    }
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
+    run.load(im.resident);
+    run.load(im.global);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < nrays; ++i) {
+        base::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
+        base::Vec3f t{u(rng) * 0.3f, u(rng) * 0.3f, 0.0f};
+        rays.push_back({o, base::normalize(t - o)});
+    }
+    time_kernel(r, run, [&] {
+        uint32_t i = 0;
+        for (const Ray& ray : rays) {
+            namespace abi = kernels::abi;
+            abi::Visit v;
+            v.tag = abi::Tag{i++ % 4096, abi::Kind::eye, 1}.word() | abi::kTagReturn;
+            v.voxel = 0;
+            v.t_out = 1e30f;
+            for (int k = 0; k < 3; ++k) v.o[k] = ray.o[k], v.d[k] = ray.d[k];
+            v.tmax = std::numeric_limits<float>::infinity();
+            run.feed(v.words());
+            run.run();
+            run.out1.drain_all();
+            run.out2.drain_all();
+        }
+    });
+    volatile float sink = 0;
+    double best = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+        double t0 = cpu_seconds();
+        float acc = 0;
+        for (int k = 0; k < 4; ++k)
+            for (const Ray& ray : rays) {
+                float tbest = std::numeric_limits<float>::infinity();
+                for (const kernels::Shape& s : shapes) {
+                    kernels::twins::QuadricHit h = kernels::twins::intersect_quadric(s.w.data(), false, ray.o, ray.d, 0.0f);
+                    if (h.hit && h.t < tbest) tbest = h.t;
+                }
+                acc += tbest < 1e30f ? tbest : 0.0f;
+            }
+        sink = sink + acc;
+        best = std::min(best, (cpu_seconds() - t0) / 4);
+    }
+    r.native_seconds = best;
+    return r;
+}
+
+// `only`: empty for every kernel, else one of dda-os, dda-seq, spheres-ic, spheres-seq (e.g. to
+// count host instructions of one kernel under callgrind).
+void print_kernels(int nrays, const std::string& only) {
+    const kernels::SourceSet src = kernels::embedded();
+    std::vector<KernelRun> runs;
+    for (const char* m : {"os", "seq"})
+        if (only.empty() || only == std::string("dda-") + m) runs.push_back(bench_dda(src, m, nrays));
+    for (const char* m : {"ic", "seq"})
+        if (only.empty() || only == std::string("spheres-") + m) runs.push_back(bench_spheres(src, m, nrays));
+    fmt::print("\nISS fast engine on the built-in kernels, {} rays each\n\n", nrays);
+    fmt::print("{:<26} {:<4} {:>10} {:>8} {:>12} {:>12} {:>12} {:>10}\n", "kernel", "on", "bundles", "cpu s",
+               "Mbundles/s", "Mops/s", "ops/bundle", "vs twin");
+    for (const KernelRun& r : runs)
+        fmt::print("{:<26} {:<4} {:>10} {:>8.3f} {:>12.1f} {:>12.1f} {:>12.2f} {:>9.1f}x\n", r.name, r.machine,
+                   r.bundles, r.seconds, double(r.bundles) / r.seconds / 1e6, double(r.ops) / r.seconds / 1e6,
+                   double(r.ops) / double(r.bundles), r.seconds / r.native_seconds);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     uint32_t iterations = 25'000'000;
-    for (int i = 1; i + 1 < argc; ++i)
+    int rays = 4000;
+    std::string only;
+    for (int i = 1; i + 1 < argc; ++i) {
         if (std::strcmp(argv[i], "--iterations") == 0) iterations = uint32_t(std::strtoul(argv[i + 1], nullptr, 10));
+        if (std::strcmp(argv[i], "--rays") == 0) rays = std::max(1, std::atoi(argv[i + 1]));
+        if (std::strcmp(argv[i], "--only") == 0) only = argv[i + 1];
+    }
     if (iterations == 0) iterations = 1;
+    if (!only.empty() && only != "mix") {
+        print_kernels(rays, only == "kernels" ? "" : only);
+        return 0;
+    }
 
     isa::Machine m = isa::load_machine("os");
     auto r = assembler::assemble_string(mix_source(iterations), "mix.s", m, {});
@@ -145,5 +335,6 @@ int main(int argc, char** argv) {
     }
     fmt::print("{:<8} {:>10.3f} {:>14} {:>14.1f}\n", "native", native_s, "-",
                16.0 * iterations / native_s / 1e6);
+    if (only != "mix") print_kernels(rays, "");
     return same ? 0 : 1;
 }

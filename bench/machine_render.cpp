@@ -1,6 +1,7 @@
 // Benchmark: the simulated machine's speed. Renders one scene through a model (default: balls,
 // model V, grid 50, 512 x 512, one PE on one host thread) and the same prepared scene with the native
-// tracer, and prints wall times, simulated bundles per second and their ratio, measured in one run.
+// tracer, and prints wall times, simulated bundles per second and their ratio, measured in one run;
+// also per CPU second of this process, which a busy shared machine does not inflate.
 // --paper DIR also times the whole `nesshi paper` matrix into DIR (must not hold cells yet, else
 // the finished ones are loaded, not timed): the target is under 30 minutes on 2 cores.
 // Usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]
@@ -12,12 +13,20 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// CPU time of the whole process (every host thread of the simulation).
+double cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
 }
 
 } // namespace
@@ -49,10 +58,13 @@ int main(int argc, char** argv) {
 
         opt.threads = 1;
         const auto t_native = std::chrono::steady_clock::now();
+        const double c_native = cpu_seconds();
         const RenderResult native = render_native(prep, opt);
-        const double native_s = seconds_since(t_native);
+        const double native_s = seconds_since(t_native), native_cpu = cpu_seconds() - c_native;
 
+        const double c_machine = cpu_seconds();
         const machine::Result m = machine::render(prep, opt, mo);
+        const double machine_cpu = cpu_seconds() - c_machine;
         const machine::Stats& s = m.machine;
         fmt::print("{} {}x{} grid {}, model {}, 1 PE, 1 host thread\n", scene, size, size, grid, model);
         fmt::print("  simulated cycles          {:>14}\n", s.total_cycles);
@@ -61,6 +73,9 @@ int main(int argc, char** argv) {
         fmt::print("  simulated bundles/s       {:>12.1f} M\n", s.bundles_per_second() / 1e6);
         fmt::print("  native wall time          {:>12.3f} s   (1 thread, same prepared scene)\n", native_s);
         fmt::print("  machine / native          {:>12.0f} x\n", s.wall_seconds / native_s);
+        fmt::print("  machine cpu time          {:>12.2f} s   (native {:.3f} s)\n", machine_cpu, native_cpu);
+        fmt::print("  simulated bundles/cpu s   {:>12.1f} M\n", double(s.simulated_bundles) / machine_cpu / 1e6);
+        fmt::print("  machine / native, cpu     {:>12.0f} x\n", machine_cpu / native_cpu);
         fmt::print("  images identical          {:>14}\n", native.image.rgb == m.render.image.rgb ? "yes" : "NO");
         std::fflush(stdout);
 

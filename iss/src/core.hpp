@@ -86,19 +86,11 @@ struct Core {
     }
 
     // Memory access with range, alignment and stall accounting; false after a fault. An aligned
-    // access to a page in the TLB needs none of them (see MemorySystem::tlb_lookup), so it is
-    // inlined into the handler; everything else goes through the out-of-line checked path.
-    template <uint32_t Bytes> [[gnu::always_inline]] bool load(const DecodedOp& d, uint32_t addr, uint32_t& out) {
-        if (const uint8_t* p = mem->tlb_lookup(addr); p && !(addr & (Bytes - 1))) [[likely]] {
-            out = 0;
-            std::memcpy(&out, p, Bytes); // little-endian host assumed, as in PagedMemory
-            return true;
-        }
-        return load_checked(d, addr, Bytes, out);
-    }
+    // access to a page in the TLB needs none of them (MemorySystem::tlb_hit), so it is inlined
+    // into the handler; everything else goes through the out-of-line checked path.
     template <uint32_t Bytes> [[gnu::always_inline]] bool store(const DecodedOp& d, uint32_t addr, uint32_t value) {
-        if (uint8_t* p = mem->tlb_lookup(addr); p && !(addr & (Bytes - 1))) [[likely]] {
-            std::memcpy(p, &value, Bytes);
+        if (mem->tlb_hit<Bytes>(addr)) [[likely]] {
+            std::memcpy(mem->tlb_data(addr), &value, Bytes); // little-endian host assumed, as in PagedMemory
             return true;
         }
         return store_checked(d, addr, Bytes, value);

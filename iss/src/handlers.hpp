@@ -10,6 +10,7 @@
 #include "isa/ops.hpp"
 
 #include <array>
+#include <cstring>
 #include <utility>
 
 namespace nesshi::iss::detail {
@@ -25,9 +26,12 @@ constexpr bool uses_field(const isa::OpInfo& info, isa::Field f) {
     return false;
 }
 
-template <isa::Field F> inline uint32_t src(const Core& c, const DecodedOp& d, const isa::OpInfo& info) {
-    if (!uses_field(info, F)) return 0;
-    if constexpr (F == isa::Field::Rs1) return c.r[d.a];
+// Source F of row O, or 0 when the row does not read it. The choice is made at compile time:
+// asked of a run-time reference to the row, GCC kept the scan of its operand table in every
+// handler (a third of the engine's host instructions).
+template <size_t O, isa::Field F> [[gnu::always_inline]] inline uint32_t src(const Core& c, const DecodedOp& d) {
+    if constexpr (!uses_field(isa::kOps[O], F)) return 0;
+    else if constexpr (F == isa::Field::Rs1) return c.r[d.a];
     else if constexpr (F == isa::Field::Rs2) return c.r[d.b];
     else return c.r[d.c];
 }
@@ -35,26 +39,44 @@ template <isa::Field F> inline uint32_t src(const Core& c, const DecodedOp& d, c
 // Direct: the result has latency 1 and no later operation of the bundle reads its register, so
 // it can be written in place (the load-time decoder proves this per operation). Otherwise the
 // write is queued and lands after every operation of the bundle has read its sources.
+template <bool Direct> [[gnu::always_inline]] inline void put(Core& c, const DecodedOp& d, uint32_t v) {
+    if constexpr (Direct) c.r[d.dst] = v;
+    else c.push(d, v);
+}
+
+// A loaded value of row O, extended to 32 bits.
+template <size_t O> constexpr uint32_t extend(uint32_t v) {
+    constexpr const isa::OpInfo& info = isa::kOps[O];
+    if constexpr (info.mem_signed && info.mem_bytes == 1) return uint32_t(int32_t(int8_t(v)));
+    else if constexpr (info.mem_signed && info.mem_bytes == 2) return uint32_t(int32_t(int16_t(v)));
+    else return v;
+}
+
+// A load the TLB does not serve: the checked access (range, alignment, stalls). Out of line
+// and reached by a tail call, so that the hit path of the handler needs no stack frame.
+template <size_t O, bool Direct> [[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint32_t addr) {
+    uint32_t v;
+    if (c.load_checked(d, addr, isa::kOps[O].mem_bytes, v)) put<Direct>(c, d, extend<O>(v));
+}
+
 template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
     using isa::Field;
     using isa::Kind;
     constexpr const isa::OpInfo& info = isa::kOps[O];
     constexpr isa::Eval eval = info.eval;
-    const uint32_t a = src<Field::Rs1>(c, d, info);
-    const uint32_t b = src<Field::Rs2>(c, d, info);
-    const uint32_t cc = src<Field::Rs3>(c, d, info);
-    auto put = [&](uint32_t v) {
-        if constexpr (Direct) c.r[d.dst] = v;
-        else c.push(d, v);
-    };
+    const uint32_t a = src<O, Field::Rs1>(c, d);
+    const uint32_t b = src<O, Field::Rs2>(c, d);
+    const uint32_t cc = src<O, Field::Rs3>(c, d);
+    auto put = [&](uint32_t v) { detail::put<Direct>(c, d, v); };
     if constexpr (info.kind == Kind::Compute) {
         put(eval(a, b, cc, d.imm));
     } else if constexpr (info.kind == Kind::Load) {
-        uint32_t v;
-        if (!c.load<info.mem_bytes>(d, eval(a, b, cc, d.imm), v)) return;
-        if constexpr (info.mem_signed && info.mem_bytes == 1) v = uint32_t(int32_t(int8_t(v)));
-        if constexpr (info.mem_signed && info.mem_bytes == 2) v = uint32_t(int32_t(int16_t(v)));
-        put(v);
+        const uint32_t addr = eval(a, b, cc, d.imm);
+        if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
+            return load_miss<O, Direct>(c, d, addr);
+        uint32_t v = 0;
+        std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes); // little-endian host assumed, as in PagedMemory
+        put(extend<O>(v));
     } else if constexpr (info.kind == Kind::Store) {
         c.store<info.mem_bytes>(d, eval(a, b, cc, d.imm), b);
     } else if constexpr (info.kind == Kind::Branch) {
@@ -66,7 +88,7 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
         c.next_pc = d.imm;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpLink) {
-        put(c.pc + 1);
+        put(d.bundle + 1); // not c.pc: the fast engine updates it only at the end of a run
         c.next_pc = d.imm;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpReg) {

@@ -51,7 +51,7 @@ void MemorySystem::fill_tlb(const MemRegion& r, uint32_t addr) const {
     if (page_start < r.desc.base || page_start + kPage > uint64_t{r.desc.base} + r.desc.size) return;
     uint8_t* data = r.store->page_data(uint32_t(page_start - r.desc.base));
     if (!data) return; // an unallocated page reads as zero until a write allocates it
-    tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)] = {addr >> PagedMemory::kPageBits, data};
+    tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)] = {uint32_t(page_start), data};
 }
 
 bool MemorySystem::peek(uint32_t addr, uint32_t bytes, uint32_t& out) const {

@@ -5,7 +5,8 @@
 // because writes go to the pending ring), then handle the rare events a handler raised
 // (taken branch, halt, memory fault or stall). The checked engine adds the dynamic rules
 // around the handler calls; tracing adds observers. Both are template flags, so the fast
-// engine pays nothing for them.
+// engine pays nothing for them. The fast engine issues straight runs of bundles in an inner
+// loop (run_plain) that leaves exactly the state of one turn of the loop per bundle.
 #include "iss/processor.hpp"
 
 #include "core.hpp"
@@ -134,6 +135,65 @@ template <bool Checked, bool Traced> struct EngineLoop {
             if constexpr (Traced)
                 if (c.land_next < c.cycle) emit(gap_kind, c.land_next);
             ++c.land_next;
+        }
+    }
+
+    // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
+    // until the run's last bundle, or one whose handlers raised an event, has executed its
+    // operations; loop() then finishes that bundle as any other. Only an event ends a run
+    // early, so the cycle limit and the budget are checked once; inside it land_next always
+    // equals the cycle and the bundle before is owed its histogram credit, so landing reduces
+    // to the cycle's ring slot, and that state is written back once, at the end.
+    [[gnu::always_inline]] void run_plain(const DecodedBundle* bundles, const DecodedOp* ops, uint64_t* exec,
+                                          uint64_t limit, uint64_t& budget) {
+        Core& c = this->c; // a local: the handlers' calls would make GCC reload the member
+        const uint32_t first = c.pc;
+        const uint32_t last = first + uint32_t(std::min<uint64_t>({bundles[first].run, budget, limit - c.cycle})) - 1;
+        uint32_t pc = first;
+        c.next_pc = last + 1; // only the last bundle may transfer control
+        for (;;) {
+            const DecodedBundle& b = bundles[pc];
+            for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
+            if (pc == last) [[unlikely]]
+                break;
+            if (c.event) [[unlikely]]
+                break;
+            if (const uint32_t n = c.nwb) {
+                for (uint32_t i = 0; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
+                c.nwb = 0;
+            }
+            ++exec[pc];
+            ++c.cycle;
+            ++pc;
+            if (c.pending) [[unlikely]]
+                land_in_run(b.lat1_writes);
+        }
+        budget -= pc - first;
+        if (pc != last) c.next_pc = pc + 1;
+        c.pc = pc;
+        c.land_next = c.cycle + 1;
+        c.lat1_owed = false;
+    }
+
+    // land_slow() for one cycle whose previous bundle is owed its credit (`prev`: its latency-1
+    // writes per file); out of line, as few cycles of a run land ring writes.
+    [[gnu::noinline]] void land_in_run(const std::array<uint32_t, isa::kNumRegFiles>& prev) {
+        RingSlot& s = c.ring[c.cycle & c.mask];
+        const uint32_t count = s.n;
+        if (!count) return;
+        uint32_t ring_float = 0;
+        for (uint32_t i = 0; i < count; ++i) {
+            const RingWrite w = s.w[i];
+            c.r[w.reg] = w.value;
+            ring_float += (w.reg >> 7) & 1;
+        }
+        c.pending -= count;
+        s.n = 0;
+        const uint32_t ring[2] = {count - ring_float, ring_float};
+        for (int f = 0; f < 2; ++f) {
+            if (!ring[f]) continue;
+            --k.write_adjust[f][prev[f]];
+            ++k.write_adjust[f][prev[f] + ring[f]];
         }
     }
 
@@ -320,19 +380,24 @@ template <bool Checked, bool Traced> struct EngineLoop {
         Status st = Status::Running;
         while (c.cycle < limit && budget) {
             land();
-            const DecodedBundle& b = bundles[c.pc];
-            if (b.slow) [[unlikely]] {
-                Gate g = fifo_gate(b, limit, wait_blocked, st);
+            const DecodedBundle* bp = &bundles[c.pc];
+            if (bp->slow) [[unlikely]] {
+                Gate g = fifo_gate(*bp, limit, wait_blocked, st);
                 if (g == Gate::Stop) return st;
                 if (g == Gate::Retry) continue;
             }
             if constexpr (Checked)
-                if (!check_reads(b, st)) return st;
+                if (!check_reads(*bp, st)) return st;
             c.next_pc = c.pc + 1;
-            if constexpr (Checked || Traced) // every write through the queue, so it can be inspected
-                for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn_buffered(c, *o);
-            else
-                for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
+            if constexpr (Checked || Traced) { // every write through the queue, so it can be inspected
+                for (const DecodedOp *o = ops + bp->first, *e = o + bp->count; o != e; ++o) o->fn_buffered(c, *o);
+            } else if (bp->run > 1) {
+                run_plain(bundles, ops, exec, limit, budget);
+                bp = &bundles[c.pc];
+            } else {
+                for (const DecodedOp *o = ops + bp->first, *e = o + bp->count; o != e; ++o) o->fn(c, *o);
+            }
+            const DecodedBundle& b = *bp;
             if (c.event) [[unlikely]] {
                 if (c.event & kFault) {
                     c.event = 0;

@@ -93,6 +93,9 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         for (const isa::Instr& in : ops) {
             isa::Kind k = in.info().kind;
             if (k == isa::Kind::Recv || k == isa::Kind::Send) b.fifo = b.slow = true;
+            if (k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink ||
+                k == isa::Kind::JumpReg || k == isa::Kind::Halt)
+                b.control = true;
             if (k != isa::Kind::Nop) b.slot_mask |= 1u << in.slot;
             if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) &&
                 in.imm >= decoded.size()) {
@@ -111,6 +114,10 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         bundles_.push_back(b);
     }
     original_ = std::move(decoded);
+    for (uint32_t pc = size(); pc-- > 0;) {
+        DecodedBundle& b = bundles_[pc];
+        if (!b.control && pc + 1 < size() && !bundles_[pc + 1].slow) b.run = 1 + bundles_[pc + 1].run;
+    }
 
     // Label regions, from code symbols sorted by address.
     for (const auto& s : object_.symbols)

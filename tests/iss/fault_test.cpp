@@ -95,6 +95,29 @@ TEST_CASE("memory faults: out of range and misaligned, on both engines") {
     }
 }
 
+TEST_CASE("a misaligned access to a page in the TLB faults") {
+    struct Case {
+        const char* mnemonic;
+        uint32_t offset;
+        bool store;
+    };
+    for (Engine e : {Engine::Fast, Engine::Checked})
+        for (Case k : {Case{"lw", 2, false}, Case{"lh", 1, false}, Case{"lhu", 3, false}, Case{"flw", 1, false},
+                       Case{"sw", 1, true}, Case{"sh", 3, true}, Case{"fsw", 2, true}}) {
+            INFO(k.mnemonic << " at +" << k.offset);
+            // The store allocates the page and the load then hits it in the TLB.
+            auto p = make_proc("os", {{op("li", 1, 0, 0, 0x100), op("li", 3, 0, 0, 7)}, {op("sw", 0, 1, 3, 0)},
+                                      {op("lw", 2, 1, 0, 0)},
+                                      {k.store ? op(k.mnemonic, 0, 1, 3, k.offset) : op(k.mnemonic, 2, 1, 0, k.offset)},
+                                      {op("halt")}},
+                               e);
+            const Fault& f = run_to_fault(*p);
+            CHECK(f.kind == FaultKind::MemAlign);
+            CHECK(f.pc == 3);
+            CHECK(p->reg(R(2)) == 7);
+        }
+}
+
 TEST_CASE("control leaving the code") {
     auto a = make_proc("os", {{op("jmp", 0, 0, 0, 7)}, {op("halt")}});
     CHECK(run_to_fault(*a).kind == FaultKind::BadPc);

@@ -101,6 +101,80 @@ TEST_CASE("the fast and checked engines agree bundle by bundle on every example 
     }
 }
 
+namespace {
+
+// Everything a stop exposes: the two engines must agree on it.
+void require_same_state(const Processor& a, const Processor& b) {
+    REQUIRE(a.status() == b.status());
+    if (a.status() == Status::Faulted) { // the faulting bundle may be half done
+        CHECK(a.fault()->kind == b.fault()->kind);
+        CHECK(a.fault()->cycle == b.fault()->cycle);
+        CHECK(a.fault()->pc == b.fault()->pc);
+        return;
+    }
+    REQUIRE(a.pc() == b.pc());
+    REQUIRE(a.cycle() == b.cycle());
+    for (uint16_t r = 0; r < kNumRegs; ++r) REQUIRE(a.reg(r) == b.reg(r));
+    const auto ia = a.inflight(), ib = b.inflight();
+    REQUIRE(ia.size() == ib.size());
+    for (size_t i = 0; i < ia.size(); ++i) {
+        CHECK(ia[i].reg == ib[i].reg);
+        CHECK(ia[i].value == ib[i].value);
+        CHECK(ia[i].lands == ib[i].lands);
+    }
+    const Counters &ka = a.counters(), &kb = b.counters();
+    CHECK(ka.exec == kb.exec);
+    CHECK(ka.wait == kb.wait);
+    CHECK(ka.taken == kb.taken);
+    CHECK(ka.stall == kb.stall);
+    CHECK(ka.wait_cycles == kb.wait_cycles);
+    CHECK(ka.bubble_cycles == kb.bubble_cycles);
+    CHECK(ka.stall_cycles == kb.stall_cycles);
+    for (int f = 0; f < isa::kNumRegFiles; ++f) CHECK(a.write_histogram(f) == b.write_histogram(f));
+    CHECK(a.memory().hash() == b.memory().hash());
+}
+
+// Stalls every other access by 2 cycles: memory stalls end a run in the middle.
+struct Alternate : CacheModel {
+    uint32_t n = 0;
+    uint32_t access(uint32_t, uint32_t, bool) override { return (n++ & 1) * 2; }
+};
+
+} // namespace
+
+// The fast engine issues runs of plain bundles in an inner loop; the checked engine issues one
+// bundle per turn of the general loop. Stopped after any number of bundles or at any cycle, so
+// also inside a run, both must leave the same state.
+TEST_CASE("stopped anywhere, the fast engine's runs leave the state the checked engine does") {
+    auto files = sources("examples");
+    auto kernels = sources("kernels");
+    files.insert(files.end(), kernels.begin(), kernels.end());
+    files.push_back(fs::path(NESSHI_SOURCE_DIR) / "tests/iss/programs/runs.s");
+    for (const fs::path& f : files) {
+        auto prog = assemble(f);
+        for (uint64_t chunk : {2, 3, 5, 8, 13, 1000}) {
+            for (int mode = 0; mode < 3; ++mode) {
+                const bool by_cycle = mode == 1, stalls = mode == 2;
+                INFO(f.string() << (by_cycle ? ": run_until every " : ": step ") << chunk << (stalls ? ", stalls" : ""));
+                Pair pair(prog, {3, 10, 20, 30, 40, 50, 60, 70, 80, 90});
+                Alternate fast_model, checked_model;
+                if (stalls)
+                    for (const isa::MemoryDesc& m : prog->machine().memories) {
+                        pair.fast.attach_cache(m.name, &fast_model);
+                        pair.checked.attach_cache(m.name, &checked_model);
+                    }
+                for (int calls = 0; calls < 100'000; ++calls) {
+                    Status s = by_cycle ? pair.fast.run_until(pair.fast.cycle() + chunk) : pair.fast.step(chunk);
+                    if (by_cycle) pair.checked.run_until(pair.checked.cycle() + chunk);
+                    else pair.checked.step(chunk);
+                    require_same_state(pair.fast, pair.checked);
+                    if (s != Status::Running) break;
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("lock-step reports a divergence") {
     auto prog = load_program(make_object(isa::load_machine("os"), {{op("li", 1, 0, 0, 1)}, {op("halt")}}),
                              isa::load_machine("os"));

@@ -91,10 +91,13 @@ class MemorySystem {
     // pages that lie wholly in one region with no latency and no cache model, whose storage
     // page exists. Such an access needs no region search and adds no stall, so a hit goes
     // straight to host memory; everything else takes the checked path (find, then fill_tlb).
-    uint8_t* tlb_lookup(uint32_t addr) const {
-        const TlbEntry& e = tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)];
-        return e.page == addr >> PagedMemory::kPageBits ? e.data + (addr & (PagedMemory::kPageSize - 1)) : nullptr;
+    // tlb_hit: an aligned `Bytes`-wide access to a page in the TLB (one compare: an entry's tag
+    // is its page's first address, and the access address keeps its alignment bits); tlb_data:
+    // then its host address.
+    template <uint32_t Bytes> bool tlb_hit(uint32_t addr) const {
+        return tlb_entry(addr).tag == (addr & (~(PagedMemory::kPageSize - 1) | (Bytes - 1)));
     }
+    uint8_t* tlb_data(uint32_t addr) const { return tlb_entry(addr).data + (addr & (PagedMemory::kPageSize - 1)); }
     void fill_tlb(const MemRegion& r, uint32_t addr) const;
     void flush_tlb() { tlb_.fill(TlbEntry{}); }
 
@@ -117,10 +120,13 @@ class MemorySystem {
 
   private:
     struct TlbEntry {
-        uint32_t page = UINT32_MAX; // address >> kPageBits; never a real page (addresses are 32-bit)
+        uint32_t tag = UINT32_MAX; // the page's first address; never matches (its low bits are set)
         uint8_t* data = nullptr;
     };
     static constexpr uint32_t kTlbEntries = 64;
+    const TlbEntry& tlb_entry(uint32_t addr) const {
+        return tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)];
+    }
     std::vector<MemRegion> regions_;
     mutable std::array<TlbEntry, kTlbEntries> tlb_{};
 };

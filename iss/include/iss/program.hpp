@@ -46,6 +46,10 @@ struct DecodedBundle {
     uint32_t ops = 0;                  // non-nop operations
     bool fifo = false;                 // contains send/recv: a communication cycle
     bool slow = false;                 // needs the engine's slow path (FIFO gate)
+    bool control = false;              // branch, jump or halt
+    // Fast engine: this bundle and the run - 1 after it issue back to back unless a handler
+    // raises an event (none but the first needs the gate, none but the last has control).
+    uint32_t run = 1;
     std::array<uint32_t, isa::kNumRegFiles> reads{};
     std::array<uint32_t, isa::kNumRegFiles> writes{};
     std::array<uint32_t, isa::kNumRegFiles> lat1_writes{}; // writes that land in the next cycle
