@@ -3,6 +3,7 @@
 #include "outputs.hpp"
 #include "sim_load.hpp"
 
+#include "base/read_file.hpp"
 #include "iss/channel.hpp"
 #include "iss/lockstep.hpp"
 #include "iss/memory_dump.hpp"
@@ -88,10 +89,7 @@ std::vector<Expectation> read_expectations(const SimOpts& o, const iss::Program&
         } catch (const std::invalid_argument& err) {
             throw UsageError(err.what());
         }
-        std::ifstream in(file, std::ios::binary);
-        if (!in) throw base::Error(base::SourceLoc(file), "cannot open");
-        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        x.values = iss::parse_values(text, file, x.spec.format);
+        x.values = iss::parse_values(base::read_file(file), file, x.spec.format);
         if (!x.spec.count) x.spec.count = static_cast<uint32_t>(std::max<std::size_t>(1, x.values.size()));
         out.push_back(std::move(x));
     }

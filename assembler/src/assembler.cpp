@@ -9,11 +9,10 @@
 #include "operands.hpp"
 #include "parser.hpp"
 
-#include <fmt/format.h>
+#include "base/error.hpp"
+#include "base/read_file.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <fmt/format.h>
 
 namespace nesshi::assembler {
 
@@ -71,17 +70,16 @@ AsmResult assemble_string(std::string_view text, std::string_view filename, cons
 }
 
 AsmResult assemble_file(const std::string& path, const isa::Machine& m, const AsmOptions& opts) {
-    std::error_code ec;
-    std::ifstream in(path, std::ios::binary);
-    if (!std::filesystem::is_regular_file(path, ec) || !in) {
+    std::string text;
+    try {
+        text = base::read_file(path);
+    } catch (const base::Error& e) {
         AsmResult r;
         r.errors = 1;
-        r.diagnostics = fmt::format("{}: error: cannot open file\n", path);
+        r.diagnostics = std::string(e.what()) + "\n";
         return r;
     }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return assemble_string(ss.str(), path, m, opts);
+    return assemble_string(text, path, m, opts);
 }
 
 std::string header_machine(std::string_view text) {

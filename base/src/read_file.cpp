@@ -18,6 +18,12 @@ namespace {
     throw Error(SourceLoc(path), std::move(message));
 }
 
+// The null device: the usual way to give a command an empty input (`--fifo-in /dev/null`).
+bool is_null_device(const struct stat& st) {
+    struct stat null {};
+    return S_ISCHR(st.st_mode) && ::stat("/dev/null", &null) == 0 && S_ISCHR(null.st_mode) && st.st_rdev == null.st_rdev;
+}
+
 // Refuses what is not a regular file of at most `max_bytes`.
 void check_kind(const std::string& path, const struct stat& st, std::size_t max_bytes) {
     if (S_ISDIR(st.st_mode)) fail(path, "is a directory");
@@ -41,6 +47,7 @@ std::string read_file(const std::string& path, std::size_t max_bytes) {
     // in case the path changed in between.
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) fail(path, "cannot open");
+    if (is_null_device(st)) return {};
     check_kind(path, st, max_bytes);
     Fd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
     if (f.fd < 0) fail(path, "cannot open");

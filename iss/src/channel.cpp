@@ -2,14 +2,13 @@
 #include "iss/channel.hpp"
 
 #include "base/error.hpp"
+#include "base/read_file.hpp"
 
 #include <fmt/core.h>
 
 #include <bit>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace nesshi::iss {
@@ -106,13 +105,7 @@ std::vector<uint32_t> parse_words(std::string_view text, std::string_view name) 
     return out;
 }
 
-std::vector<uint32_t> read_word_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw base::Error(base::SourceLoc(path), "cannot open");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_words(ss.str(), path);
-}
+std::vector<uint32_t> read_word_file(const std::string& path) { return parse_words(base::read_file(path), path); }
 
 std::string format_words(const std::vector<uint32_t>& words) {
     std::string out;

@@ -70,6 +70,7 @@ class QueueChannel : public Channel {
 // '.', an exponent, or is inf/nan), stored as its binary32 bits. Throws std::runtime_error
 // with file:line on a bad token.
 std::vector<uint32_t> parse_words(std::string_view text, std::string_view name);
+// Reads through base::read_file, whose base::Error (a std::runtime_error) it lets through.
 std::vector<uint32_t> read_word_file(const std::string& path);
 // One word per line: "0x3f800000  # 1065353216 1.0"; parse_words reads it back.
 std::string format_words(const std::vector<uint32_t>& words);

@@ -93,7 +93,7 @@ class Debugger {
 // Reads commands with line editing and history until `quit` or end of input.
 void debug_interactive(Debugger& d);
 // Runs the commands of a script file, echoing each after a "(nesshi) " prompt (for goldens).
-// Throws std::runtime_error when the file cannot be read.
+// Throws base::Error (a std::runtime_error) when base::read_file refuses the file.
 void debug_script(Debugger& d, const std::string& path, std::FILE* out);
 
 } // namespace nesshi::iss
