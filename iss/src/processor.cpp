@@ -171,6 +171,13 @@ template <bool Checked, bool Traced> struct EngineLoop {
 
     enum class Gate { Go, Retry, Stop };
 
+    // A receive that can never complete: its channel is closed and short of words.
+    Gate deadlock(const DecodedOp& d, std::string msg, Status& st) {
+        st = fault(FaultKind::Deadlock, std::move(msg),
+                   {fmt::format("{} received {} words before", prog.format_op(d.instr), k.words_received)});
+        return Gate::Stop;
+    }
+
     // A bundle with FIFO operations issues only when every recv has a word and every send
     // has room; otherwise the whole bundle waits.
     Gate fifo_gate(const DecodedBundle& b, uint64_t limit, bool wait_blocked, Status& st) {
@@ -197,17 +204,20 @@ template <bool Checked, bool Traced> struct EngineLoop {
                     return Gate::Retry;
                 }
                 if (ready) { // front ready but a later word of this bundle is not: wait a cycle
+                    // ...unless the words this bundle needs will never all be there.
+                    if (chan->closed()) {
+                        const size_t held = chan->readable(kNoLimit, need);
+                        if (held < need)
+                            return deadlock(d, fmt::format("{} on channel {}, which holds {} of the {} words this "
+                                                               "bundle receives from it and will never be fed",
+                                                               d.instr.info().mnemonic, ch, held, need), st);
+                    }
                     wait_until(std::min(c.cycle + 1, limit));
                     return Gate::Retry;
                 }
-                if (chan->closed()) {
-                    st = fault(FaultKind::Deadlock,
-                               fmt::format("{} on channel {}, which is empty and will never be fed",
-                                           d.instr.info().mnemonic, ch),
-                               {fmt::format("{} received {} words before", prog.format_op(d.instr),
-                                            k.words_received)});
-                    return Gate::Stop;
-                }
+                if (chan->closed())
+                    return deadlock(d, fmt::format("{} on channel {}, which is empty and will never be fed",
+                                                       d.instr.info().mnemonic, ch), st);
             } else if (chan->writable() >= need) {
                 continue;
             }
@@ -494,7 +504,10 @@ void Processor::idle_until(uint64_t target) {
     core_->cycle = target;
 }
 
-Status Processor::step(uint64_t bundles) { return dispatch(kNoLimit, bundles, false); }
+Status Processor::step(uint64_t bundles, uint64_t max_cycles) {
+    const uint64_t limit = max_cycles > kNoLimit - core_->cycle ? kNoLimit : core_->cycle + max_cycles;
+    return dispatch(limit, bundles, false);
+}
 
 std::string Processor::fault_report() const { return fault_ ? format_fault(*prog_, *fault_) : std::string(); }
 uint64_t Processor::cycle() const { return core_->cycle; }

@@ -66,6 +66,12 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         throw LoadError(fmt::format("line table has {} entries for {} bundles", obj.lines.size(), decoded.size()));
     for (const auto& le : obj.lines)
         if (le.file >= obj.files.size() && le.line != 0) throw LoadError("line table names a missing file");
+    // Data must fit a memory region here, at load, as LoadError promises: the message is the one
+    // MemorySystem::load_data would give each Processor.
+    for (const auto& sec : obj.data)
+        if (!sec.bytes.empty() && (sec.bytes.size() > UINT32_MAX || !m.memory_at(sec.address, uint32_t(sec.bytes.size()))))
+            throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region",
+                                        sec.address, sec.bytes.size()));
 
     for (uint32_t pc = 0; pc < decoded.size(); ++pc) {
         const auto& ops = decoded[pc];

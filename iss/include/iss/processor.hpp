@@ -106,7 +106,9 @@ class Processor {
     // Running. Each returns the status at the stop.
     Status run_until(uint64_t cycle);  // stop when cycle() reaches `cycle` (blocked: waits to it)
     Status run(uint64_t max_cycles = std::numeric_limits<uint64_t>::max()); // until halt/block/fault
-    Status step(uint64_t bundles = 1); // issue `bundles` bundles (waits and bubbles included)
+    // Issue `bundles` bundles (waits and bubbles included), or stop after `max_cycles` cycles even
+    // in the middle of a wait (status Running, the waiting bundle not issued yet).
+    Status step(uint64_t bundles = 1, uint64_t max_cycles = std::numeric_limits<uint64_t>::max());
     // Host-imposed idle time (a processor time-shared with others, or a sender held until its
     // full FIFO drains): the clock advances to `cycle`, counted as wait cycles of the current
     // bundle. No-op when `cycle` <= cycle().

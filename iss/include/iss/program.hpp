@@ -66,7 +66,8 @@ class LoadError : public base::Error {
 
 class Program {
   public:
-    // Decodes and statically checks `obj` for machine `m`. Throws LoadError.
+    // Decodes and statically checks `obj` for machine `m` (every data section inside a memory
+    // region included). Throws LoadError.
     Program(const isa::ObjectFile& obj, const isa::Machine& m);
 
     const isa::Machine& machine() const { return machine_; }
