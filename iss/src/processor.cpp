@@ -187,7 +187,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
             isa::Kind kind = d.instr.info().kind;
             if (kind != isa::Kind::Recv && kind != isa::Kind::Send) continue;
             uint32_t ch = d.imm;
-            Channel* chan = ch < p.channels_.size() ? p.channels_[ch] : nullptr;
+            Channel* chan = p.slots_[d.chan];
             if (!chan) {
                 st = fault(FaultKind::NoChannel, fmt::format("{} uses channel {}, which is not attached",
                                                               d.instr.info().mnemonic, ch));
@@ -417,18 +417,9 @@ void Processor::reset() {
             if (old->regions()[i].store.use_count() > 1) mem_->regions()[i].store = old->regions()[i].store;
             mem_->regions()[i].cache = old->regions()[i].cache;
         }
-    uint32_t max_ch = 0;
-    bool any = false;
-    for (const DecodedOp& d : prog_->ops()) {
-        isa::Kind kind = d.instr.info().kind;
-        if (kind == isa::Kind::Recv || kind == isa::Kind::Send) {
-            max_ch = std::max(max_ch, std::min<uint32_t>(d.imm, 4095));
-            any = true;
-        }
-    }
-    if (channels_.size() < (any ? max_ch + 1 : 0)) channels_.resize(max_ch + 1, nullptr);
+    slots_.resize(prog_->channel_ids().size(), nullptr); // attachments survive a reset
     core_->mem = mem_.get();
-    core_->channels = channels_.data();
+    core_->channels = slots_.data();
     core_->words_received = &counters_.words_received;
     core_->words_sent = &counters_.words_sent;
     counters_ = Counters{};
@@ -450,12 +441,18 @@ void Processor::set_engine(Engine e) {
 }
 
 void Processor::attach_channel(uint32_t id, Channel* ch) {
-    if (id >= channels_.size()) channels_.resize(size_t{id} + 1, nullptr);
-    channels_[id] = ch;
-    core_->channels = channels_.data();
+    auto at = std::lower_bound(attached_.begin(), attached_.end(), id, [](const auto& e, uint32_t k) { return e.first < k; });
+    if (at != attached_.end() && at->first == id) at->second = ch;
+    else attached_.insert(at, {id, ch});
+    const std::vector<uint32_t>& ids = prog_->channel_ids();
+    auto used = std::lower_bound(ids.begin(), ids.end(), id);
+    if (used != ids.end() && *used == id) slots_[size_t(used - ids.begin())] = ch;
 }
 
-Channel* Processor::channel(uint32_t id) const { return id < channels_.size() ? channels_[id] : nullptr; }
+Channel* Processor::channel(uint32_t id) const {
+    auto at = std::lower_bound(attached_.begin(), attached_.end(), id, [](const auto& e, uint32_t k) { return e.first < k; });
+    return at != attached_.end() && at->first == id ? at->second : nullptr;
+}
 
 void Processor::attach_memory(std::string_view region, std::shared_ptr<PagedMemory> store) {
     MemRegion* r = mem_->region(region);

@@ -118,6 +118,17 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     }
     original_ = std::move(decoded);
 
+    // Channels: ids are 32-bit and sparse (a program may use channels 0 and 500000000), so each
+    // send/recv gets the dense index of its id, and a processor keeps one slot per channel used.
+    for (const DecodedOp& d : ops_)
+        if (d.instr.info().kind == isa::Kind::Recv || d.instr.info().kind == isa::Kind::Send)
+            channel_ids_.push_back(d.imm);
+    std::sort(channel_ids_.begin(), channel_ids_.end());
+    channel_ids_.erase(std::unique(channel_ids_.begin(), channel_ids_.end()), channel_ids_.end());
+    for (DecodedOp& d : ops_)
+        if (d.instr.info().kind == isa::Kind::Recv || d.instr.info().kind == isa::Kind::Send)
+            d.chan = uint32_t(std::lower_bound(channel_ids_.begin(), channel_ids_.end(), d.imm) - channel_ids_.begin());
+
     // Label regions, from code symbols sorted by address.
     for (const auto& s : object_.symbols)
         if (s.kind == isa::SymbolKind::Code && s.value < size()) code_labels_.push_back(&s);
