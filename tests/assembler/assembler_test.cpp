@@ -200,3 +200,55 @@ TEST_CASE("the listing shows encodings, slots, source and port usage", "[listing
     CHECK(r.listing.find("fpu0   fadd f1, f2, f3") != std::string::npos);
     CHECK(r.listing.find("ports IRF r2/5 w1/2  FPRF r2/5 w1/2   units 2/4 (iu0 fpu0)") != std::string::npos);
 }
+
+// A chain of ~10,300 `.equ eN, eN+1` overflowed the stack (each link recursed through the
+// evaluator, and the depth guard was per expression): chains share one nesting limit, and the
+// message names the first links and the reason, not all 10,300.
+TEST_CASE("long .equ chains are an error, not a stack overflow", "[diag][equ]") {
+    std::string text;
+    const int n = 10300;
+    for (int k = 0; k < n; ++k) text += ".equ e" + std::to_string(k) + ", e" + std::to_string(k + 1) + "+1\n";
+    text += ".equ e" + std::to_string(n) + ", 1\nli r1, e0\nhalt\n";
+    const auto r = assemble(text);
+    CHECK_FALSE(r.ok);
+    CHECK(r.errors == 1);
+    CHECK(r.diagnostics.rfind("test.s:10302:8: error: 'e0' has no value: 'e1' has no value: 'e2' has no value: "
+                              "'e3' has no value: 'e4' has no value: 'e5' has no value: 'e6' has no value: 'e7' "
+                              "has no value: ...: expression nested too deeply\n", 0) == 0);
+    // A chain within the limit has its value; one that ends in an unknown name says so, and the
+    // message of a long chain stays short.
+    std::string ok;
+    for (int k = 0; k < 200; ++k) ok += ".equ e" + std::to_string(k) + ", e" + std::to_string(k + 1) + "+1\n";
+    const auto good = assemble(ok + ".equ e200, 1\nli r1, e0\nhalt\n");
+    INFO(good.diagnostics);
+    CHECK(good.ok);
+    const auto bad = assemble(ok + "li r1, e0\nhalt\n");
+    CHECK(bad.errors == 1);
+    CHECK(bad.diagnostics.find("'e7' has no value: ...: undefined symbol 'e200'\n") != std::string::npos);
+    CHECK(bad.diagnostics.size() < 400);
+    const auto two = assemble(".equ a, b\n.equ b, c\nli r1, a\nhalt\n");
+    CHECK(two.diagnostics.find("error: 'a' has no value: 'b' has no value: undefined symbol 'c'\n") != std::string::npos);
+}
+
+// Forty `.equ aN, aN-1+aN-1` levels feeding .space or .loc took exponential time (28 levels:
+// 16 s): values computed where they stand were never kept. A value is now kept with the latest
+// definition it needs, so each name is evaluated once.
+TEST_CASE(".equ values are evaluated once, also where they stand", "[equ]") {
+    std::string text = ".equ a0, 1\n";
+    for (int k = 1; k <= 40; ++k)
+        text += ".equ a" + std::to_string(k) + ", a" + std::to_string(k - 1) + "+a" + std::to_string(k - 1) + "\n";
+    const auto r = assemble(text + ".data 0x100\n.space a40 >> 37\n.text\n.loc a40 >> 30\nhalt\n");
+    INFO(r.diagnostics);
+    REQUIRE(r.ok);
+    REQUIRE(r.object.data.size() == 1);
+    CHECK(r.object.data[0].bytes.size() == 8);
+    CHECK(r.object.lines.at(0).line == 1024);
+    // Where a name is not known yet it is an error there, and known after its definition.
+    const auto late = assemble(".equ A, B + 1\n.data 0x100\n.space A\n.equ B, 3\n.space A\n.text\nhalt\n");
+    CHECK(late.errors == 1);
+    CHECK(late.diagnostics.find("test.s:3:8: error: 'A' has no value: 'B' is undefined here") != std::string::npos);
+    const auto known = assemble(".equ B, 3\n.equ A, B + 1\n.data 0x100\n.space A\n.space A\n.text\nli r1, A\nhalt\n");
+    INFO(known.diagnostics);
+    REQUIRE(known.ok);
+    CHECK(known.object.data.at(0).bytes.size() == 8);
+}
