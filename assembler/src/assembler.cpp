@@ -19,24 +19,25 @@ namespace nesshi::assembler {
 namespace {
 
 AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine& m, const AsmOptions& opts) {
-    Diagnostics diags(sources);
+    Diagnostics diags(sources, opts.error_limit);
     Parser parser(sources, diags, m, opts);
     parser.parse_file(main_file);
     Layout layout(sources, diags, m);
-    layout.run(parser.items);
+    if (!diags.stopped()) layout.run(parser.items); // past the error limit: report and stop
 
     // Second pass: immediates (labels now known), then the per-bundle resource rules.
     Resolver resolve = layout.resolver();
     bool code_ok = true;
     for (PlacedBundle& b : layout.bundles) {
+        if (diags.stopped()) break;
         bool ok = !b.rec->had_errors;
         for (OpRec& o : b.rec->ops) ok = resolve_imm(o, resolve, layout.bundles.size(), diags) && ok;
         if (ok) ok = check_bundle_rules(*b.rec, m, diags);
         code_ok = code_ok && ok;
     }
-    fill_data(layout, diags);
-    apply_globals(layout, diags);
-    if (code_ok) {
+    if (!diags.stopped()) fill_data(layout, diags);
+    if (!diags.stopped()) apply_globals(layout, diags);
+    if (code_ok && !diags.stopped()) {
         std::vector<size_t> labels;
         for (const auto& [name, s] : layout.symbols)
             if (s.kind == SymbolDef::Kind::Code) labels.push_back(size_t(s.value));

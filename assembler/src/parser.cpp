@@ -58,7 +58,7 @@ bool known_directive(std::string_view name) {
 
 void Parser::parse_file(int file, int depth) {
     int nlines = int(sources_.files[size_t(file)].lines.size());
-    for (int l = 1; l <= nlines; ++l) parse_line(file, l, depth);
+    for (int l = 1; l <= nlines && !diags_.stopped(); ++l) parse_line(file, l, depth);
     close_open_bundle();
 }
 
@@ -74,7 +74,7 @@ void Parser::parse_line(int file, int line, int depth) {
     std::string text(sources_.files[size_t(file)].lines[size_t(line - 1)]);
     std::vector<Token> toks = lex_line(text);
     size_t i = 0;
-    while (i < toks.size()) {
+    while (i < toks.size() && !diags_.stopped()) {
         const Token& t = toks[i];
         Loc loc{file, line, t.col};
         if (t.kind == Tok::Bad) {

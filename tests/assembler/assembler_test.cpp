@@ -252,3 +252,43 @@ TEST_CASE(".equ values are evaluated once, also where they stand", "[equ]") {
     REQUIRE(known.ok);
     CHECK(known.object.data.at(0).bytes.size() == 8);
 }
+
+// One 20 KB line of '}' made 600 MB of diagnostics (every stray token an error, each printing the
+// whole line); 60 KB ran out of memory. As clang does, the assembler stops after 20 errors, and
+// a line longer than 160 characters is shown cut around the caret.
+TEST_CASE("a flood of errors stops at the error limit", "[diag]") {
+    const auto r = assemble(std::string(20000, '}') + "\nhalt\n");
+    CHECK(r.errors == 20);
+    CHECK(r.diagnostics.size() < 5000);
+    CHECK(r.diagnostics.ends_with("}...\n                   ^\nfatal error: too many errors emitted, stopping now\n"
+                                  "20 errors generated.\n"));
+    std::string lines;
+    for (int k = 0; k < 25; ++k) lines += "bogus r1\n";
+    CHECK(assemble(lines).errors == 20);
+    CHECK(assemble(lines.substr(0, 20 * 9)).diagnostics.find("too many errors") == std::string::npos);
+    assembler::AsmOptions all;
+    all.error_limit = 0;
+    CHECK(assembler::assemble_string(lines, "test.s", isa::load_machine("os"), all).errors == 25);
+}
+
+TEST_CASE("long source lines are cut around the caret", "[diag]") {
+    const std::string before(300, 'x'), after(300, 'y');
+    const auto r = assemble("li r1, 1 # " + before + "\n\tadd r1, r2 # " + after + "\n" + "halt\n");
+    // The caret near the start: the line's first 160 characters, then "...".
+    CHECK(r.diagnostics.find("test.s:2:2: error: 'add' takes 3 operands (rd, rs1, rs2), found 2\n\tadd r1, r2 # " +
+                             std::string(146, 'y') + "...\n\t^\n") != std::string::npos);
+    // In the middle: 80 characters either side, "..." at both ends, the caret moved by the cut.
+    const auto mid = assemble("li r1, " + std::string(200, ' ') + "nowhere" + std::string(200, ' ') + "\nhalt\n");
+    const std::string shown = "..." + std::string(80, ' ') + "nowhere" + std::string(73, ' ') + "...\n";
+    CHECK(mid.diagnostics == "test.s:1:208: error: undefined symbol 'nowhere'\n" + shown + std::string(83, ' ') +
+                                 "^\n1 error generated.\n");
+    // A cut never splits a UTF-8 sequence: "é" is two bytes.
+    std::string utf8;
+    for (int k = 0; k < 150; ++k) utf8 += "\xc3\xa9";
+    const auto u = assemble("nowhere r1 # " + utf8 + "\nhalt\n");
+    const std::string first = u.diagnostics.substr(u.diagnostics.find('\n') + 1);
+    const std::string line = first.substr(0, first.find('\n'));
+    CHECK(line.ends_with("\xc3\xa9..."));
+    CHECK(line.size() <= 160 + 3);
+}
+
