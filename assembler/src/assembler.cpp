@@ -37,6 +37,9 @@ AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine
     }
     if (!diags.stopped()) fill_data(layout, diags);
     if (!diags.stopped()) apply_globals(layout, diags);
+    // An empty file (or one with only data) assembles, but nothing could ever run it.
+    if (layout.bundles.empty() && !diags.stopped())
+        diags.warning(Loc{main_file, 0, 0}, "no code: the object has no bundle to run (end a program with 'halt')");
     if (code_ok && !diags.stopped()) {
         std::vector<size_t> labels;
         for (const auto& [name, s] : layout.symbols)

@@ -64,7 +64,9 @@ void Diagnostics::note(Diagnostic& d, Loc loc, std::string message) {
 std::string Diagnostics::render_one(const Diagnostic& d) const {
     static constexpr std::string_view kWords[] = {"error", "warning", "note"};
     std::string_view word = kWords[int(d.severity)];
-    if (d.loc.file < 0) return fmt::format("error: {}\n", d.message);
+    if (d.loc.file < 0) return fmt::format("{}: {}\n", word, d.message);
+    if (d.loc.line <= 0) // the file as a whole
+        return fmt::format("{}: {}: {}\n", sources_.files[size_t(d.loc.file)].name, word, d.message);
     std::string out = fmt::format("{}:{}:{}: {}: {}\n", sources_.files[size_t(d.loc.file)].name,
                                   d.loc.line, d.loc.col, word, d.message);
     const std::string_view line = sources_.line(d.loc);

@@ -10,7 +10,7 @@ namespace nesshi::assembler {
 
 struct Loc {
     int file = -1; // index into SourceSet::files; -1 = no location
-    int line = 0;  // 1-based
+    int line = 0;  // 1-based; 0: the file as a whole (no source line shown)
     int col = 0;   // 1-based
 };
 

@@ -292,3 +292,16 @@ TEST_CASE("long source lines are cut around the caret", "[diag]") {
     CHECK(line.size() <= 160 + 3);
 }
 
+// An empty file used to give an object with no code and no word about it.
+TEST_CASE("a source without code assembles with a warning", "[diag]") {
+    for (const std::string text : {"", "# only a comment\n", ".data 0x100\n.word 1\n"}) {
+        const auto r = assemble(text);
+        INFO(text);
+        CHECK(r.ok);
+        CHECK(r.warnings == 1);
+        CHECK(r.diagnostics == "test.s: warning: no code: the object has no bundle to run (end a program with "
+                               "'halt')\n1 warning generated.\n");
+        CHECK(r.object.code.empty());
+    }
+    CHECK(assemble("halt\n").diagnostics.empty());
+}
