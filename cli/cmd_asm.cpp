@@ -3,6 +3,7 @@
 #include "errors.hpp"
 
 #include "assembler/assembler.hpp"
+#include "base/read_file.hpp"
 #include "isa/machine.hpp"
 #include "isa/object.hpp"
 
@@ -15,10 +16,7 @@ namespace nesshi::cli {
 namespace {
 // The machine named by a `# machine: NAME` first line of the source, else "os".
 std::string source_machine(const std::string& path) {
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);
-    std::string m = assembler::header_machine(line);
+    std::string m = assembler::header_machine(base::read_file(path));
     return m.empty() ? "os" : m;
 }
 } // namespace

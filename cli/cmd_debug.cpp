@@ -26,12 +26,12 @@ void run_debug(const DebugOpts& o) {
     // program uses gets an unbounded queue, so sends never block.
     std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> chans;
     for (const auto& spec : o.fifo_in) {
-        auto eq = spec.find('=');
         uint32_t ch = 0;
-        std::string file = spec;
-        if (eq != std::string::npos && eq > 0 && spec.find_first_not_of("0123456789") == eq) {
-            ch = uint32_t(std::stoul(spec.substr(0, eq)));
-            file = spec.substr(eq + 1);
+        std::string file;
+        try {
+            std::tie(ch, file) = iss::parse_channel_spec(spec, 0);
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(e.what());
         }
         auto q = std::make_unique<iss::QueueChannel>();
         for (uint32_t w : iss::read_word_file(file)) q->feed(w);
@@ -40,7 +40,7 @@ void run_debug(const DebugOpts& o) {
     }
     for (const auto& d : prog->ops()) {
         auto k = d.instr.info().kind;
-        if ((k == isa::Kind::Recv || k == isa::Kind::Send) && !chans.count(d.imm) && d.imm < 4096) {
+        if ((k == isa::Kind::Recv || k == isa::Kind::Send) && !chans.count(d.imm)) {
             auto q = std::make_unique<iss::QueueChannel>();
             if (k == isa::Kind::Recv) q->close();
             chans[d.imm] = std::move(q);

@@ -3,13 +3,13 @@
 #include "errors.hpp"
 
 #include "assembler/assembler.hpp"
+#include "base/read_file.hpp"
 #include "isa/machine.hpp"
 #include "sched/loop_report.hpp"
 
 #include <fmt/core.h>
 
 #include <fstream>
-#include <sstream>
 
 namespace nesshi::cli {
 
@@ -24,13 +24,10 @@ void add_loop(CLI::App& app) {
     cmd->add_option("--label", a->label, "Only the loop at this label");
     cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE");
     cmd->callback([a] {
-        std::ifstream in(a->input, std::ios::binary);
-        if (!in) throw base::Error(base::SourceLoc(a->input), "cannot open");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        const std::string name = a->machine.empty() ? assembler::header_machine(ss.str()) : a->machine;
+        const std::string text = base::read_file(a->input);
+        const std::string name = a->machine.empty() ? assembler::header_machine(text) : a->machine;
         const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
-        const assembler::AsmResult r = assembler::assemble_string(ss.str(), a->input, m, {});
+        const assembler::AsmResult r = assembler::assemble_string(text, a->input, m, {});
         fmt::print(stderr, "{}", r.diagnostics);
         if (!r.ok) throw Reported(kExitInput);
         const std::vector<sched::LoopReport> loops = sched::analyse_loops(r.object, m, a->label);

@@ -4,6 +4,7 @@
 #include "errors.hpp"
 
 #include "assembler/assembler.hpp"
+#include "base/read_file.hpp"
 #include "isa/machine.hpp"
 #include "iss/differential.hpp"
 #include "sched/pipeline.hpp"
@@ -12,7 +13,6 @@
 
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 
 namespace nesshi::cli {
 
@@ -26,11 +26,7 @@ struct PipelineArgs {
 };
 
 void run_pipeline(const PipelineArgs& a) {
-    std::ifstream in(a.input, std::ios::binary);
-    if (!in) throw base::Error(base::SourceLoc(a.input), "cannot open");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = ss.str();
+    const std::string text = base::read_file(a.input);
     std::string name = a.machine.empty() ? assembler::header_machine(text) : a.machine;
     const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
     sched::PipelineOptions po;

@@ -99,7 +99,11 @@ void run_render(const RenderArgs& a) {
     }
     if (opt.width > 16384 || opt.height > 16384) throw UsageError("image size is limited to 16384");
     int grid = a.grid == "auto" ? 0 : parse_int(a.grid, "grid resolution");
-    if (grid > 512) throw UsageError("grid resolution is limited to 512");
+    try {
+        rt::check_grid_resolution(grid); // the one limit, shared with scene info
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
     opt.threads = a.threads;
     mo.threads = a.threads;
     opt.cutoff = a.cutoff;

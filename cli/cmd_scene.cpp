@@ -18,6 +18,11 @@ namespace nesshi::cli {
 namespace {
 
 void scene_info(const std::string& what, const std::vector<int>& grids) {
+    try {
+        for (int n : grids) rt::check_grid_resolution(n); // before any work, as render does
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
     rt::Scene s = rt::load_scene(what);
     rt::SceneCounts c = rt::count(s);
     rt::Box b = rt::scene_bounds(s);

@@ -3,6 +3,7 @@
 #include "outputs.hpp"
 #include "sim_load.hpp"
 
+#include "base/read_file.hpp"
 #include "iss/channel.hpp"
 #include "iss/lockstep.hpp"
 #include "iss/memory_dump.hpp"
@@ -29,12 +30,13 @@ struct SimOpts {
     bool quiet = false;
 };
 
-// "[CH=]FILE" -> (channel, file); the default channel is `def`.
+// "[CH=]FILE" -> (channel, file); the default channel is `def`. A bad channel is a usage error.
 std::pair<uint32_t, std::string> channel_spec(const std::string& spec, uint32_t def) {
-    auto eq = spec.find('=');
-    if (eq != std::string::npos && eq > 0 && spec.find_first_not_of("0123456789") == eq)
-        return {uint32_t(std::stoul(spec.substr(0, eq))), spec.substr(eq + 1)};
-    return {def, spec};
+    try {
+        return iss::parse_channel_spec(spec, def);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
 }
 
 // The channels of one processor: inputs fed from files (then closed), outputs collected.
@@ -88,10 +90,7 @@ std::vector<Expectation> read_expectations(const SimOpts& o, const iss::Program&
         } catch (const std::invalid_argument& err) {
             throw UsageError(err.what());
         }
-        std::ifstream in(file, std::ios::binary);
-        if (!in) throw base::Error(base::SourceLoc(file), "cannot open");
-        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        x.values = iss::parse_values(text, file, x.spec.format);
+        x.values = iss::parse_values(base::read_file(file), file, x.spec.format);
         if (!x.spec.count) x.spec.count = static_cast<uint32_t>(std::max<std::size_t>(1, x.values.size()));
         out.push_back(std::move(x));
     }
@@ -123,6 +122,7 @@ void dump_and_check(const SimOpts& o, const iss::Processor& p, const std::vector
 }
 
 void run_sim(const SimOpts& o) {
+    for (const auto& spec : o.fifo_in) channel_spec(spec, 0); // usage errors first
     check_outputs({o.trace, o.stats_json});
     for (const auto& spec : o.fifo_out) check_output(channel_spec(spec, 1).second);
     auto prog = load_sim_input(o.input, o.machine);

@@ -7,11 +7,11 @@
 #include "errors.hpp"
 
 #include "assembler/assembler.hpp"
+#include "base/read_file.hpp"
 #include "iss/program.hpp"
 
 #include <fmt/core.h>
 
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -21,9 +21,7 @@ namespace nesshi::cli {
 inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& path, const std::string& machine) {
     bool source = path.size() > 2 && path.compare(path.size() - 2, 2, ".s") == 0;
     if (!source) return iss::load_program_file(path, machine);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw iss::LoadError(base::SourceLoc(path), "cannot open");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = base::read_file(path);
     std::string name = !machine.empty() ? machine : assembler::header_machine(text);
     isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
     auto r = assembler::assemble_string(text, path, m, {});

@@ -9,35 +9,38 @@
 #include "operands.hpp"
 #include "parser.hpp"
 
-#include <fmt/format.h>
+#include "base/error.hpp"
+#include "base/read_file.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <fmt/format.h>
 
 namespace nesshi::assembler {
 
 namespace {
 
 AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine& m, const AsmOptions& opts) {
-    Diagnostics diags(sources);
+    Diagnostics diags(sources, opts.error_limit);
     Parser parser(sources, diags, m, opts);
     parser.parse_file(main_file);
     Layout layout(sources, diags, m);
-    layout.run(parser.items);
+    if (!diags.stopped()) layout.run(parser.items); // past the error limit: report and stop
 
     // Second pass: immediates (labels now known), then the per-bundle resource rules.
     Resolver resolve = layout.resolver();
     bool code_ok = true;
     for (PlacedBundle& b : layout.bundles) {
+        if (diags.stopped()) break;
         bool ok = !b.rec->had_errors;
         for (OpRec& o : b.rec->ops) ok = resolve_imm(o, resolve, layout.bundles.size(), diags) && ok;
         if (ok) ok = check_bundle_rules(*b.rec, m, diags);
         code_ok = code_ok && ok;
     }
-    fill_data(layout, diags);
-    apply_globals(layout, diags);
-    if (code_ok) {
+    if (!diags.stopped()) fill_data(layout, diags);
+    if (!diags.stopped()) apply_globals(layout, diags);
+    // An empty file (or one with only data) assembles, but nothing could ever run it.
+    if (layout.bundles.empty() && !diags.stopped())
+        diags.warning(Loc{main_file, 0, 0}, "no code: the object has no bundle to run (end a program with 'halt')");
+    if (code_ok && !diags.stopped()) {
         std::vector<size_t> labels;
         for (const auto& [name, s] : layout.symbols)
             if (s.kind == SymbolDef::Kind::Code) labels.push_back(size_t(s.value));
@@ -71,17 +74,16 @@ AsmResult assemble_string(std::string_view text, std::string_view filename, cons
 }
 
 AsmResult assemble_file(const std::string& path, const isa::Machine& m, const AsmOptions& opts) {
-    std::error_code ec;
-    std::ifstream in(path, std::ios::binary);
-    if (!std::filesystem::is_regular_file(path, ec) || !in) {
+    std::string text;
+    try {
+        text = base::read_file(path);
+    } catch (const base::Error& e) {
         AsmResult r;
         r.errors = 1;
-        r.diagnostics = fmt::format("{}: error: cannot open file\n", path);
+        r.diagnostics = std::string(e.what()) + "\n";
         return r;
     }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return assemble_string(ss.str(), path, m, opts);
+    return assemble_string(text, path, m, opts);
 }
 
 std::string header_machine(std::string_view text) {

@@ -22,15 +22,17 @@ struct Parser {
 
     static int64_t wrap(uint64_t v) { return static_cast<int64_t>(v); }
 
-    int depth = 0;
+    int own_depth = 0;
+    int* depth = &own_depth; // or the counter shared with nested evaluations
 
     int64_t primary() {
         if (failed()) return 0;
-        if (++depth > 256) {
+        if (++*depth > kMaxExprNesting) {
+            --*depth;
             fail("expression nested too deeply", col());
             return 0;
         }
-        struct Leave { int& d; ~Leave() { --d; } } leave{depth};
+        struct Leave { int& d; ~Leave() { --d; } } leave{*depth};
         if (i >= t.size()) {
             fail("expected an expression", col());
             return 0;
@@ -122,8 +124,9 @@ struct Parser {
 
 } // namespace
 
-ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve) {
-    Parser p{toks, &resolve, 0, {}, 0};
+ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve, int* nesting) {
+    Parser p{toks, &resolve, 0, {}};
+    if (nesting) p.depth = nesting;
     int64_t v = p.binary(0);
     if (!p.failed() && p.i < toks.size()) p.fail("unexpected '" + toks[p.i].text + "' after expression", toks[p.i].col);
     if (p.failed()) return p.err;
@@ -131,7 +134,7 @@ ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve) {
 }
 
 bool is_expr(std::span<const Token> toks) {
-    Parser p{toks, nullptr, 0, {}, 0};
+    Parser p{toks, nullptr, 0, {}};
     p.binary(0);
     return !p.failed() && p.i == toks.size();
 }

@@ -22,8 +22,14 @@ struct ExprResult {
     int col = 0; // column of the token at fault
 };
 
-// Evaluates the whole token span as one expression (trailing tokens are an error).
-ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve);
+// Most operators and parentheses one evaluation may nest, counting the evaluations it starts
+// through its resolver when they share a counter (below): deeper is "expression nested too deeply".
+inline constexpr int kMaxExprNesting = 256;
+
+// Evaluates the whole token span as one expression (trailing tokens are an error). `nesting`, when
+// given, is the depth counter shared with the evaluations `resolve` starts (a .equ evaluating the
+// names it uses), so the limit bounds the whole chain, and the stack, not each link.
+ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve, int* nesting = nullptr);
 
 // Whether `toks` is syntactically an expression (no evaluation, names accepted).
 bool is_expr(std::span<const Token> toks);

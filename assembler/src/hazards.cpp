@@ -48,7 +48,7 @@ class Analysis {
     }
 
     void run() {
-        size_t n = bundles_.size();
+        size_t n = bundles_.size() + 1; // the bundles and the indirect-jump hub
         in_.assign(n, {});
         std::vector<bool> queued(n, true);
         std::vector<size_t> work;
@@ -65,7 +65,7 @@ class Analysis {
                 }
             }
         }
-        for (size_t b = 0; b < n; ++b) report(b);
+        for (size_t b = 0; b + 1 < n; ++b) report(b);
     }
 
   private:
@@ -75,6 +75,12 @@ class Analysis {
         return uint32_t(std::lower_bound(ops_.begin(), ops_.end(), std::pair<size_t, size_t>{b, 0}) - ops_.begin());
     }
 
+    // Indirect jumps go through one hub node (index n): every `jr` has an edge to the hub, the
+    // hub one to every return point and code label. The state reaching a target is the union over
+    // the jumps either way, but the edges are #jr + #targets instead of #jr x #targets (20,000
+    // `Lk: jr r1` lines made 400 million edges).
+    size_t hub() const { return bundles_.size(); }
+
     void build_edges() {
         size_t n = bundles_.size();
         uint32_t penalty = m_.branch_penalty;
@@ -82,7 +88,7 @@ class Analysis {
         for (size_t b = 0; b + 1 < n; ++b)
             for (const auto& o : bundles_[b].rec->ops)
                 if (o.instr.info().kind == isa::Kind::JumpLink) indirect.push_back(b + 1);
-        edges_.assign(n, {});
+        edges_.assign(n + 1, {});
         for (size_t b = 0; b < n; ++b) {
             bool ends = false;
             for (const auto& o : bundles_[b].rec->ops) {
@@ -107,21 +113,27 @@ class Analysis {
             if (!ends && b + 1 < n) edges_[b].push_back({b + 1, 1});
             if (!ends && b + 1 == n) falls_off_end = true;
         }
-        for (size_t b : jr_)
-            for (size_t t : indirect) edges_[b].push_back({t, 1 + penalty});
+        // The jump's delay is charged on the way in; the hub passes the state on unchanged.
+        for (size_t b : jr_) edges_[b].push_back({hub(), 1 + penalty});
+        add_indirect_targets(indirect);
     }
 
 public:
     bool falls_off_end = false;
 
     void add_indirect_targets(const std::vector<size_t>& targets) {
-        for (size_t b : jr_)
-            for (size_t t : targets)
-                if (t < bundles_.size()) edges_[b].push_back({t, 1 + m_.branch_penalty});
+        if (jr_.empty()) return;
+        for (size_t t : targets)
+            if (t < bundles_.size()) hub_targets_.push_back(t);
+        std::sort(hub_targets_.begin(), hub_targets_.end());
+        hub_targets_.erase(std::unique(hub_targets_.begin(), hub_targets_.end()), hub_targets_.end());
+        edges_[hub()].clear();
+        for (size_t t : hub_targets_) edges_[hub()].push_back({t, 0});
     }
 
 private:
     State transfer(size_t b, uint32_t delay) const {
+        if (b == hub()) return in_[b];
         State out;
         for (const Pending& p : in_[b])
             if (p.k > delay) out.push_back({p.file, p.reg, p.k - delay, p.op});
@@ -241,6 +253,7 @@ private:
     std::vector<std::pair<size_t, size_t>> ops_; // global op id -> (bundle, op)
     std::vector<std::vector<Edge>> edges_;
     std::vector<size_t> jr_;
+    std::vector<size_t> hub_targets_;
     std::vector<State> in_;
 };
 

@@ -15,6 +15,10 @@ constexpr uint64_t kMaxSpace = 1u << 26; // 64 MB: larger than any memory of the
 Loc arg_loc(const DirectiveRec& d, size_t i) { return i < d.arg_locs.size() ? d.arg_locs[i] : d.loc; }
 
 bool is_pow2(int64_t v) { return v > 0 && (v & (v - 1)) == 0; }
+
+// The links of a failing chain named in its message: "'a' has no value: 'b' has no value: ...".
+// Past the first few, the message gives the reason at the end of the chain, not every link.
+constexpr int kNamedLinks = 8;
 } // namespace
 
 void Layout::define(const std::string& name, SymbolDef def) {
@@ -33,8 +37,15 @@ std::optional<int64_t> Layout::lookup(const Token& name, std::string& err, size_
         return std::nullopt;
     }
     SymbolDef& s = it->second;
-    if (s.kind != SymbolDef::Kind::Equ) return s.value;
-    if (s.state == 2) return s.value;
+    if (s.kind != SymbolDef::Kind::Equ) {
+        deps_ = std::max(deps_, s.order);
+        return s.value;
+    }
+    // Known, and known here: every definition the value needs comes before `limit`.
+    if (s.state == 2 && (limit == kAll || s.deps <= limit)) {
+        deps_ = std::max(deps_, s.deps);
+        return s.value;
+    }
     if (s.state == 3) {
         err = fmt::format("'{}' has no value: {}", name.text, s.error);
         return std::nullopt;
@@ -43,16 +54,40 @@ std::optional<int64_t> Layout::lookup(const Token& name, std::string& err, size_
         err = fmt::format("'{}' is defined in terms of itself", name.text);
         return std::nullopt;
     }
+    return evaluate_equ(name, s, err, limit);
+}
+
+std::optional<int64_t> Layout::evaluate_equ(const Token& name, SymbolDef& s, std::string& err, size_t limit) {
+    const int before = s.state; // 0, or 2 when the value needs definitions after `limit`
+    const size_t outer_deps = deps_;
+    const int level = equ_depth_++;
     s.state = 1;
-    ExprResult r = eval_expr(s.expr, [&](const Token& t, std::string& e) { return lookup(t, e, limit); });
+    deps_ = s.order;
+    ExprResult r = eval_expr(s.expr, [&](const Token& t, std::string& e) { return lookup(t, e, limit); }, &nesting_);
+    --equ_depth_;
+    const size_t deps = deps_;
+    deps_ = std::max(outer_deps, deps);
     if (r.ok) {
-        s.state = limit == kAll ? 2 : 0;
+        // The same value wherever it is known (a name's value does not depend on where it is
+        // asked for, only whether it is known there), so it is kept.
+        s.state = 2;
         s.value = r.value;
+        s.deps = deps;
         return r.value;
     }
-    s.state = limit == kAll ? 3 : 0;
+    // Known elsewhere, not here: keep the value for later; or failed for good (second pass); or
+    // unknown here, to be tried again where it is used next.
+    s.state = before == 2 ? 2 : limit == kAll ? 3 : 0;
     s.error = r.error;
-    err = fmt::format("'{}' has no value: {}", name.text, r.error);
+    if (level >= kNamedLinks) { // a deep link of a long chain: pass the reason on
+        elided_ = true;
+        err = r.error;
+    } else if (level == kNamedLinks - 1 && elided_) {
+        elided_ = false;
+        err = fmt::format("'{}' has no value: ...: {}", name.text, r.error);
+    } else {
+        err = fmt::format("'{}' has no value: {}", name.text, r.error);
+    }
     return std::nullopt;
 }
 
@@ -61,7 +96,7 @@ Resolver Layout::resolver() {
 }
 
 std::optional<int64_t> Layout::eval_now(const std::vector<Token>& toks, Loc loc, size_t limit) {
-    ExprResult r = eval_expr(toks, [&](const Token& t, std::string& e) { return lookup(t, e, limit); });
+    ExprResult r = eval_expr(toks, [&](const Token& t, std::string& e) { return lookup(t, e, limit); }, &nesting_);
     if (!r.ok) {
         diags_.error(Loc{loc.file, loc.line, r.col ? r.col : loc.col}, r.error);
         return std::nullopt;

@@ -1,7 +1,10 @@
 // First pass: sections, addresses and symbols. Code labels are bundle indices, data labels
 // byte addresses, `.equ` names constant expressions evaluated on demand (forward references
 // allowed, cycles reported). Directives that change the layout (.data ADDR, .space, .align)
-// must be computable where they stand.
+// must be computable where they stand. A .equ is evaluated once: its value is kept with the
+// latest definition it needs, which says where it is known (so `.equ aN, aN-1+aN-1` chains
+// cost linear time, not exponential), and chains share one nesting limit (so they cannot
+// exhaust the stack).
 #pragma once
 
 #include "expr.hpp"
@@ -23,6 +26,7 @@ struct SymbolDef {
     std::vector<Token> expr; // .equ
     int state = 0;           // .equ: 0 new, 1 evaluating, 2 done, 3 failed
     std::string error;       // .equ failure
+    size_t deps = 0;         // .equ done: the latest definition (item index) its value needs
     bool global = false;
 };
 
@@ -65,6 +69,7 @@ class Layout {
 
   private:
     std::optional<int64_t> lookup(const Token& name, std::string& err, size_t limit);
+    std::optional<int64_t> evaluate_equ(const Token& name, SymbolDef& s, std::string& err, size_t limit);
     std::optional<int64_t> eval_now(const std::vector<Token>& toks, Loc loc, size_t limit);
     void define(const std::string& name, SymbolDef def);
     void directive(const DirectiveRec& d, size_t order);
@@ -77,6 +82,10 @@ class Layout {
     int data_index_ = -1;
     std::string logical_file_;
     int64_t pending_loc_ = -1;
+    int nesting_ = 0;   // expression depth shared by an evaluation and the .equ it reaches
+    int equ_depth_ = 0; // .equ evaluations in progress (for the message of a long chain)
+    bool elided_ = false; // links of the failing chain left out of its message
+    size_t deps_ = 0;   // latest definition the evaluation in progress has used
 };
 
 } // namespace nesshi::assembler

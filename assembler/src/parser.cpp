@@ -3,12 +3,13 @@
 
 #include "operands.hpp"
 
+#include "base/error.hpp"
+#include "base/read_file.hpp"
+
 #include <fmt/format.h>
 
 #include <array>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace nesshi::assembler {
 
@@ -35,14 +36,13 @@ std::vector<std::vector<Token>> split_args(std::span<const Token> toks, std::vec
     return out;
 }
 
+// An include candidate: false when there is no file at `path` or it is a directory (the search
+// goes on); a path that names something else read_file refuses (a device, a pipe, a file above
+// the cap) throws base::Error.
 bool read_text(const std::string& path, std::string& text) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) return false;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    text = ss.str();
+    if (!std::filesystem::exists(path, ec) || std::filesystem::is_directory(path, ec)) return false;
+    text = base::read_file(path);
     return true;
 }
 } // namespace
@@ -58,7 +58,7 @@ bool known_directive(std::string_view name) {
 
 void Parser::parse_file(int file, int depth) {
     int nlines = int(sources_.files[size_t(file)].lines.size());
-    for (int l = 1; l <= nlines; ++l) parse_line(file, l, depth);
+    for (int l = 1; l <= nlines && !diags_.stopped(); ++l) parse_line(file, l, depth);
     close_open_bundle();
 }
 
@@ -74,7 +74,7 @@ void Parser::parse_line(int file, int line, int depth) {
     std::string text(sources_.files[size_t(file)].lines[size_t(line - 1)]);
     std::vector<Token> toks = lex_line(text);
     size_t i = 0;
-    while (i < toks.size()) {
+    while (i < toks.size() && !diags_.stopped()) {
         const Token& t = toks[i];
         Loc loc{file, line, t.col};
         if (t.kind == Tok::Bad) {
@@ -251,8 +251,13 @@ void Parser::include(const Token& name, Loc loc, int file, int depth) {
         if (opts_.read_file) {
             path = std::filesystem::path(path).lexically_normal().generic_string();
             if (!opts_.read_file(path, text)) continue;
-        } else if (!read_text(path, text)) {
-            continue;
+        } else {
+            try {
+                if (!read_text(path, text)) continue;
+            } catch (const base::Error& e) {
+                diags_.error(loc, fmt::format("cannot include \"{}\": {}: {}", name.text, e.loc().str(), e.message()));
+                return;
+            }
         }
         // The bundle state belongs to the including file.
         bool saved_in = in_bundle_;

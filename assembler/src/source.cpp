@@ -37,12 +37,21 @@ std::string_view SourceSet::line(const Loc& loc) const {
 }
 
 Diagnostic& Diagnostics::error(Loc loc, std::string message) {
+    if (stopped_ || (error_limit_ > 0 && errors_ >= error_limit_)) {
+        stopped_ = true;
+        dropped_ = {};
+        return dropped_;
+    }
     ++errors_;
     list_.push_back({Severity::Error, loc, std::move(message), {}});
     return list_.back();
 }
 
 Diagnostic& Diagnostics::warning(Loc loc, std::string message) {
+    if (stopped_) {
+        dropped_ = {};
+        return dropped_;
+    }
     ++warnings_;
     list_.push_back({Severity::Warning, loc, std::move(message), {}});
     return list_.back();
@@ -55,15 +64,33 @@ void Diagnostics::note(Diagnostic& d, Loc loc, std::string message) {
 std::string Diagnostics::render_one(const Diagnostic& d) const {
     static constexpr std::string_view kWords[] = {"error", "warning", "note"};
     std::string_view word = kWords[int(d.severity)];
-    if (d.loc.file < 0) return fmt::format("error: {}\n", d.message);
+    if (d.loc.file < 0) return fmt::format("{}: {}\n", word, d.message);
+    if (d.loc.line <= 0) // the file as a whole
+        return fmt::format("{}: {}: {}\n", sources_.files[size_t(d.loc.file)].name, word, d.message);
     std::string out = fmt::format("{}:{}:{}: {}: {}\n", sources_.files[size_t(d.loc.file)].name,
                                   d.loc.line, d.loc.col, word, d.message);
-    std::string_view text = sources_.line(d.loc);
+    const std::string_view line = sources_.line(d.loc);
+    const size_t caret = std::min(size_t(std::max(d.loc.col, 1) - 1), line.size());
+    // A long line is cut to kMaxShownLine characters around the caret (never inside a UTF-8
+    // sequence), so a diagnostic costs a bounded number of bytes however long the line.
+    size_t begin = 0, end = line.size();
+    if (line.size() > kMaxShownLine) {
+        begin = caret > kMaxShownLine / 2 ? caret - kMaxShownLine / 2 : 0;
+        end = std::min(line.size(), begin + kMaxShownLine);
+        begin = end - kMaxShownLine;
+        auto continuation = [&](size_t i) { return i < line.size() && (uint8_t(line[i]) & 0xc0) == 0x80; };
+        while (begin < caret && continuation(begin)) ++begin;
+        while (end > caret && continuation(end)) --end;
+    }
+    const std::string_view cut_before = begin > 0 ? "..." : "", cut_after = end < line.size() ? "..." : "";
+    const std::string_view text = line.substr(begin, end - begin);
+    out += cut_before;
     out += text;
+    out += cut_after;
     out += '\n';
     // Keep tabs so the caret lines up with the source line in any terminal.
-    for (int i = 0; i + 1 < d.loc.col && size_t(i) < text.size(); ++i)
-        out += text[size_t(i)] == '\t' ? '\t' : ' ';
+    out.append(cut_before.size(), ' ');
+    for (size_t i = 0; begin + i < caret; ++i) out += text[i] == '\t' ? '\t' : ' ';
     out += "^\n";
     return out;
 }
@@ -81,6 +108,7 @@ std::string Diagnostics::render() const {
         out += render_one(d);
         for (const auto& n : d.notes) out += render_one(n);
     }
+    if (stopped_) out += "fatal error: too many errors emitted, stopping now\n";
     return out;
 }
 

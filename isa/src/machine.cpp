@@ -4,14 +4,15 @@
 #include "isa/encoding.hpp"
 #include "machine_presets.hpp" // generated: kPresets[] from isa/machines/*.toml
 
+#include "base/error.hpp"
+#include "base/read_file.hpp"
+
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 namespace nesshi::isa {
 
@@ -183,13 +184,75 @@ struct Link {
 };
 using Chain = std::vector<Link>;
 
-bool read_file(const std::string& path, std::string& text) {
-    std::ifstream in{path};
-    if (!in) return false;
-    std::stringstream ss;
-    ss << in.rdbuf();
-    text = ss.str();
+// The text of a description file: false when nothing exists at `path`; a path base::read_file
+// refuses (a directory, a device, a pipe, a file above kMaxMachineFileBytes) throws MachineError.
+bool read_machine_file(const std::string& path, std::string& text) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return false;
+    try {
+        text = base::read_file(path, base::kMaxMachineFileBytes);
+    } catch (const base::Error& e) {
+        throw MachineError(e.loc(), e.message());
+    }
     return true;
+}
+
+// Machine descriptions are about 1 KB and their keys nest two levels ("registers.int"). toml++
+// bounds nested values but not the components of one key, and recurses per component, so a
+// header or dotted key of tens of thousands of components exhausts the stack: refuse texts that
+// are implausibly large, or have a line with more than kMaxDots '.' outside strings and comments,
+// before parsing.
+constexpr int kMaxDots = 16;
+
+void check_plausible(std::string_view text, std::string_view source) {
+    if (text.size() > base::kMaxMachineFileBytes)
+        throw MachineError(base::SourceLoc(source, 1, 1), fmt::format("description too large ({} bytes; the limit is {})",
+                                                                      text.size(), base::kMaxMachineFileBytes));
+    enum class In { Code, Comment, Basic, Literal, MultiBasic, MultiLiteral } in = In::Code;
+    int line = 1, dots = 0;
+    size_t line_start = 0;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char ch = text[i];
+        const std::string_view rest = text.substr(i);
+        if (ch == '\n') {
+            ++line;
+            line_start = i + 1;
+            dots = 0;
+            if (in == In::Comment || in == In::Basic || in == In::Literal) in = In::Code; // one-line forms end
+        } else if (in == In::Code) {
+            if (ch == '#') {
+                in = In::Comment;
+            } else if (rest.starts_with(R"(""")")) {
+                in = In::MultiBasic;
+                i += 2;
+            } else if (rest.starts_with("'''")) {
+                in = In::MultiLiteral;
+                i += 2;
+            } else if (ch == '"') {
+                in = In::Basic;
+            } else if (ch == '\'') {
+                in = In::Literal;
+            } else if (ch == '.' && ++dots > kMaxDots) {
+                throw MachineError(base::SourceLoc(source, line, int(i - line_start + 1)),
+                                   fmt::format("more than {} '.' on one line: the keys of a machine description "
+                                               "nest a few levels, not this deep", kMaxDots));
+            }
+        } else if (in == In::Basic || in == In::MultiBasic) {
+            if (ch == '\\' && i + 1 < text.size() && text[i + 1] != '\n') ++i; // an escaped character
+            else if (in == In::Basic && ch == '"') in = In::Code;
+            else if (in == In::MultiBasic && rest.starts_with(R"(""")")) {
+                in = In::Code;
+                i += 2;
+            }
+        } else if (in == In::Literal) {
+            if (ch == '\'') in = In::Code;
+        } else if (in == In::MultiLiteral) {
+            if (rest.starts_with("'''")) {
+                in = In::Code;
+                i += 2;
+            }
+        }
+    }
 }
 
 std::string identity_of(std::string_view source) {
@@ -214,7 +277,7 @@ Machine parse_parent(const Ctx& ctx, const toml::node& node, Chain& chain) {
         namespace fs = std::filesystem;
         const bool builtin = ctx.source.rfind("builtin:", 0) == 0;
         source = (fs::path(ctx.source).parent_path() / fs::path(want)).lexically_normal().string();
-        if (want.empty() || builtin || !read_file(source, text))
+        if (want.empty() || builtin || !read_machine_file(source, text))
             ctx.fail(node.source(),
                      fmt::format("unknown parent machine '{}': no such preset{} (presets: {})",
                                  want, builtin ? "" : fmt::format(" or file {}", source),
@@ -237,6 +300,7 @@ Machine parse_parent(const Ctx& ctx, const toml::node& node, Chain& chain) {
 
 Machine parse_in_chain(std::string_view text, std::string_view source, Chain& chain) {
     Ctx ctx{std::string(source)};
+    check_plausible(text, source);
     toml::table root;
     try {
         root = toml::parse(text, source);
@@ -326,7 +390,7 @@ Machine load_machine(std::string_view name_or_path) {
     if (auto text = preset_text(name_or_path); !text.empty())
         return parse_machine(text, fmt::format("builtin:{}", name_or_path));
     std::string text;
-    if (!read_file(std::string(name_or_path), text))
+    if (!read_machine_file(std::string(name_or_path), text))
         throw MachineError(base::SourceLoc(name_or_path), fmt::format("no such machine preset or file (presets: {})",
                                                                       fmt::join(preset_names(), ", ")));
     return parse_machine(text, name_or_path);

@@ -1,6 +1,9 @@
 // Object file writer and defensive reader.
 #include "isa/object.hpp"
 
+#include "base/error.hpp"
+#include "base/read_file.hpp"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -242,10 +245,13 @@ ObjectFile read_object(const std::vector<uint8_t>& bytes, std::string_view name)
 }
 
 ObjectFile read_object_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ObjectError(base::SourceLoc(path), "cannot open");
-    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return read_object(bytes, path);
+    std::string text;
+    try {
+        text = base::read_file(path);
+    } catch (const base::Error& e) {
+        throw ObjectError(e.loc(), e.message());
+    }
+    return read_object(std::vector<uint8_t>(text.begin(), text.end()), path);
 }
 
 void write_object_file(const ObjectFile& obj, const std::string& path) {

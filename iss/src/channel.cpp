@@ -2,14 +2,14 @@
 #include "iss/channel.hpp"
 
 #include "base/error.hpp"
+#include "base/read_file.hpp"
 
 #include <fmt/core.h>
 
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace nesshi::iss {
@@ -52,6 +52,8 @@ namespace {
 bool parse_token(std::string_view tok, uint32_t& out) {
     bool neg = !tok.empty() && tok[0] == '-';
     std::string_view body = neg || (!tok.empty() && tok[0] == '+') ? tok.substr(1) : tok;
+    // One sign at most: "--5" and "+-5" are not numbers (and "--9223372036854775808" overflowed).
+    if (body.empty() || body[0] == '-' || body[0] == '+') return false;
     if (body.size() > 2 && body[0] == '0' && (body[1] == 'x' || body[1] == 'X')) {
         uint64_t v = 0;
         auto r = std::from_chars(body.data() + 2, body.data() + body.size(), v, 16);
@@ -68,12 +70,11 @@ bool parse_token(std::string_view tok, uint32_t& out) {
         out = std::bit_cast<uint32_t>(f);
         return true;
     }
-    int64_t v = 0;
+    uint64_t v = 0; // the magnitude: no sign left in `body`, so nothing can overflow
     auto r = std::from_chars(body.data(), body.data() + body.size(), v, 10);
-    if (r.ec != std::errc() || r.ptr != body.data() + body.size() || body.empty()) return false;
-    if (neg) v = -v;
-    if (v < INT32_MIN || v > int64_t{UINT32_MAX}) return false;
-    out = uint32_t(v);
+    if (r.ec != std::errc() || r.ptr != body.data() + body.size()) return false;
+    if (neg ? v > uint64_t{1} << 31 : v > UINT32_MAX) return false; // INT32_MIN..UINT32_MAX
+    out = neg ? uint32_t(0u - uint32_t(v)) : uint32_t(v);
     return true;
 }
 } // namespace
@@ -106,12 +107,22 @@ std::vector<uint32_t> parse_words(std::string_view text, std::string_view name) 
     return out;
 }
 
-std::vector<uint32_t> read_word_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw base::Error(base::SourceLoc(path), "cannot open");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_words(ss.str(), path);
+std::vector<uint32_t> read_word_file(const std::string& path) { return parse_words(base::read_file(path), path); }
+
+std::pair<uint32_t, std::string> parse_channel_spec(std::string_view spec, uint32_t default_channel) {
+    const size_t eq = spec.find('=');
+    if (eq == std::string_view::npos || spec.empty() || !std::isdigit(static_cast<unsigned char>(spec[0])))
+        return {default_channel, std::string(spec)};
+    const std::string_view ch = spec.substr(0, eq);
+    uint64_t v = 0;
+    const auto r = std::from_chars(ch.data(), ch.data() + ch.size(), v, 10);
+    if (r.ptr != ch.data() + ch.size() || (r.ec != std::errc() && r.ec != std::errc::result_out_of_range))
+        throw std::invalid_argument(fmt::format("bad channel '{}' in '{}' (expected [CH=]FILE, CH a number 0..{})", ch,
+                                                spec, UINT32_MAX));
+    if (r.ec == std::errc::result_out_of_range || v > UINT32_MAX)
+        throw std::invalid_argument(fmt::format("channel {} in '{}' is out of range (0..{})", ch, spec, UINT32_MAX));
+    if (eq + 1 == spec.size()) throw std::invalid_argument(fmt::format("no file after '=' in '{}'", spec));
+    return {uint32_t(v), std::string(spec.substr(eq + 1))};
 }
 
 std::string format_words(const std::vector<uint32_t>& words) {

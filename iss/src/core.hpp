@@ -49,7 +49,7 @@ struct Core {
     std::array<uint32_t, 2> lat1_landed{}; // per file: latency-1 writes of the bundle issued last
     bool lat1_owed = false; // that bundle's landing cycle has not been through land() yet
     MemorySystem* mem = nullptr;
-    Channel* const* channels = nullptr;
+    Channel* const* channels = nullptr; // by DecodedOp::chan (one slot per channel the program uses)
     uint64_t* words_received = nullptr;
     uint64_t* words_sent = nullptr;
     // The first fault raised inside a bundle.

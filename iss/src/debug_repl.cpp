@@ -1,12 +1,12 @@
 // The debugger's input loops: interactive (libedit line editing and history) and scripted.
 #include "iss/debugger.hpp"
 
-#include "base/error.hpp"
+#include "base/read_file.hpp"
 
 #include <editline/readline.h>
 
 #include <cstdlib>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace nesshi::iss {
@@ -26,8 +26,7 @@ void debug_interactive(Debugger& d) {
 }
 
 void debug_script(Debugger& d, const std::string& path, std::FILE* out) {
-    std::ifstream in(path);
-    if (!in) throw base::Error(base::SourceLoc(path), "cannot open");
+    std::istringstream in(base::read_file(path));
     std::string line;
     while (std::getline(in, line)) {
         if (!line.empty() && line.back() == '\r') line.pop_back();

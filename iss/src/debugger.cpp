@@ -75,11 +75,8 @@ Debugger::Debugger(Processor& p, std::FILE* out) : p_(p), out_(out) {}
 
 bool Debugger::execute(std::string_view line) {
     std::vector<std::string> words = split(line);
-    if (words.empty()) {
-        if (last_step_.empty()) return !quit_;
-        words = split(last_step_);
-    }
-    if (!words.empty() && words[0][0] == '#') return !quit_;
+    if (words.empty()) words = last_step_; // Enter, or a line of blanks, repeats the last step
+    if (words.empty() || words[0][0] == '#') return !quit_;
     // "x/4 ADDR": split the count off the command name.
     std::string name = words[0];
     std::vector<std::string> args(words.begin() + 1, words.end());
@@ -92,7 +89,7 @@ bool Debugger::execute(std::string_view line) {
     for (const DebugCommand& c : commands()) {
         bool match = c.name == name || std::find(c.aliases.begin(), c.aliases.end(), name) != c.aliases.end();
         if (!match) continue;
-        if (c.run == &Debugger::cmd_step) last_step_ = std::string(line.empty() ? last_step_ : std::string(line));
+        if (c.run == &Debugger::cmd_step) last_step_ = words; // what ran, never the raw line (" " has no words)
         (this->*c.run)(args);
         std::fflush(out_);
         return !quit_;
@@ -180,7 +177,7 @@ void Debugger::run_until(const std::function<bool()>& stop, bool stop_at_breaks)
         }
         if (!first && stop()) break;
         first = false;
-        p_.step(1);
+        p_.step(1, max_cycles - (p_.cycle() - start)); // the limit holds inside a step (a long wait) too
         bool changed = false;
         for (auto& [id, w] : watches_) {
             uint32_t v = 0;

@@ -96,10 +96,10 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::Recv) {
         // The engine's FIFO gate has checked that the channel exists and holds a word.
-        put(c.channels[d.imm]->pop());
+        put(c.channels[d.chan]->pop());
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
-        c.channels[d.imm]->push(a, c.cycle);
+        c.channels[d.chan]->push(a, c.cycle);
         ++*c.words_sent;
     } else if constexpr (info.kind == Kind::Halt) {
         c.event |= kHalt;

@@ -35,8 +35,10 @@ LockstepResult run_lockstep(Processor& fast, Processor& checked, uint64_t max_cy
     uint64_t limit = max_cycles;
     while (true) {
         uint64_t before_pc = fast.pc(), before_cycle = fast.cycle();
-        Status sf = fast.step(1);
-        Status sc = checked.step(1);
+        // The limit holds inside a step too: a bundle waiting on a FIFO stops at it.
+        auto left = [limit](const Processor& p) { return limit > p.cycle() ? limit - p.cycle() : 0; };
+        Status sf = fast.step(1, left(fast));
+        Status sc = checked.step(1, left(checked));
         ++res.bundles;
         if (sc == Status::Faulted && sf != Status::Faulted) { // a dynamic rule the fast engine trusts
             res.status = sc;

@@ -231,6 +231,13 @@ template <bool Checked, bool Traced> struct EngineLoop {
 
     enum class Gate { Go, Retry, Stop };
 
+    // A receive that can never complete: its channel is closed and short of words.
+    Gate deadlock(const DecodedOp& d, std::string msg, Status& st) {
+        st = fault(FaultKind::Deadlock, std::move(msg),
+                   {fmt::format("{} received {} words before", prog.format_op(d.instr), k.words_received)});
+        return Gate::Stop;
+    }
+
     // A bundle with FIFO operations issues only when every recv has a word and every send
     // has room; otherwise the whole bundle waits.
     Gate fifo_gate(const DecodedBundle& b, uint64_t limit, bool wait_blocked, Status& st) {
@@ -240,7 +247,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
             isa::Kind kind = d.instr.info().kind;
             if (kind != isa::Kind::Recv && kind != isa::Kind::Send) continue;
             uint32_t ch = d.imm;
-            Channel* chan = ch < p.channels_.size() ? p.channels_[ch] : nullptr;
+            Channel* chan = p.slots_[d.chan];
             if (!chan) {
                 st = fault(FaultKind::NoChannel, fmt::format("{} uses channel {}, which is not attached",
                                                               d.instr.info().mnemonic, ch));
@@ -257,17 +264,20 @@ template <bool Checked, bool Traced> struct EngineLoop {
                     return Gate::Retry;
                 }
                 if (ready) { // front ready but a later word of this bundle is not: wait a cycle
+                    // ...unless the words this bundle needs will never all be there.
+                    if (chan->closed()) {
+                        const size_t held = chan->readable(kNoLimit, need);
+                        if (held < need)
+                            return deadlock(d, fmt::format("{} on channel {}, which holds {} of the {} words this "
+                                                               "bundle receives from it and will never be fed",
+                                                               d.instr.info().mnemonic, ch, held, need), st);
+                    }
                     wait_until(std::min(c.cycle + 1, limit));
                     return Gate::Retry;
                 }
-                if (chan->closed()) {
-                    st = fault(FaultKind::Deadlock,
-                               fmt::format("{} on channel {}, which is empty and will never be fed",
-                                           d.instr.info().mnemonic, ch),
-                               {fmt::format("{} received {} words before", prog.format_op(d.instr),
-                                            k.words_received)});
-                    return Gate::Stop;
-                }
+                if (chan->closed())
+                    return deadlock(d, fmt::format("{} on channel {}, which is empty and will never be fed",
+                                                       d.instr.info().mnemonic, ch), st);
             } else if (chan->writable() >= need) {
                 continue;
             }
@@ -472,18 +482,9 @@ void Processor::reset() {
             if (old->regions()[i].store.use_count() > 1) mem_->regions()[i].store = old->regions()[i].store;
             mem_->regions()[i].cache = old->regions()[i].cache;
         }
-    uint32_t max_ch = 0;
-    bool any = false;
-    for (const DecodedOp& d : prog_->ops()) {
-        isa::Kind kind = d.instr.info().kind;
-        if (kind == isa::Kind::Recv || kind == isa::Kind::Send) {
-            max_ch = std::max(max_ch, std::min<uint32_t>(d.imm, 4095));
-            any = true;
-        }
-    }
-    if (channels_.size() < (any ? max_ch + 1 : 0)) channels_.resize(max_ch + 1, nullptr);
+    slots_.resize(prog_->channel_ids().size(), nullptr); // attachments survive a reset
     core_->mem = mem_.get();
-    core_->channels = channels_.data();
+    core_->channels = slots_.data();
     core_->words_received = &counters_.words_received;
     core_->words_sent = &counters_.words_sent;
     counters_ = Counters{};
@@ -505,12 +506,18 @@ void Processor::set_engine(Engine e) {
 }
 
 void Processor::attach_channel(uint32_t id, Channel* ch) {
-    if (id >= channels_.size()) channels_.resize(size_t{id} + 1, nullptr);
-    channels_[id] = ch;
-    core_->channels = channels_.data();
+    auto at = std::lower_bound(attached_.begin(), attached_.end(), id, [](const auto& e, uint32_t k) { return e.first < k; });
+    if (at != attached_.end() && at->first == id) at->second = ch;
+    else attached_.insert(at, {id, ch});
+    const std::vector<uint32_t>& ids = prog_->channel_ids();
+    auto used = std::lower_bound(ids.begin(), ids.end(), id);
+    if (used != ids.end() && *used == id) slots_[size_t(used - ids.begin())] = ch;
 }
 
-Channel* Processor::channel(uint32_t id) const { return id < channels_.size() ? channels_[id] : nullptr; }
+Channel* Processor::channel(uint32_t id) const {
+    auto at = std::lower_bound(attached_.begin(), attached_.end(), id, [](const auto& e, uint32_t k) { return e.first < k; });
+    return at != attached_.end() && at->first == id ? at->second : nullptr;
+}
 
 void Processor::attach_memory(std::string_view region, std::shared_ptr<PagedMemory> store) {
     MemRegion* r = mem_->region(region);
@@ -559,7 +566,10 @@ void Processor::idle_until(uint64_t target) {
     core_->cycle = target;
 }
 
-Status Processor::step(uint64_t bundles) { return dispatch(kNoLimit, bundles, false); }
+Status Processor::step(uint64_t bundles, uint64_t max_cycles) {
+    const uint64_t limit = max_cycles > kNoLimit - core_->cycle ? kNoLimit : core_->cycle + max_cycles;
+    return dispatch(limit, bundles, false);
+}
 
 std::string Processor::fault_report() const { return fault_ ? format_fault(*prog_, *fault_) : std::string(); }
 uint64_t Processor::cycle() const { return core_->cycle; }

@@ -66,6 +66,12 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         throw LoadError(fmt::format("line table has {} entries for {} bundles", obj.lines.size(), decoded.size()));
     for (const auto& le : obj.lines)
         if (le.file >= obj.files.size() && le.line != 0) throw LoadError("line table names a missing file");
+    // Data must fit a memory region here, at load, as LoadError promises: the message is the one
+    // MemorySystem::load_data would give each Processor.
+    for (const auto& sec : obj.data)
+        if (!sec.bytes.empty() && (sec.bytes.size() > UINT32_MAX || !m.memory_at(sec.address, uint32_t(sec.bytes.size()))))
+            throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region",
+                                        sec.address, sec.bytes.size()));
 
     for (uint32_t pc = 0; pc < decoded.size(); ++pc) {
         const auto& ops = decoded[pc];
@@ -118,6 +124,17 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         DecodedBundle& b = bundles_[pc];
         if (!b.control && pc + 1 < size() && !bundles_[pc + 1].slow) b.run = 1 + bundles_[pc + 1].run;
     }
+
+    // Channels: ids are 32-bit and sparse (a program may use channels 0 and 500000000), so each
+    // send/recv gets the dense index of its id, and a processor keeps one slot per channel used.
+    for (const DecodedOp& d : ops_)
+        if (d.instr.info().kind == isa::Kind::Recv || d.instr.info().kind == isa::Kind::Send)
+            channel_ids_.push_back(d.imm);
+    std::sort(channel_ids_.begin(), channel_ids_.end());
+    channel_ids_.erase(std::unique(channel_ids_.begin(), channel_ids_.end()), channel_ids_.end());
+    for (DecodedOp& d : ops_)
+        if (d.instr.info().kind == isa::Kind::Recv || d.instr.info().kind == isa::Kind::Send)
+            d.chan = uint32_t(std::lower_bound(channel_ids_.begin(), channel_ids_.end(), d.imm) - channel_ids_.begin());
 
     // Label regions, from code symbols sorted by address.
     for (const auto& s : object_.symbols)

@@ -1,9 +1,9 @@
 #include "kernels/sources.hpp"
 
+#include "base/read_file.hpp"
+
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace nesshi::kernels {
@@ -27,10 +27,7 @@ SourceSet from_directory(const std::string& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) throw std::runtime_error("kernel folder '" + dir + "' does not exist");
     auto read = [&](const fs::path& p) {
-        std::ifstream in(p, std::ios::binary);
-        std::ostringstream ss;
-        ss << in.rdbuf();
-        s.files.push_back({fs::relative(p, dir).generic_string(), ss.str()});
+        s.files.push_back({fs::relative(p, dir).generic_string(), base::read_file(p.string())});
     };
     if (fs::is_regular_file(fs::path(dir) / "abi.inc", ec)) read(fs::path(dir) / "abi.inc");
     std::vector<fs::path> kernels;

@@ -1,12 +1,20 @@
 // Uniform grid builder: exact (padded) overlap tests, counting pass then fill pass.
 #include "rt/grid.hpp"
 
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 namespace nesshi::rt {
+
+void check_grid_resolution(int n) {
+    if (n > kMaxGridResolution)
+        throw std::invalid_argument(fmt::format("grid resolution is limited to {}", kMaxGridResolution));
+}
 
 int auto_grid_resolution(std::size_t shape_count) {
     double n = std::round(3.0 * std::cbrt(static_cast<double>(std::max<std::size_t>(shape_count, 1))));
@@ -64,6 +72,21 @@ Box Grid::voxel_box(int ix, int iy, int iz) const {
 
 namespace {
 
+// floor(q) as a voxel index clamped to 0..n-1, clamped before the conversion: a quotient beyond
+// int's range, or NaN, would make the cast undefined.
+int voxel_index(double q, int n) {
+    const double f = std::floor(q);
+    if (!(f > 0)) return 0;
+    if (f >= n - 1) return n - 1;
+    return static_cast<int>(f);
+}
+
+// The distance from |x| to the next binary32 value: the resolution of float coordinates near x.
+double float_step(double x) {
+    const float f = static_cast<float>(std::abs(x));
+    return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - static_cast<double>(f);
+}
+
 bool shape_overlaps(const Scene& scene, const ShapeSet& set, std::size_t si, const Box& vox) {
     const Shape& s = set.shapes[si];
     if (s.kind() == kShapeTriangle) return triangle_box_overlap(set.tri_verts[si], vox);
@@ -77,6 +100,7 @@ bool shape_overlaps(const Scene& scene, const ShapeSet& set, std::size_t si, con
 Grid build_grid(const Scene& scene, const ShapeSet& set, int n) {
     auto t0 = std::chrono::steady_clock::now();
     Grid g;
+    check_grid_resolution(n);
     if (n <= 0) n = auto_grid_resolution(set.shapes.size());
     Box box;
     for (const Box& b : set.bounds) box.add(b);
@@ -89,6 +113,16 @@ Grid build_grid(const Scene& scene, const ShapeSet& set, int n) {
     double box_pad = 1e-4 * ext;
     box.lo = box.lo - Vec3d{box_pad, box_pad, box_pad};
     box.hi = box.hi + Vec3d{box_pad, box_pad, box_pad};
+    // An axis that collapses in binary32 (the scene's extent there is below the float resolution
+    // at its position: a unit sphere at x = 1e30) is widened around its centre to about two float
+    // steps per cell; other axes, and every ordinary scene, are left exactly as they are.
+    for (int k = 0; k < 3; ++k)
+        if (!(static_cast<float>(box.hi[k]) > static_cast<float>(box.lo[k]))) {
+            const double centre = 0.5 * (box.lo[k] + box.hi[k]);
+            const double half = n * std::max(float_step(centre), float_step(box.lo[k]));
+            box.lo[k] = std::min(box.lo[k], centre - half);
+            box.hi[k] = std::max(box.hi[k], centre + half);
+        }
     g.pad = 2e-5 * (ext + mag);
     g.box = box;
     for (int k = 0; k < 3; ++k) {
@@ -105,8 +139,8 @@ Grid build_grid(const Scene& scene, const ShapeSet& set, int n) {
     auto range = [&](const Box& b, int lo[3], int hi[3]) {
         for (int k = 0; k < 3; ++k) {
             double c = g.geom.cell[k];
-            lo[k] = std::clamp(static_cast<int>(std::floor((b.lo[k] - g.pad - g.geom.lo[k]) / c)), 0, n - 1);
-            hi[k] = std::clamp(static_cast<int>(std::floor((b.hi[k] + g.pad - g.geom.lo[k]) / c)), 0, n - 1);
+            lo[k] = voxel_index((b.lo[k] - g.pad - g.geom.lo[k]) / c, n);
+            hi[k] = voxel_index((b.hi[k] + g.pad - g.geom.lo[k]) / c, n);
         }
     };
     auto for_each_voxel = [&](std::size_t si, auto&& fn) {

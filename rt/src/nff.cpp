@@ -1,13 +1,14 @@
 // NFF reader: a token scanner with line/column positions and one small parser per entity.
 #include "rt/scene.hpp"
 
+#include "base/error.hpp"
+#include "base/read_file.hpp"
+
 #include <fmt/format.h>
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 namespace nesshi::rt {
 
@@ -262,11 +263,13 @@ Scene parse_nff(std::string_view text, const std::string& file) {
 }
 
 Scene load_nff_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw SceneError(SourceLoc(path), "cannot open file");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return parse_nff(ss.str(), path);
+    std::string text;
+    try {
+        text = base::read_file(path);
+    } catch (const base::Error& e) {
+        throw SceneError(e.loc(), e.message());
+    }
+    return parse_nff(text, path);
 }
 
 } // namespace nesshi::rt

@@ -200,3 +200,108 @@ TEST_CASE("the listing shows encodings, slots, source and port usage", "[listing
     CHECK(r.listing.find("fpu0   fadd f1, f2, f3") != std::string::npos);
     CHECK(r.listing.find("ports IRF r2/5 w1/2  FPRF r2/5 w1/2   units 2/4 (iu0 fpu0)") != std::string::npos);
 }
+
+// A chain of ~10,300 `.equ eN, eN+1` overflowed the stack (each link recursed through the
+// evaluator, and the depth guard was per expression): chains share one nesting limit, and the
+// message names the first links and the reason, not all 10,300.
+TEST_CASE("long .equ chains are an error, not a stack overflow", "[diag][equ]") {
+    std::string text;
+    const int n = 10300;
+    for (int k = 0; k < n; ++k) text += ".equ e" + std::to_string(k) + ", e" + std::to_string(k + 1) + "+1\n";
+    text += ".equ e" + std::to_string(n) + ", 1\nli r1, e0\nhalt\n";
+    const auto r = assemble(text);
+    CHECK_FALSE(r.ok);
+    CHECK(r.errors == 1);
+    CHECK(r.diagnostics.rfind("test.s:10302:8: error: 'e0' has no value: 'e1' has no value: 'e2' has no value: "
+                              "'e3' has no value: 'e4' has no value: 'e5' has no value: 'e6' has no value: 'e7' "
+                              "has no value: ...: expression nested too deeply\n", 0) == 0);
+    // A chain within the limit has its value; one that ends in an unknown name says so, and the
+    // message of a long chain stays short.
+    std::string ok;
+    for (int k = 0; k < 200; ++k) ok += ".equ e" + std::to_string(k) + ", e" + std::to_string(k + 1) + "+1\n";
+    const auto good = assemble(ok + ".equ e200, 1\nli r1, e0\nhalt\n");
+    INFO(good.diagnostics);
+    CHECK(good.ok);
+    const auto bad = assemble(ok + "li r1, e0\nhalt\n");
+    CHECK(bad.errors == 1);
+    CHECK(bad.diagnostics.find("'e7' has no value: ...: undefined symbol 'e200'\n") != std::string::npos);
+    CHECK(bad.diagnostics.size() < 400);
+    const auto two = assemble(".equ a, b\n.equ b, c\nli r1, a\nhalt\n");
+    CHECK(two.diagnostics.find("error: 'a' has no value: 'b' has no value: undefined symbol 'c'\n") != std::string::npos);
+}
+
+// Forty `.equ aN, aN-1+aN-1` levels feeding .space or .loc took exponential time (28 levels:
+// 16 s): values computed where they stand were never kept. A value is now kept with the latest
+// definition it needs, so each name is evaluated once.
+TEST_CASE(".equ values are evaluated once, also where they stand", "[equ]") {
+    std::string text = ".equ a0, 1\n";
+    for (int k = 1; k <= 40; ++k)
+        text += ".equ a" + std::to_string(k) + ", a" + std::to_string(k - 1) + "+a" + std::to_string(k - 1) + "\n";
+    const auto r = assemble(text + ".data 0x100\n.space a40 >> 37\n.text\n.loc a40 >> 30\nhalt\n");
+    INFO(r.diagnostics);
+    REQUIRE(r.ok);
+    REQUIRE(r.object.data.size() == 1);
+    CHECK(r.object.data[0].bytes.size() == 8);
+    CHECK(r.object.lines.at(0).line == 1024);
+    // Where a name is not known yet it is an error there, and known after its definition.
+    const auto late = assemble(".equ A, B + 1\n.data 0x100\n.space A\n.equ B, 3\n.space A\n.text\nhalt\n");
+    CHECK(late.errors == 1);
+    CHECK(late.diagnostics.find("test.s:3:8: error: 'A' has no value: 'B' is undefined here") != std::string::npos);
+    const auto known = assemble(".equ B, 3\n.equ A, B + 1\n.data 0x100\n.space A\n.space A\n.text\nli r1, A\nhalt\n");
+    INFO(known.diagnostics);
+    REQUIRE(known.ok);
+    CHECK(known.object.data.at(0).bytes.size() == 8);
+}
+
+// One 20 KB line of '}' made 600 MB of diagnostics (every stray token an error, each printing the
+// whole line); 60 KB ran out of memory. As clang does, the assembler stops after 20 errors, and
+// a line longer than 160 characters is shown cut around the caret.
+TEST_CASE("a flood of errors stops at the error limit", "[diag]") {
+    const auto r = assemble(std::string(20000, '}') + "\nhalt\n");
+    CHECK(r.errors == 20);
+    CHECK(r.diagnostics.size() < 5000);
+    CHECK(r.diagnostics.ends_with("}...\n                   ^\nfatal error: too many errors emitted, stopping now\n"
+                                  "20 errors generated.\n"));
+    std::string lines;
+    for (int k = 0; k < 25; ++k) lines += "bogus r1\n";
+    CHECK(assemble(lines).errors == 20);
+    CHECK(assemble(lines.substr(0, 20 * 9)).diagnostics.find("too many errors") == std::string::npos);
+    assembler::AsmOptions all;
+    all.error_limit = 0;
+    CHECK(assembler::assemble_string(lines, "test.s", isa::load_machine("os"), all).errors == 25);
+}
+
+TEST_CASE("long source lines are cut around the caret", "[diag]") {
+    const std::string before(300, 'x'), after(300, 'y');
+    const auto r = assemble("li r1, 1 # " + before + "\n\tadd r1, r2 # " + after + "\n" + "halt\n");
+    // The caret near the start: the line's first 160 characters, then "...".
+    CHECK(r.diagnostics.find("test.s:2:2: error: 'add' takes 3 operands (rd, rs1, rs2), found 2\n\tadd r1, r2 # " +
+                             std::string(146, 'y') + "...\n\t^\n") != std::string::npos);
+    // In the middle: 80 characters either side, "..." at both ends, the caret moved by the cut.
+    const auto mid = assemble("li r1, " + std::string(200, ' ') + "nowhere" + std::string(200, ' ') + "\nhalt\n");
+    const std::string shown = "..." + std::string(80, ' ') + "nowhere" + std::string(73, ' ') + "...\n";
+    CHECK(mid.diagnostics == "test.s:1:208: error: undefined symbol 'nowhere'\n" + shown + std::string(83, ' ') +
+                                 "^\n1 error generated.\n");
+    // A cut never splits a UTF-8 sequence: "é" is two bytes.
+    std::string utf8;
+    for (int k = 0; k < 150; ++k) utf8 += "\xc3\xa9";
+    const auto u = assemble("nowhere r1 # " + utf8 + "\nhalt\n");
+    const std::string first = u.diagnostics.substr(u.diagnostics.find('\n') + 1);
+    const std::string line = first.substr(0, first.find('\n'));
+    CHECK(line.ends_with("\xc3\xa9..."));
+    CHECK(line.size() <= 160 + 3);
+}
+
+// An empty file used to give an object with no code and no word about it.
+TEST_CASE("a source without code assembles with a warning", "[diag]") {
+    for (const std::string text : {"", "# only a comment\n", ".data 0x100\n.word 1\n"}) {
+        const auto r = assemble(text);
+        INFO(text);
+        CHECK(r.ok);
+        CHECK(r.warnings == 1);
+        CHECK(r.diagnostics == "test.s: warning: no code: the object has no bundle to run (end a program with "
+                               "'halt')\n1 warning generated.\n");
+        CHECK(r.object.code.empty());
+    }
+    CHECK(assemble("halt\n").diagnostics.empty());
+}

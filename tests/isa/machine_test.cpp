@@ -522,3 +522,31 @@ TEST_CASE("inheritance cycles and chains deeper than the limit are errors", "[in
     CHECK(load_error(d + "/l1.toml") ==
           d + "/l9.toml:1:12: error: machine inheritance deeper than 8 levels");
 }
+
+// Machine files are about 1 KB with keys two levels deep. A header or dotted key of ~31,000
+// components used to overflow the stack inside toml++ (it bounds nested values, not key depth);
+// such texts, and files above base::kMaxMachineFileBytes, are refused before parsing.
+TEST_CASE("implausibly deep or large descriptions are refused before parsing", "[bad-input]") {
+    std::string deep = "[a";
+    for (int i = 0; i < 31000; ++i) deep += ".a";
+    CHECK(error_of(deep + "]\n") == "t.toml:1:35: error: more than 16 '.' on one line: the keys of a machine "
+                                    "description nest a few levels, not this deep");
+    CHECK(error_of("name = \"x\"\n" + deep.substr(1) + " = 1\n").rfind("t.toml:2:34: error: more than 16 '.'", 0) == 0);
+    // Dots inside strings and comments are not keys.
+    const std::string dots(40, '.');
+    CHECK(error_of(replace(kGood, "name = \"tiny\"", "name = \"tiny\" # " + dots)) == "no error");
+    CHECK(error_of(replace(kGood, "name = \"tiny\"", "name = \"tiny\"\ndescription = \"" + dots + "\"")) ==
+          "no error");
+    CHECK(error_of(replace(kGood, "name = \"tiny\"", "name = \"tiny\"\ndescription = '''\n" + dots + "\n'''")) ==
+          "no error");
+    CHECK(error_of(std::string((1 << 20) + 1, '#')) ==
+          "t.toml:1:1: error: description too large (1048577 bytes; the limit is 1048576)");
+
+    TempDir dir("plausible");
+    const std::string big = dir.write("big.toml", std::string((1 << 20) + 1, '#'));
+    CHECK(load_error(big) == big + ": error: file too large (1048577 bytes; the limit is 1048576)");
+    CHECK(load_error("/dev/zero") == "/dev/zero: error: not a regular file");
+    CHECK(load_error(dir.path.string()) == dir.path.string() + ": error: is a directory");
+    const std::string child = dir.write("child.toml", "inherits = \"/dev/zero\"\nname = \"c\"\n");
+    CHECK(load_error(child) == "/dev/zero: error: not a regular file");
+}

@@ -1,6 +1,8 @@
 // Each fault class stops the run with its report; bad objects give clean load errors.
 #include "helpers.hpp"
 
+#include "iss/lockstep.hpp"
+
 #include <cstdlib>
 #include <fstream>
 
@@ -153,6 +155,88 @@ TEST_CASE("channels: missing, deadlock on a closed empty input, blocking on an o
     CHECK(c->cycle() == 16);
 }
 
+// { recv r1, 0 ; recv r2, 0 } fed one word on a closed channel can never issue: the front word is
+// ready, the second will never come. It used to wait a cycle at a time to the cycle limit (and
+// for ever in a step or lock-step, which had no limit inside a step).
+TEST_CASE("a bundle receiving more words than its closed channel holds is a deadlock") {
+    const isa::Machine os = isa::load_machine("os");
+    const auto prog = load_program(make_object(os, {{op("recv", 1, 0, 0, 0), op("recv", 2, 0, 0, 0)}, {op("halt")}}), os);
+    const std::string why = "recv on channel 0, which holds 1 of the 2 words this bundle receives from it and will "
+                            "never be fed";
+    for (Engine e : {Engine::Fast, Engine::Checked}) {
+        QueueChannel ch;
+        ch.feed(7);
+        ch.close();
+        Processor p(prog, e);
+        p.attach_channel(0, &ch);
+        CHECK(run_to_fault(p).kind == FaultKind::Deadlock);
+        CHECK(p.fault()->message == why);
+        CHECK(p.cycle() == 0);
+        Processor q(prog, e);
+        QueueChannel ch2;
+        ch2.feed(7);
+        ch2.close();
+        q.attach_channel(0, &ch2);
+        CHECK(q.step(1) == Status::Faulted);
+        CHECK(q.fault()->message == why);
+    }
+    QueueChannel a, b;
+    for (QueueChannel* ch : {&a, &b}) {
+        ch->feed(7);
+        ch->close();
+    }
+    Processor fast(prog, Engine::Fast), checked(prog, Engine::Checked);
+    fast.attach_channel(0, &a);
+    checked.attach_channel(0, &b);
+    const LockstepResult r = run_lockstep(fast, checked, 1000);
+    CHECK(r.status == Status::Faulted);
+    REQUIRE(r.fault);
+    CHECK(r.fault->kind == FaultKind::Deadlock);
+    // Words that do arrive, later, are waited for as before.
+    QueueChannel later;
+    later.feed(7);
+    later.feed(8, 5);
+    later.close();
+    Processor p(prog);
+    p.attach_channel(0, &later);
+    CHECK(p.run(1000) == Status::Halted);
+    CHECK(p.reg(R(1)) == 7);
+    CHECK(p.reg(R(2)) == 8);
+    CHECK(p.counters().wait_cycles == 5);
+}
+
+// The same bundle on an open channel: the second word may still come from the host, so the
+// processor waits, but a step and a lock-step run stop at their cycle limit inside that wait.
+TEST_CASE("step and lock-step stop at their cycle limit in the middle of a wait") {
+    const isa::Machine os = isa::load_machine("os");
+    const auto prog = load_program(make_object(os, {{op("recv", 1, 0, 0, 0), op("recv", 2, 0, 0, 0)}, {op("halt")}}), os);
+    QueueChannel ch;
+    ch.feed(7);
+    Processor p(prog);
+    p.attach_channel(0, &ch);
+    CHECK(p.step(1, 1000) == Status::Running);
+    CHECK(p.cycle() == 1000);
+    CHECK(p.pc() == 0);
+    CHECK(p.counters().wait_cycles == 1000);
+    ch.feed(8, 0);
+    CHECK(p.step(1, 1000) == Status::Running);
+    CHECK(p.pc() == 1);
+    CHECK(p.step(1) == Status::Halted);
+    CHECK(p.reg(R(2)) == 8);
+
+    QueueChannel a, b;
+    a.feed(7);
+    b.feed(7);
+    Processor fast(prog, Engine::Fast), checked(prog, Engine::Checked);
+    fast.attach_channel(0, &a);
+    checked.attach_channel(0, &b);
+    const LockstepResult r = run_lockstep(fast, checked, 1000);
+    CHECK(r.status == Status::Running);
+    CHECK(!r.fault);
+    CHECK(fast.cycle() == 1000);
+    CHECK(checked.cycle() == 1000);
+}
+
 TEST_CASE("bad objects and programs give clean load errors") {
     isa::Machine os = isa::load_machine("os");
     SECTION("a bundle that breaks a static rule") {
@@ -168,9 +252,16 @@ TEST_CASE("bad objects and programs give clean load errors") {
         REQUIRE_THROWS_WITH(load_program(obj, os), Catch::Contains("illegal encoding"));
     }
     SECTION("data outside memory") {
+        // A loading problem like the others: load_program reports it, as LoadError documents,
+        // so no Processor constructor ever throws it.
         auto obj = make_object(os, {{op("halt")}});
         obj.data.push_back({0x00300000, {1, 2, 3, 4}});
-        REQUIRE_THROWS_WITH(Processor(load_program(obj, os)), Catch::Contains("outside every memory region"));
+        REQUIRE_THROWS_AS(load_program(obj, os), LoadError);
+        REQUIRE_THROWS_WITH(load_program(obj, os), "data section at 0x00300000 (4 bytes) is outside every memory region");
+        obj.data.back().address = 0x001ffffe; // straddles the end of the OS SRAM
+        REQUIRE_THROWS_WITH(load_program(obj, os), Catch::Contains("outside every memory region"));
+        obj.data.back() = {0x00300000, {}};    // an empty section occupies nothing
+        REQUIRE_NOTHROW(Processor(load_program(obj, os)));
     }
     SECTION("an object for another machine") {
         auto obj = make_object(os, {{op("halt")}});

@@ -139,3 +139,42 @@ TEST_CASE("Grid invariants on the small SPD scenes", "[grid]") {
         }
     }
 }
+
+// `s 1e30 0 0 1` (or `s 1e8 0 0 1e-9`): the scene's extent on x vanishes next to its position,
+// the cell size was 0, and the voxel range cast +-inf to int before the clamp (undefined; the
+// release build printed a grid where the sphere was nowhere). The axis is widened instead.
+TEST_CASE("a scene whose magnitude dwarfs its extent gets a usable grid", "[grid]") {
+    for (const char* text : {"s 1e30 0 0 1\n", "s 1e8 0 0 1e-9\n", "s 0 -1e30 1e30 1e-3\n"}) {
+        INFO(text);
+        const Scene s = parse_nff(text, "far.nff");
+        const ShapeSet set = build_shapes(s);
+        const Grid g = build_grid(s, set, 10);
+        for (int k = 0; k < 3; ++k) {
+            CHECK(std::isfinite(g.geom.cell[k]));
+            CHECK(g.geom.cell[k] > 0);
+            CHECK(std::isfinite(g.geom.inv_cell[k]));
+            CHECK(g.geom.lo[k] < g.geom.hi[k]);
+        }
+        CHECK(g.voxel_count() == 1000);
+        CHECK(g.stats.references >= 1);
+        CHECK(listed(g, voxel_of(g, s.entities[0].base), 0));
+        // Rendering it is defined too (the sphere is far out of view; the image is background).
+        PreparedScene p = prepare(s, 4);
+        RenderOptions o;
+        o.width = o.height = 4;
+        o.threads = 1;
+        CHECK(render_native(p, o).image.width == 4);
+    }
+    // An ordinary scene's grid is not touched by the widening: its box is the padded bounds.
+    const Scene t = parse_nff("s 1 2 3 0.5\n", "near.nff");
+    const Grid n = build_grid(t, build_shapes(t), 10);
+    CHECK(n.box.lo.x == Approx(0.5 - 1e-4).epsilon(1e-9));
+    CHECK(n.box.hi.z == Approx(3.5 + 1e-4).epsilon(1e-9));
+}
+
+TEST_CASE("grid resolutions above the limit are refused before any work", "[grid]") {
+    const Scene s = parse_nff("s 0 0 0 1\n", "one.nff");
+    CHECK_THROWS_WITH(build_grid(s, build_shapes(s), kMaxGridResolution + 1), "grid resolution is limited to 512");
+    CHECK_NOTHROW(check_grid_resolution(kMaxGridResolution));
+    CHECK_THROWS_AS(check_grid_resolution(2000), std::invalid_argument);
+}

@@ -94,9 +94,17 @@ TEST_CASE("NFF: malformed input gives file:line:col errors", "[nff][bad-input]")
 }
 
 TEST_CASE("NFF: missing file and built-in name errors", "[nff][bad-input]") {
-    CHECK_THROWS_WITH(load_nff_file("/nonexistent/x.nff"), "/nonexistent/x.nff: error: cannot open file");
+    CHECK_THROWS_WITH(load_nff_file("/nonexistent/x.nff"), "/nonexistent/x.nff: error: cannot open");
     CHECK_THROWS_AS(load_scene("balls:0"), SceneError);
     CHECK_THROWS_AS(load_scene("balls:x"), SceneError);
+}
+
+// Scenes are read through base::read_file: a directory or a device is a SceneError naming it,
+// never an empty scene or a read that runs until memory is exhausted.
+TEST_CASE("NFF: directories and devices are refused", "[nff][bad-input]") {
+    CHECK_THROWS_WITH(load_scene("/"), "/: error: is a directory");
+    CHECK_THROWS_WITH(load_scene("/dev/zero"), "/dev/zero: error: not a regular file");
+    CHECK_THROWS_AS(load_nff_file("/dev/zero"), SceneError);
 }
 
 TEST_CASE("NFF: random corruption of a valid file never crashes", "[nff][bad-input]") {

@@ -19,6 +19,9 @@ namespace nesshi::assembler {
 struct AsmOptions {
     std::vector<std::string> include_dirs; // searched by .include after the including file's dir
     bool listing = false;                  // fill AsmResult::listing
+    // Stop after this many errors (0: never), as clang's -ferror-limit: the diagnostics end with
+    // "fatal error: too many errors emitted, stopping now". Bounds the output of junk input.
+    int error_limit = 20;
     // Reads an .include file (the path lexically normalised, e.g. "kernels/abi.inc") into `text`;
     // false when absent. Empty: the file system. Lets embedded sources include each other.
     std::function<bool(const std::string& path, std::string& text)> read_file;
@@ -27,7 +30,8 @@ struct AsmOptions {
 struct AsmResult {
     bool ok = false;            // no errors (warnings allowed)
     isa::ObjectFile object;     // valid only when ok
-    std::string diagnostics;    // rendered errors/warnings/notes with source line and caret
+    std::string diagnostics;    // rendered errors/warnings/notes with source line and caret (long
+                                // lines cut around it)
     std::string listing;        // when requested
     int errors = 0;
     int warnings = 0;

@@ -66,6 +66,7 @@ class ObjectError : public base::Error {
 std::vector<uint8_t> write_object(const ObjectFile& obj);
 // `name` is used in error messages. Checks structure only; see decode_bundles for code.
 ObjectFile read_object(const std::vector<uint8_t>& bytes, std::string_view name);
+// Throws ObjectError, also when `path` is not a regular file base::read_file accepts.
 ObjectFile read_object_file(const std::string& path);
 void write_object_file(const ObjectFile& obj, const std::string& path);
 

@@ -12,6 +12,8 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace nesshi::iss {
@@ -70,7 +72,13 @@ class QueueChannel : public Channel {
 // '.', an exponent, or is inf/nan), stored as its binary32 bits. Throws std::runtime_error
 // with file:line on a bad token.
 std::vector<uint32_t> parse_words(std::string_view text, std::string_view name);
+// Reads through base::read_file, whose base::Error (a std::runtime_error) it lets through.
 std::vector<uint32_t> read_word_file(const std::string& path);
+// "[CH=]FILE" as `nesshi sim --fifo-in/--fifo-out` and `nesshi debug --fifo-in` take it: the
+// channel and the file, the channel `default_channel` when the spec does not start with
+// "DIGITS=". A spec that starts with a digit and has an '=' names a channel: CH must be a decimal
+// number 0..4294967295 and FILE must not be empty, else std::invalid_argument says what is wrong.
+std::pair<uint32_t, std::string> parse_channel_spec(std::string_view spec, uint32_t default_channel);
 // One word per line: "0x3f800000  # 1065353216 1.0"; parse_words reads it back.
 std::string format_words(const std::vector<uint32_t>& words);
 

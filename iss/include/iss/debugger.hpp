@@ -33,7 +33,8 @@ class Debugger {
   public:
     Debugger(Processor& p, std::FILE* out);
 
-    // Runs one command line. An empty line repeats the last `step`. Returns false after `quit`.
+    // Runs one command line. An empty or blank line repeats the last `step`. Returns false after
+    // `quit`.
     bool execute(std::string_view line);
     static const std::vector<DebugCommand>& commands();
 
@@ -42,7 +43,7 @@ class Debugger {
     // A code location: a number, a code label[+-N], or a register holding a bundle address.
     std::optional<uint32_t> location(std::string_view tok);
 
-    uint64_t max_cycles = 100'000'000; // `continue` and `until` stop after this many cycles
+    uint64_t max_cycles = 100'000'000; // `step`, `continue` and `until` stop after this many cycles
 
   private:
     void cmd_step(const std::vector<std::string>& a);
@@ -86,14 +87,14 @@ class Debugger {
     std::vector<std::pair<int, uint32_t>> breaks_; // (id, pc)
     std::vector<std::pair<int, Watch>> watches_;
     int next_id_ = 1;
-    std::string last_step_;
+    std::vector<std::string> last_step_; // the words of the last step command, repeated by Enter
     bool quit_ = false;
 };
 
 // Reads commands with line editing and history until `quit` or end of input.
 void debug_interactive(Debugger& d);
 // Runs the commands of a script file, echoing each after a "(nesshi) " prompt (for goldens).
-// Throws std::runtime_error when the file cannot be read.
+// Throws base::Error (a std::runtime_error) when base::read_file refuses the file.
 void debug_script(Debugger& d, const std::string& path, std::FILE* out);
 
 } // namespace nesshi::iss

@@ -91,7 +91,8 @@ class Processor {
     void set_engine(Engine e);
     void set_tracer(Tracer* t) { tracer_ = t; } // not owned; nullptr to stop tracing
 
-    // Connections. Channels are not owned; channel ids are those used by send/recv.
+    // Connections. Channels are not owned; channel ids are those used by send/recv (any 32-bit
+    // id: the table is sparse, so attaching channel 500000000 costs what attaching channel 1 does).
     void attach_channel(uint32_t id, Channel* ch);
     Channel* channel(uint32_t id) const;
     // Replace a region's storage (e.g. the shared global memory of all IC processors).
@@ -106,7 +107,9 @@ class Processor {
     // Running. Each returns the status at the stop.
     Status run_until(uint64_t cycle);  // stop when cycle() reaches `cycle` (blocked: waits to it)
     Status run(uint64_t max_cycles = std::numeric_limits<uint64_t>::max()); // until halt/block/fault
-    Status step(uint64_t bundles = 1); // issue `bundles` bundles (waits and bubbles included)
+    // Issue `bundles` bundles (waits and bubbles included), or stop after `max_cycles` cycles even
+    // in the middle of a wait (status Running, the waiting bundle not issued yet).
+    Status step(uint64_t bundles = 1, uint64_t max_cycles = std::numeric_limits<uint64_t>::max());
     // Host-imposed idle time (a processor time-shared with others, or a sender held until its
     // full FIFO drains): the clock advances to `cycle`, counted as wait cycles of the current
     // bundle. No-op when `cycle` <= cycle().
@@ -138,7 +141,10 @@ class Processor {
     Tracer* tracer_ = nullptr;
     std::unique_ptr<Core> core_;
     std::unique_ptr<MemorySystem> mem_;
-    std::vector<Channel*> channels_;
+    // Channels are sparse 32-bit ids: every attachment by id (sorted), and for the engines one
+    // slot per id the program uses (Program::channel_ids(), DecodedOp::chan).
+    std::vector<std::pair<uint32_t, Channel*>> attached_;
+    std::vector<Channel*> slots_;
     Counters counters_;
     Status status_ = Status::Running;
     std::optional<Fault> fault_;

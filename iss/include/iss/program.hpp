@@ -38,6 +38,7 @@ struct DecodedOp {
     uint32_t index = 0;                // index into Program::ops (for reports)
     uint32_t bundle = 0;               // bundle address
     isa::Instr instr;                  // the decoded operation, for printing
+    uint32_t chan = 0;                 // send/recv: index of channel `imm` in Program::channel_ids()
 };
 
 // Static properties of a bundle; dynamic behaviour only needs its execution count.
@@ -70,7 +71,8 @@ class LoadError : public base::Error {
 
 class Program {
   public:
-    // Decodes and statically checks `obj` for machine `m`. Throws LoadError.
+    // Decodes and statically checks `obj` for machine `m` (every data section inside a memory
+    // region included). Throws LoadError.
     Program(const isa::ObjectFile& obj, const isa::Machine& m);
 
     const isa::Machine& machine() const { return machine_; }
@@ -78,6 +80,8 @@ class Program {
     const std::vector<DecodedBundle>& bundles() const { return bundles_; }
     const std::vector<DecodedOp>& ops() const { return ops_; }
     const std::vector<Region>& regions() const { return regions_; }
+    // The channel ids the program's send/recv operations use, ascending, each once.
+    const std::vector<uint32_t>& channel_ids() const { return channel_ids_; }
     uint32_t size() const { return uint32_t(bundles_.size()); }
     // The ops of bundle `pc` in slot order (as written), for printing.
     std::vector<isa::Instr> bundle_instrs(uint32_t pc) const;
@@ -100,6 +104,7 @@ class Program {
     std::vector<DecodedBundle> bundles_;
     std::vector<DecodedOp> ops_;
     std::vector<Region> regions_;
+    std::vector<uint32_t> channel_ids_;
     std::vector<int> region_index_;
     std::vector<const isa::Symbol*> code_labels_; // sorted by address
     std::vector<std::vector<isa::Instr>> original_; // bundles as written (slot order)

@@ -38,6 +38,17 @@ struct Grid {
 // A quick resolution rule: N = clamp(round(3 * cbrt(shapes)), 4, 100), about 27 voxels per primitive
 // (build_grid uses it for N = 0). `nesshi render --grid auto` uses the pre-pass of render.hpp instead.
 int auto_grid_resolution(std::size_t shape_count);
+
+// The largest grid the tools build, in voxels per axis: 512^3 is 134 M voxels, about 2 GB of grid
+// arrays. Every command that takes a resolution checks it here (render, scene info), and so does
+// build_grid.
+inline constexpr int kMaxGridResolution = 512;
+// Throws std::invalid_argument "grid resolution is limited to 512" when n > kMaxGridResolution.
+void check_grid_resolution(int n);
+
+// n voxels per axis (0: auto_grid_resolution). A scene whose extent on an axis vanishes next to
+// its distance from the origin (a unit sphere at 1e30) gets that axis widened to a few binary32
+// steps, so the cells stay positive and the box holds the scene in float coordinates.
 Grid build_grid(const Scene& scene, const ShapeSet& shapes, int n);
 
 // Exact overlap tests used by the builder (double precision; exposed for the tests).
