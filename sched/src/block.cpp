@@ -1,6 +1,8 @@
 // Critical-path list scheduling of straight-line blocks (see block.hpp).
 #include "sched/block.hpp"
 
+#include "text.hpp"
+
 #include "assembler/assembler.hpp"
 #include "base/error.hpp"
 #include "isa/object.hpp"
@@ -235,13 +237,6 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
 
 namespace {
 
-std::string trim(std::string_view s) {
-    const auto a = s.find_first_not_of(" \t\r");
-    if (a == std::string_view::npos) return {};
-    const auto b = s.find_last_not_of(" \t\r");
-    return std::string(s.substr(a, b - a + 1));
-}
-
 struct Block {
     int begin_line = 0; // 1-based, of `#pack begin`
     std::vector<std::string> texts;
@@ -278,16 +273,7 @@ bool marker(std::string_view line, std::string_view word) {
 
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                        const assembler::AsmOptions& opts) {
-    std::vector<std::string> lines;
-    for (std::size_t pos = 0; pos <= text.size();) {
-        const auto nl = text.find('\n', pos);
-        if (nl == std::string_view::npos) {
-            if (pos < text.size()) lines.emplace_back(text.substr(pos));
-            break;
-        }
-        lines.emplace_back(text.substr(pos, nl - pos));
-        pos = nl + 1;
-    }
+    const std::vector<std::string> lines = split_lines(text);
     // The sequential meaning: each block op alone in its bundle, followed by enough nops for its
     // result to land, so the file assembles and every op decodes exactly.
     std::vector<Block> blocks;
@@ -322,7 +308,7 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
             emit(s);
             continue;
         }
-        const std::string op = trim(s.substr(0, s.find('#')));
+        const std::string op = strip_comment(s);
         if (op.empty()) {
             emit("");
             continue;

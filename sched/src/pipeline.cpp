@@ -4,6 +4,7 @@
 #include "sched/pipeline.hpp"
 
 #include "circuits.hpp"
+#include "text.hpp"
 #include "sched/bounds.hpp"
 
 #include "assembler/assembler.hpp"
@@ -34,33 +35,6 @@ constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next 
 
 [[noreturn]] void fail(std::string_view file, int line, const std::string& msg) {
     throw base::Error(base::SourceLoc(file, line), msg);
-}
-
-std::string trim(std::string_view s) {
-    std::size_t a = 0, b = s.size();
-    while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-    while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-    return std::string(s.substr(a, b - a));
-}
-
-std::string strip_comment(std::string_view s) {
-    const std::size_t h = s.find('#');
-    return trim(h == std::string_view::npos ? s : s.substr(0, h));
-}
-
-std::vector<std::string> split_lines(std::string_view text) {
-    std::vector<std::string> lines;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t nl = text.find('\n', start);
-        if (nl == std::string_view::npos) {
-            if (start < text.size()) lines.emplace_back(text.substr(start));
-            break;
-        }
-        lines.emplace_back(text.substr(start, nl - start));
-        start = nl + 1;
-    }
-    return lines;
 }
 
 char file_prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
