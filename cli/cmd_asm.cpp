@@ -1,6 +1,7 @@
 // `nesshi asm`: assemble a source file into an object (diagnostics to stderr, exit 1 on error).
 #include "commands.hpp"
 #include "errors.hpp"
+#include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
@@ -13,14 +14,6 @@
 #include <memory>
 
 namespace nesshi::cli {
-namespace {
-// The machine named by a `# machine: NAME` first line of the source, else "os".
-std::string source_machine(const std::string& path) {
-    std::string m = assembler::header_machine(base::read_file(path));
-    return m.empty() ? "os" : m;
-}
-} // namespace
-
 void add_asm(CLI::App& app) {
     auto* cmd = app.add_subcommand("asm", "Assemble a VLIW source file into an object file");
     struct Opts {
@@ -36,7 +29,8 @@ void add_asm(CLI::App& app) {
     cmd->add_option("--listing", o->listing, "Write a listing (encodings, slots, port usage)");
     cmd->add_option("-I,--include-dir", o->includes, "Directory searched by .include");
     cmd->callback([o] {
-        const isa::Machine m = isa::load_machine(o->machine.empty() ? source_machine(o->input) : o->machine);
+        // The file is read here only for its header: with -m, a missing file is the assembler's error.
+        const isa::Machine m = source_machine(o->machine, o->machine.empty() ? base::read_file(o->input) : "");
         assembler::AsmOptions opts;
         opts.include_dirs = o->includes;
         opts.listing = !o->listing.empty();

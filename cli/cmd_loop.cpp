@@ -1,6 +1,7 @@
 // `nesshi loop FILE.s`: the report of each hand-written loop in a program (sched/loop_report.hpp).
 #include "commands.hpp"
 #include "errors.hpp"
+#include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
@@ -25,8 +26,7 @@ void add_loop(CLI::App& app) {
     cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE");
     cmd->callback([a] {
         const std::string text = base::read_file(a->input);
-        const std::string name = a->machine.empty() ? assembler::header_machine(text) : a->machine;
-        const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+        const isa::Machine m = source_machine(a->machine, text);
         const assembler::AsmResult r = assembler::assemble_string(text, a->input, m, {});
         fmt::print(stderr, "{}", r.diagnostics);
         if (!r.ok) throw Reported(kExitInput);

@@ -2,6 +2,7 @@
 // optionally verified by simulation against the region's sequential meaning.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
@@ -27,8 +28,7 @@ struct PipelineArgs {
 
 void run_pipeline(const PipelineArgs& a) {
     const std::string text = base::read_file(a.input);
-    std::string name = a.machine.empty() ? assembler::header_machine(text) : a.machine;
-    const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+    const isa::Machine m = source_machine(a.machine, text);
     sched::PipelineOptions po;
     po.ii = a.ii;
     po.exact_seconds = a.exact;

@@ -2,8 +2,9 @@
 // file into bundles (sched/block.hpp); everything else is copied.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "source_machine.hpp"
 
-#include "assembler/assembler.hpp"
+#include "base/read_file.hpp"
 #include "isa/machine.hpp"
 #include "sched/block.hpp"
 
@@ -11,7 +12,6 @@
 
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 
 namespace nesshi::cli {
 
@@ -29,15 +29,11 @@ void add_schedule(CLI::App& app) {
     cmd->add_option("-I,--include-dir", a->includes, "Directory searched by .include");
     cmd->add_flag("--report", a->report, "Print each block's ops and bundles to stderr");
     cmd->callback([a] {
-        std::ifstream in(a->input, std::ios::binary);
-        if (!in) throw base::Error(base::SourceLoc(a->input), "cannot open");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        const std::string name = a->machine.empty() ? assembler::header_machine(ss.str()) : a->machine;
-        const isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+        const std::string text = base::read_file(a->input);
+        const isa::Machine m = source_machine(a->machine, text);
         assembler::AsmOptions opts;
         opts.include_dirs = a->includes;
-        const sched::PackResult r = sched::pack_source(ss.str(), a->input, m, opts);
+        const sched::PackResult r = sched::pack_source(text, a->input, m, opts);
         if (a->report)
             for (const sched::BlockStats& b : r.blocks)
                 fmt::print(stderr, "{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);

@@ -29,12 +29,6 @@ void print_usage_error(const std::string& who, const std::string& msg) {
 
 } // namespace
 
-void one_value_per_option(CLI::App& app) {
-    for (CLI::Option* o : app.get_options())
-        if (o->get_items_expected_max() > 1) o->allow_extra_args(false);
-    for (CLI::App* sub : app.get_subcommands({})) one_value_per_option(*sub);
-}
-
 const char* exit_status_help() {
     return "Exit status: 0 success, 1 bad input or failed check, 2 usage error, 3 simulated fault.";
 }

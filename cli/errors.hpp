@@ -42,10 +42,6 @@ class Reported : public std::exception {
 // Prints what `error` means (help and version included) and returns the exit status.
 int report_error(const CLI::App& app, std::exception_ptr error);
 
-// GNU habit: an option takes one value per occurrence (`-I a -I b file.s`), so it never
-// swallows the positional argument after it. Applies to every option of every subcommand.
-void one_value_per_option(CLI::App& app);
-
 // The footer of `nesshi --help`: the exit statuses above, in words.
 const char* exit_status_help();
 

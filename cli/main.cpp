@@ -4,6 +4,18 @@
 
 #include <exception>
 
+namespace {
+
+// GNU habit: an option takes one value per occurrence (`-I a -I b file.s`), so it never
+// swallows the positional argument after it. Applies to every option of every subcommand.
+void one_value_per_option(CLI::App& app) {
+    for (CLI::Option* o : app.get_options())
+        if (o->get_items_expected_max() > 1) o->allow_extra_args(false);
+    for (CLI::App* sub : app.get_subcommands({})) one_value_per_option(*sub);
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
     CLI::App app{"nesshi: toolchain and simulator for the Nesshisen ray-tracing machine"};
     app.set_version_flag("--version", "nesshi " NESSHI_VERSION);
@@ -22,7 +34,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_pipeline(app);
     nesshi::cli::add_loop(app);
     nesshi::cli::add_schedule(app);
-    nesshi::cli::one_value_per_option(app);
+    one_value_per_option(app);
     try {
         app.parse(argc, argv);
     } catch (...) {

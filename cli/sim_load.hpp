@@ -5,6 +5,7 @@
 #pragma once
 
 #include "errors.hpp"
+#include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
@@ -22,8 +23,7 @@ inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& pat
     bool source = path.size() > 2 && path.compare(path.size() - 2, 2, ".s") == 0;
     if (!source) return iss::load_program_file(path, machine);
     const std::string text = base::read_file(path);
-    std::string name = !machine.empty() ? machine : assembler::header_machine(text);
-    isa::Machine m = isa::load_machine(name.empty() ? "os" : name);
+    const isa::Machine m = source_machine(machine, text);
     auto r = assembler::assemble_string(text, path, m, {});
     fmt::print(stderr, "{}", r.diagnostics);
     if (!r.ok) throw Reported(kExitInput);
