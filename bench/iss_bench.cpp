@@ -153,6 +153,17 @@ struct KernelRun {
 
 // The time of the whole drive loop (host feeding and draining included: a few words per ray
 // against hundreds of bundles).
+// The fastest of 5 timings of `once` run `repeat` times (the native twin): CPU seconds per run.
+template <class F> double best_native_seconds(int repeat, F&& once) {
+    double best = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+        const double t0 = cpu_seconds();
+        for (int k = 0; k < repeat; ++k) once();
+        best = std::min(best, (cpu_seconds() - t0) / repeat);
+    }
+    return best;
+}
+
 template <class Drive> void time_kernel(KernelRun& r, machine::KernelRunner& run, Drive&& drive) {
     run.run();
     const iss::Stats s0 = iss::compute_stats(*run.proc);
@@ -185,22 +196,16 @@ KernelRun bench_dda(const kernels::SourceSet& src, const std::string& m, int nra
     });
     // The twin: set-up and every voxel step, repeated so that it runs long enough to time.
     volatile int sink = 0;
-    double best = 1e30;
-    for (int rep = 0; rep < 5; ++rep) {
-        double t0 = cpu_seconds();
+    r.native_seconds = best_native_seconds(20, [&] {
         int steps = 0;
-        for (int k = 0; k < 20; ++k)
-            for (const Ray& ray : rays) {
-                kernels::twins::DdaState st;
-                if (!kernels::twins::dda_setup(g, ray.o, ray.d, 0.0f, std::numeric_limits<float>::infinity(), st))
-                    continue;
-                do ++steps;
-                while (kernels::twins::dda_step(st));
-            }
+        for (const Ray& ray : rays) {
+            kernels::twins::DdaState st;
+            if (!kernels::twins::dda_setup(g, ray.o, ray.d, 0.0f, std::numeric_limits<float>::infinity(), st)) continue;
+            do ++steps;
+            while (kernels::twins::dda_step(st));
+        }
         sink = sink + steps;
-        best = std::min(best, (cpu_seconds() - t0) / 20);
-    }
-    r.native_seconds = best;
+    });
     return r;
 }
 
@@ -246,23 +251,18 @@ KernelRun bench_spheres(const kernels::SourceSet& src, const std::string& m, int
         }
     });
     volatile float sink = 0;
-    double best = 1e30;
-    for (int rep = 0; rep < 5; ++rep) {
-        double t0 = cpu_seconds();
+    r.native_seconds = best_native_seconds(4, [&] {
         float acc = 0;
-        for (int k = 0; k < 4; ++k)
-            for (const Ray& ray : rays) {
-                float tbest = std::numeric_limits<float>::infinity();
-                for (const kernels::Shape& s : shapes) {
-                    kernels::twins::QuadricHit h = kernels::twins::intersect_quadric(s.w.data(), false, ray.o, ray.d, 0.0f);
-                    if (h.hit && h.t < tbest) tbest = h.t;
-                }
-                acc += tbest < 1e30f ? tbest : 0.0f;
+        for (const Ray& ray : rays) {
+            float tbest = std::numeric_limits<float>::infinity();
+            for (const kernels::Shape& s : shapes) {
+                kernels::twins::QuadricHit h = kernels::twins::intersect_quadric(s.w.data(), false, ray.o, ray.d, 0.0f);
+                if (h.hit && h.t < tbest) tbest = h.t;
             }
+            acc += tbest < 1e30f ? tbest : 0.0f;
+        }
         sink = sink + acc;
-        best = std::min(best, (cpu_seconds() - t0) / 4);
-    }
-    r.native_seconds = best;
+    });
     return r;
 }
 
