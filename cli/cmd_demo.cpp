@@ -3,6 +3,7 @@
 // machine's statistics, and check the image against the native C++ tracer.
 // `nesshi demo --isa`: assemble the bundled examples, run each with the checked engine, print ILP.
 #include "commands.hpp"
+#include "stage_machines.hpp"
 
 #include "base/progress.hpp"
 #include "sim_load.hpp"
@@ -75,6 +76,7 @@ struct DemoArgs {
     std::string out = "nesshi-demo.png";
     bool isa = false;
     std::string examples, detail = "saxpy_pipelined.s";
+    machine::Options machines; // --os-machine, --ic-machine, --seq-machine
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -84,13 +86,17 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 void run_machine_demo(const DemoArgs& a) {
     fmt::print("Nesshisen demo: SPD '{}' at {}x{} through model V (one PE: OS and IC VLIW kernels on the ISS)\n",
                a.scene, a.size, a.size);
+    if (!a.machines.os_machine.empty() || !a.machines.ic_machine.empty() || !a.machines.seq_machine.empty())
+        fmt::print("machines: OS {}, IC {}, SC prices {}\n", a.machines.os_machine.empty() ? "os" : a.machines.os_machine,
+                   a.machines.ic_machine.empty() ? "ic" : a.machines.ic_machine,
+                   a.machines.seq_machine.empty() ? "seq" : a.machines.seq_machine);
     const auto t_prep = std::chrono::steady_clock::now();
     const rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), 0); // grid: the paper's pre-pass choice
     fmt::print("{}grid chosen by the low-resolution pre-pass ({:.1f} s)\n",
                rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text(), seconds_since(t_prep));
     rt::RenderOptions opt;
     opt.width = opt.height = a.size;
-    machine::Options mo;
+    machine::Options mo = a.machines;
     mo.model = machine::Model::V;
     if (isatty(STDERR_FILENO)) {
         mo.progress = base::ProgressBar(stderr);
@@ -122,7 +128,9 @@ void add_demo(CLI::App& app) {
     auto* out = cmd->add_option("-o,--output", a->out, "PNG image")->capture_default_str();
     auto* isa = cmd->add_flag("--isa", a->isa, "instead: assemble and simulate the bundled examples, print ILP and utilisation");
     // Options of the other demo are errors, not ignored.
+    add_stage_machine_options(cmd, a->machines.os_machine, a->machines.ic_machine, a->machines.seq_machine);
     isa->excludes(scene)->excludes(size)->excludes(out);
+    for (const char* name : {"--os-machine", "--ic-machine", "--seq-machine"}) isa->excludes(cmd->get_option(name));
     cmd->add_option("--examples", a->examples, "with --isa: folder of example .s files (default: examples/)")->needs(isa);
     cmd->add_option("--detail", a->detail, "with --isa: example whose full statistics are printed")
         ->capture_default_str()

@@ -2,6 +2,7 @@
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "stage_machines.hpp"
 
 #include "base/progress.hpp"
 
@@ -27,6 +28,7 @@ struct PaperArgs {
     std::string out = "paper-out";
     int threads = 0;
     bool quiet = false;
+    machine::Options machine; // the stages' machines and kernels
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -74,6 +76,11 @@ class ProgressPrinter {
                        phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
                        p.cells_to_run, p.threads);
         }
+        if (p.stale && !p.stale->empty()) {
+            clear_status();
+            fmt::print("  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
+            for (const std::string& s : *p.stale) fmt::print("    {}\n", s);
+        }
         if (p.finished) {
             clear_status();
             const paper::CellRecord& c = *p.finished;
@@ -118,6 +125,7 @@ void run_paper_command(const PaperArgs& a) {
     o.models = parse_models(a.models);
     o.out_dir = a.out;
     o.threads = a.threads;
+    o.machine = a.machine;
     try {
         paper::validate(o); // before any output
     } catch (const paper::PaperError& e) { // every check of validate is about the options
@@ -148,6 +156,8 @@ void add_paper(CLI::App& app) {
     cmd->add_option("--models", a->models, "models, comma-separated (default S,M,V; S comes from the M run)");
     cmd->add_option("--out", a->out, "output folder (default paper-out); cells kept in OUT/cells");
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--kernels", a->machine.kernels_dir, "kernel source folder (default: built in)");
+    add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
     cmd->callback([a] {
         run_paper_command(*a);

@@ -1,6 +1,7 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "stage_machines.hpp"
 #include "outputs.hpp"
 
 #include "base/progress.hpp"
@@ -203,9 +204,7 @@ void add_render(CLI::App& app) {
     cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);
     cmd->add_option("--trace-json", a->mo.trace_json, "Chrome/Perfetto trace of stage activity and FIFO words")->group(m);
     cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);
-    cmd->add_option("--os-machine", a->mo.os_machine, "machine of the OS stage, model V: preset or TOML (default os)")->group(m);
-    cmd->add_option("--ic-machine", a->mo.ic_machine, "machine of the IC stage, model V: preset or TOML (default ic)")->group(m);
-    cmd->add_option("--seq-machine", a->mo.seq_machine, "sequential machine of models S and M, and SC prices (default seq)")->group(m);
+    add_stage_machine_options(cmd, a->mo.os_machine, a->mo.ic_machine, a->mo.seq_machine, m);
     for (const CLI::Option* o : cmd->get_options())
         if (o->get_group() == m) a->machine_only.push_back(o);
     for (const char* name : {"--cache-size", "--cache-ways", "--cache-line", "--miss-cycles"})

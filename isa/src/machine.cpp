@@ -5,6 +5,7 @@
 #include "machine_presets.hpp" // generated: kPresets[] from isa/machines/*.toml
 
 #include "base/error.hpp"
+#include "base/hash.hpp"
 #include "base/read_file.hpp"
 
 #include <fmt/format.h>
@@ -366,9 +367,7 @@ uint64_t Machine::fingerprint() const {
     for (const auto& r : regs) s += fmt::format("r{}/{}/{};", r.count, r.read_ports, r.write_ports);
     for (const auto& d : memories)
         s += fmt::format("{}@{}+{}l{}c{};", d.name, d.base, d.size, d.latency, d.cached);
-    uint64_t h = 14695981039346656037ull;
-    for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-    return h;
+    return base::fnv1a64(s);
 }
 
 bool is_preset(std::string_view name) { return !preset_text(name).empty(); }

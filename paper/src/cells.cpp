@@ -89,6 +89,35 @@ CellRecord parse_cell(const CellKey& key, const std::string& text, const std::st
     }
 }
 
+std::string stamp_cell(const std::string& json_text, const machine::Provenance& p) {
+    json j = json::parse(json_text);
+    j["provenance"] = p;
+    j["digest"] = machine::result_digest(j.dump());
+    return j.dump(2) + "\n";
+}
+
+std::vector<std::string> stale_reasons(const std::string& json_text, const machine::Provenance& expected,
+                                       const std::string& file) {
+    json j;
+    try {
+        j = json::parse(json_text);
+    } catch (const json::exception& e) {
+        throw PaperError(base::SourceLoc(file), fmt::format("malformed cell file: {} (delete it to run the cell again)", e.what()));
+    }
+    if (!j.is_object() || !j.contains("digest") || !j.contains("provenance")) return {"no provenance recorded"};
+    if (!j["digest"].is_string() || j["digest"].get<std::string>() != machine::result_digest(json_text))
+        throw PaperError(base::SourceLoc(file), "its results do not match its digest (edited by hand?); delete it to "
+                                                "run the cell again");
+    machine::Provenance stored;
+    try {
+        stored = j["provenance"].get<machine::Provenance>();
+    } catch (const json::exception&) {
+        throw PaperError(base::SourceLoc(file), "malformed cell file: \"provenance\" is not an object of strings "
+                                                "(delete it to run the cell again)");
+    }
+    return machine::provenance_differences(stored, expected);
+}
+
 void write_file_atomically(const std::string& file, const std::string& text) {
     const std::string tmp = file + ".tmp";
     {

@@ -5,6 +5,7 @@
 #include "paper/published.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <atomic>
@@ -50,6 +51,8 @@ struct MatrixRun {
     std::vector<double> partial;                    // by todo position: fraction done
     std::vector<double> weight;                     // by todo position: expected share of the work
     std::vector<std::string> failures;
+    std::vector<std::string> stale;                 // stored cells run again, and why
+    std::vector<machine::Provenance> provenance;    // by keys index: the current run's
     std::size_t loaded = 0, run = 0, failed = 0;
     int threads = 1;
     Clock::time_point start = Clock::now(), last_report = start;
@@ -59,7 +62,7 @@ struct MatrixRun {
     explicit MatrixRun(const PaperOptions& o) : options(o), keys(matrix_cells(o)), records(keys.size()) {}
 
     // Called with `mutex` held.
-    void report(const CellRecord* finished) {
+    void report(const CellRecord* finished, bool first = false) {
         last_report = Clock::now();
         if (!options.progress) return;
         PaperProgress p;
@@ -75,6 +78,7 @@ struct MatrixRun {
         p.fraction = todo.empty() ? 1.0 : sum;
         p.elapsed_seconds = seconds_since(start);
         p.threads = threads;
+        if (first) p.stale = &stale;
         options.progress(p);
     }
 
@@ -89,7 +93,7 @@ struct MatrixRun {
             if (seconds_since(last_report) >= 0.25) report(nullptr);
         };
         try {
-            const std::string text = runner(key, progress);
+            const std::string text = stamp_cell(runner(key, progress), provenance[i]);
             CellRecord r = parse_cell(key, text, file.string()); // checked before it can be loaded later
             r.wall_seconds = seconds_since(t0);
             write_file_atomically(file.string(), text);
@@ -110,7 +114,7 @@ struct MatrixRun {
 
 } // namespace
 
-MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
+MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner, const CellProvenanceFn& provenance) {
     MatrixRun m(o);
     const fs::path dir = fs::path(o.out_dir) / "cells";
     std::error_code ec;
@@ -118,13 +122,21 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
     if (ec) throw PaperError(base::SourceLoc(dir.string()), fmt::format("cannot create: {}", ec.message()));
 
     for (std::size_t i = 0; i < m.keys.size(); ++i) {
+        m.provenance.push_back(provenance ? provenance(m.keys[i]) : machine::Provenance{});
         const fs::path file = dir / cell_file_name(m.keys[i]);
-        if (fs::exists(file)) {
-            m.records[i] = parse_cell(m.keys[i], read_file(file), file.string());
-            ++m.loaded;
-        } else {
+        if (!fs::exists(file)) {
             m.todo.push_back(i);
+            continue;
         }
+        const std::string text = read_file(file);
+        CellRecord r = parse_cell(m.keys[i], text, file.string()); // a malformed file is an error
+        if (const auto why = stale_reasons(text, m.provenance[i], file.string()); !why.empty()) {
+            m.stale.push_back(fmt::format("{}: {}", file.stem().string(), fmt::join(why, "; ")));
+            m.todo.push_back(i);
+            continue;
+        }
+        m.records[i] = std::move(r);
+        ++m.loaded;
     }
     // Longest first, so the cell still running at the end is a short one.
     std::stable_sort(m.todo.begin(), m.todo.end(), [&](std::size_t a, std::size_t b) {
@@ -152,7 +164,7 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
         std::clamp(o.threads > 0 ? o.threads : cores, 1, static_cast<int>(std::max<std::size_t>(1, m.todo.size())));
     {
         std::lock_guard lock(m.mutex);
-        m.report(nullptr);
+        m.report(nullptr, true);
     }
 
     auto worker = [&] {
@@ -167,6 +179,7 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner) {
     for (auto& rec : m.records)
         if (rec) r.cells.push_back(std::move(*rec));
     r.failures = std::move(m.failures);
+    r.stale = std::move(m.stale);
     r.loaded = m.loaded;
     r.run = m.run;
     return r;

@@ -32,14 +32,18 @@ int prepass_size(int size) { return std::max(8, static_cast<int>(std::lround(siz
 
 PaperRun run_paper(const PaperOptions& o) {
     validate(o);
-    MatrixResult m = run_matrix(o, simulate_cell);
+    const CellRunner run = [&o](const CellKey& k, const CellProgressFn& progress) {
+        return simulate_cell(k, o.machine, progress);
+    };
+    const CellProvenanceFn provenance = [&o](const CellKey& k) { return cell_provenance(k, o.machine); };
+    MatrixResult m = run_matrix(o, run, provenance);
     PaperRun r{make_data(o, std::move(m.cells)), {}, m.loaded, m.run};
 
     // The paper's suggestion: time a low-resolution render at each grid, keep the fastest.
     PaperOptions pre = o;
     pre.size = prepass_size(o.size);
     pre.models = {machine::Model::V};
-    MatrixResult p = run_matrix(pre, simulate_cell);
+    MatrixResult p = run_matrix(pre, run, provenance);
     r.data.prepass_size = pre.size;
     for (const std::string& scene : o.scenes) {
         auto v_time = [&](int g) {

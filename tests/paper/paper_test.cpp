@@ -291,6 +291,61 @@ TEST_CASE("Runner: a failing cell is reported; the others are kept", "[paper]") 
     CHECK_FALSE(fs::exists(dir.path / "cells" / cell_file_name({"mount:1", 4, machine::Model::V, 8})));
 }
 
+TEST_CASE("Cell provenance: stamped with a digest, a changed run or a hand edit is caught", "[paper]") {
+    const std::string good =
+        cell_json(machine::Model::V, 64, 900, {100, 20, 5, 1, 1}, {400, 30, 0, 1, 1}, {50, 10, 0, 1, 1});
+    const machine::Provenance a = {{"tool", "nesshi 1"}, {"machine.ic", "ic 01"}, {"grid", "20"}};
+    const std::string stamped = stamp_cell(good, a);
+    CHECK(stale_reasons(stamped, a, "c.json").empty());
+    // The tool's version alone keeps a cell (refactors keep every result).
+    machine::Provenance newer = a;
+    newer["tool"] = "nesshi 2";
+    CHECK(stale_reasons(stamped, newer, "c.json").empty());
+    machine::Provenance b = a;
+    b["machine.ic"] = "ic-real 02";
+    b["options.pes"] = "2";
+    CHECK(stale_reasons(stamped, b, "c.json") ==
+          std::vector<std::string>{"machine.ic: ic 01 -> ic-real 02", "options.pes: (none) -> 2"});
+    CHECK(stale_reasons(good, a, "c.json") == std::vector<std::string>{"no provenance recorded"});
+    // Host times may differ (they are not in the digest); a number may not.
+    nlohmann::json j = nlohmann::json::parse(stamped);
+    j["host"]["wall_seconds"] = 99.0;
+    CHECK(stale_reasons(j.dump(2), a, "c.json").empty());
+    j["cycles"]["total"] = 1;
+    CHECK_THROWS_WITH(stale_reasons(j.dump(2), a, "out/c.json"),
+                      Catch::StartsWith("out/c.json: error: its results do not match its digest"));
+    CHECK(parse_cell({"tetra", 20, machine::Model::V, 64}, stamped, "c.json").total == 900);
+}
+
+TEST_CASE("Runner: a stored cell whose provenance differs runs again, and says why", "[paper]") {
+    TempDir dir;
+    const PaperOptions o = small_options(dir.str());
+    std::string machine = "ic 01";
+    const CellProvenanceFn prov = [&](const CellKey& k) {
+        return machine::Provenance{{"scene", k.scene}, {"machine.ic", machine}};
+    };
+    FakeRunner first;
+    CHECK(run_matrix(o, first.fn(), prov).run == 8);
+    FakeRunner second;
+    MatrixResult same = run_matrix(o, second.fn(), prov);
+    CHECK(second.calls == 0);
+    CHECK(same.stale.empty());
+    machine = "ic-real 02";
+    FakeRunner third;
+    std::size_t stale_shown = 0;
+    PaperOptions watched = o;
+    watched.progress = [&](const PaperProgress& p) { stale_shown += p.stale ? p.stale->size() : 0; };
+    MatrixResult changed = run_matrix(watched, third.fn(), prov);
+    CHECK(third.calls == 8);
+    CHECK(changed.loaded == 0);
+    REQUIRE(changed.stale.size() == 8);
+    CHECK(stale_shown == 8);
+    CHECK_THAT(changed.stale[0], Catch::EndsWith(": machine.ic: ic 01 -> ic-real 02"));
+    FakeRunner fourth; // the re-run cells now carry the new provenance
+    CHECK(run_matrix(o, fourth.fn(), prov).loaded == 8);
+    CHECK(fourth.calls == 0);
+}
+
 TEST_CASE("Derived numbers: load ratio, S time, best grid", "[paper]") {
     CellRecord v;
     v.os = {380, 20, 7};

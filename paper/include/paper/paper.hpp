@@ -15,6 +15,7 @@
 
 #include "base/error.hpp"
 #include "machine/machine.hpp"
+#include "machine/provenance.hpp"
 
 #include <array>
 #include <cstdint>
@@ -57,6 +58,14 @@ struct CellRecord {
 };
 // Parses a cell file's text; throws PaperError "FILE: error: ..." when a key is missing or wrong.
 CellRecord parse_cell(const CellKey& key, const std::string& json_text, const std::string& file);
+// A cell file also keeps the provenance of its run ("provenance") and a digest of its results
+// ("digest", machine::result_digest). Stamps both onto a runner's stats JSON text.
+std::string stamp_cell(const std::string& json_text, const machine::Provenance& p);
+// Whether a stored cell is still the current run's: its differences from `expected` (empty when it
+// is; "no provenance recorded" for a file written before nesshi kept it). Throws PaperError naming
+// the file when its results do not match its digest (edited by hand) or it is not JSON.
+std::vector<std::string> stale_reasons(const std::string& json_text, const machine::Provenance& expected,
+                                       const std::string& file);
 // Writes FILE.tmp then renames it over FILE, so a killed run never leaves half a cell behind.
 void write_file_atomically(const std::string& file, const std::string& text);
 
@@ -68,6 +77,9 @@ struct PaperProgress {
     double fraction = 0; // of the cells to run, counting the partial progress of running ones
     double elapsed_seconds = 0;
     int threads = 1;
+    // At the start of a phase: "cell: what changed" for each stored cell that runs again because
+    // its provenance is not the current run's.
+    const std::vector<std::string>* stale = nullptr;
 };
 
 struct PaperOptions {
@@ -77,6 +89,9 @@ struct PaperOptions {
     std::vector<machine::Model> models = {machine::Model::S, machine::Model::M, machine::Model::V};
     std::string out_dir = "paper-out";
     int threads = 0; // cells run at once (one host thread per cell, each a 1-PE run); 0 = all cores
+    // What every cell runs on: the stages' machine descriptions (os_machine, ic_machine,
+    // seq_machine) and kernels_dir; a cell sets the model, one PE and one host thread itself.
+    machine::Options machine;
     // Called from one thread at a time: at the start, after each cell, and a few times a second.
     std::function<void(const PaperProgress&)> progress;
 };
@@ -89,17 +104,24 @@ std::vector<CellKey> matrix_cells(const PaperOptions& o);
 // Runs one cell and returns its stats JSON text; `progress` (may be empty) gets (done, total).
 using CellProgressFn = std::function<void(std::uint64_t, std::uint64_t)>;
 using CellRunner = std::function<std::string(const CellKey&, const CellProgressFn&)>;
-// The real runner: prepare + machine::render with 1 PE on 1 host thread, SPD mode.
-std::string simulate_cell(const CellKey& k, const CellProgressFn& progress);
+// What a cell's result depends on (stored with it, compared when it is loaded again).
+using CellProvenanceFn = std::function<machine::Provenance(const CellKey&)>;
+// The real runner: prepare + machine::render with 1 PE on 1 host thread, SPD mode, on `base`'s
+// machines and kernels; and the provenance of that run.
+std::string simulate_cell(const CellKey& k, const machine::Options& base, const CellProgressFn& progress);
+machine::Provenance cell_provenance(const CellKey& k, const machine::Options& base);
 
 struct MatrixResult {
     std::vector<CellRecord> cells;     // loaded and run, in matrix_cells order
     std::vector<std::string> failures; // "cell: message" for cells whose run threw
+    std::vector<std::string> stale;    // "cell: what changed" for stored cells run again
     std::size_t loaded = 0, run = 0;
 };
-// Loads the cells whose files exist (a malformed one is an error naming it: delete it to re-run)
-// and runs the others, o.threads at a time, longest first. A failing cell does not stop the others.
-MatrixResult run_matrix(const PaperOptions& o, const CellRunner& run);
+// Loads the cells whose files exist and are the current run's (by `provenance`; empty: every cell's
+// is empty), runs the others, o.threads at a time, longest first, and stores each with its
+// provenance and digest. A malformed or hand-edited cell file is an error naming it (delete it to
+// re-run); a failing cell does not stop the others.
+MatrixResult run_matrix(const PaperOptions& o, const CellRunner& run, const CellProvenanceFn& provenance = {});
 
 // What the reports read.
 struct PaperData {

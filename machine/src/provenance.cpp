@@ -1,0 +1,91 @@
+// The provenance of a machine run and the digest of a stored result.
+#include "machine/provenance.hpp"
+
+#include "base/hash.hpp"
+#include "base/read_file.hpp"
+#include "isa/machine.hpp"
+#include "kernels/sources.hpp"
+#include "rt/spd.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#ifndef NESSHI_VERSION
+#error "NESSHI_VERSION must be defined by the build"
+#endif
+
+namespace nesshi::machine {
+
+namespace {
+
+std::string scene_text(const std::string& scene) {
+    if (const auto spd = rt::parse_spd_name(scene)) return rt::generate_spd(spd->name, spd->size);
+    return base::read_file(scene);
+}
+
+std::string machine_id(const std::string& spec, const char* preset) {
+    const isa::Machine m = isa::load_machine(spec.empty() ? preset : spec);
+    return fmt::format("{} {}", spec.empty() ? preset : spec, base::hex64(m.fingerprint()));
+}
+
+} // namespace
+
+Provenance provenance(const std::string& scene, int grid, const rt::RenderOptions& ro, const Options& mo) {
+    Provenance p;
+    p["tool"] = "nesshi " NESSHI_VERSION;
+    p["scene"] = scene;
+    p["scene.hash"] = base::hex64(base::fnv1a64(scene_text(scene)));
+    p["grid"] = std::to_string(grid);
+    const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
+    for (const kernels::SourceFile& f : src.files) p["kernels." + f.path] = base::hex64(base::fnv1a64(f.text));
+    if (mo.model == Model::V) { // models S and M run both kernels on seq
+        p["machine.os"] = machine_id(mo.os_machine, "os");
+        p["machine.ic"] = machine_id(mo.ic_machine, "ic");
+    }
+    p["machine.seq"] = machine_id(mo.seq_machine, "seq"); // also the SC's operation prices
+    auto opt = [&](const char* name, const auto& value) { p[std::string("options.") + name] = fmt::format("{}", value); };
+    opt("model", model_name(mo.model));
+    opt("size", fmt::format("{}x{}", ro.width, ro.height));
+    opt("max_depth", ro.max_depth);
+    opt("epsilon", ro.epsilon);
+    opt("cutoff", ro.cutoff);
+    opt("pes", mo.pes);
+    opt("balance", mo.dynamic_balance ? fmt::format("dynamic, epoch {}", mo.epoch) : std::string("interleaved"));
+    opt("window", mo.window);
+    opt("fifo_capacity", mo.fifo_capacity);
+    opt("ray_slots", mo.ray_slots);
+    opt("fifo_latency", mo.fifo_latency);
+    opt("quantum", mo.quantum);
+    opt("cache", mo.cache.enabled ? fmt::format("{} bytes, {}-byte lines, {} ways, {} miss cycles", mo.cache.bytes,
+                                                mo.cache.line, mo.cache.ways, mo.cache.miss_cycles)
+                                  : std::string("ideal"));
+    opt("resident", mo.resident);
+    opt("max_cycles", mo.max_cycles);
+    return p;
+}
+
+std::vector<std::string> provenance_differences(const Provenance& stored, const Provenance& current) {
+    std::vector<std::string> d;
+    auto value = [](const Provenance& p, const std::string& k) {
+        const auto it = p.find(k);
+        return it == p.end() ? std::string("(none)") : it->second;
+    };
+    std::map<std::string, int> keys;
+    for (const auto& [k, v] : stored) keys[k] |= 1;
+    for (const auto& [k, v] : current) keys[k] |= 2;
+    for (const auto& [k, sides] : keys) {
+        if (k == "tool") continue;
+        const std::string a = value(stored, k), b = value(current, k);
+        if (a != b) d.push_back(fmt::format("{}: {} -> {}", k, a, b));
+    }
+    return d;
+}
+
+std::string result_digest(const std::string& json_text) {
+    nlohmann::json j = nlohmann::json::parse(json_text);
+    j.erase("host");
+    j.erase("digest");
+    return base::hex64(base::fnv1a64(j.dump()));
+}
+
+} // namespace nesshi::machine
