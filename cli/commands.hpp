@@ -18,4 +18,5 @@ void add_paper(CLI::App& app);
 void add_pipeline(CLI::App& app);
 void add_loop(CLI::App& app);
 void add_schedule(CLI::App& app);
+void add_sweep(CLI::App& app);
 } // namespace nesshi::cli

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_pipeline(app);
     nesshi::cli::add_loop(app);
     nesshi::cli::add_schedule(app);
+    nesshi::cli::add_sweep(app);
     one_value_per_option(app);
     try {
         app.parse(argc, argv);

@@ -19,32 +19,6 @@ constexpr const char* kStageColors[3] = {"#4e79a7", "#f28e2b", "#59a14f"};
 constexpr int kBarWidth = 16, kBarGap = 4, kGroupGap = 22, kAxisWidth = 52, kPlotHeight = 230;
 constexpr int kPanelTop = 36, kPanelBottom = 44, kPanelsPerRow = 3, kMargin = 16, kHeader = 64, kLegend = 64;
 
-std::string escape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '&')
-            o += "&amp;";
-        else if (c == '<')
-            o += "&lt;";
-        else if (c == '>')
-            o += "&gt;";
-        else if (c == '"')
-            o += "&quot;";
-        else
-            o += c;
-    }
-    return o;
-}
-
-// A round axis step: 1, 2, 2.5 or 5 times a power of ten, giving about four intervals.
-double axis_step(double max) {
-    if (max <= 0) return 1;
-    const double raw = max / 4, p = std::pow(10.0, std::floor(std::log10(raw)));
-    for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-        if (m * p >= raw) return m * p;
-    return 10 * p;
-}
-
 struct Bar {
     machine::Model model;
     double total = 0;               // billions, scaled to 512x512
@@ -91,7 +65,7 @@ int panel_width(const PaperData& d) {
 std::string rect(double x, double y, double w, double h, const char* fill, double opacity, const std::string& tip) {
     return fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"{}\" "
                        "fill-opacity=\"{}\"><title>{}</title></rect>\n",
-                       x, y, w, std::max(h, 0.0), fill, opacity, escape(tip));
+                       x, y, w, std::max(h, 0.0), fill, opacity, xml_escape(tip));
 }
 
 std::string draw_bar(const Bar& b, const std::string& label, double x, double base, double px_per_unit) {
@@ -126,7 +100,7 @@ std::string draw_bar(const Bar& b, const std::string& label, double x, double ba
         o += fmt::format(
             "<line x1=\"{:.1f}\" x2=\"{:.1f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" class=\"paper\"><title>{}</title></line>\n",
             x - 2, x + kBarWidth + 2, y, y,
-            escape(fmt::format("{} {}: paper {:.4g} billion cycles", label, model, b.paper)));
+            xml_escape(fmt::format("{} {}: paper {:.4g} billion cycles", label, model, b.paper)));
     }
     o += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" class=\"small\" text-anchor=\"middle\">{}</text>\n",
                      x + kBarWidth / 2.0, base + 12, model);
@@ -139,7 +113,7 @@ std::string draw_panel(const PaperData& d, const Panel& p, int left, int top) {
     const int plot_left = left + kAxisWidth, width = panel_width(d) - kAxisWidth;
     const double base = top + kPanelTop + kPlotHeight;
     std::string o =
-        fmt::format("<text x=\"{}\" y=\"{}\" class=\"panel\">{}</text>\n", plot_left, top + 20, escape(p.scene));
+        fmt::format("<text x=\"{}\" y=\"{}\" class=\"panel\">{}</text>\n", plot_left, top + 20, xml_escape(p.scene));
     for (double v = 0; v <= axis_max * (1 + 1e-9); v += step) {
         const double y = base - v * px;
         o += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" class=\"grid\"/>\n", plot_left,
@@ -207,7 +181,7 @@ std::string fig6_svg(const PaperData& d) {
             : fmt::format(
                   "rendered at {0}x{0}, one PE; scaled by (512/{0})² = {1:g} to compare with the paper's 512x512",
                   d.size, scale_to_paper(d.size));
-    o += fmt::format("<text x=\"{}\" y=\"44\" class=\"label\">{}</text>\n", kMargin, escape(sub));
+    o += fmt::format("<text x=\"{}\" y=\"44\" class=\"label\">{}</text>\n", kMargin, xml_escape(sub));
     for (int i = 0; i < n; ++i)
         o += draw_panel(d, make_panel(d, d.scenes[static_cast<std::size_t>(i)]), kMargin + (i % cols) * pw,
                         kHeader + (i / cols) * ph);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace nesshi::paper {
 
@@ -43,6 +44,30 @@ std::vector<std::string> common_notes(const PaperData& d) {
                                     "for its own scene of that name and shown for reference only.",
                                     fmt::join(off_size, ", "), off_size.size() == 1 ? "is" : "are"));
     return notes;
+}
+
+} // namespace nesshi::paper
+
+namespace nesshi::paper {
+
+std::string xml_escape(const std::string& s) {
+    std::string o;
+    for (char c : s) {
+        if (c == '&') o += "&amp;";
+        else if (c == '<') o += "&lt;";
+        else if (c == '>') o += "&gt;";
+        else if (c == '"') o += "&quot;";
+        else o += c;
+    }
+    return o;
+}
+
+double axis_step(double max) {
+    if (max <= 0) return 1;
+    const double raw = max / 4, p = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+        if (m * p >= raw) return m * p;
+    return 10 * p;
 }
 
 } // namespace nesshi::paper

@@ -61,7 +61,8 @@ def main():
             # /tmp/ paths in the tour go to the scratch folder: a rerun starts from nothing
             run = cmd.replace('/tmp/', work + '/')
             r = subprocess.run(['bash', '-c', run + ' 2>&1'], cwd=work, capture_output=True, text=True, timeout=600)
-            got = r.stdout.rstrip('\n').replace(work + '/', '/tmp/').split('\n')
+            out = r.stdout.rstrip('\n').replace(work + '/', '/tmp/')
+            got = out.split('\n') if out else []  # a command that prints nothing
             if matches(want, got):
                 print(f'README.md:{line}: ok: {cmd}')
                 continue

@@ -1,0 +1,74 @@
+// `nesshi sweep SPEC.toml`: a design-space sweep (paper/sweep.hpp). Progress and status go to
+// stderr; the results go to files in --out.
+#include "commands.hpp"
+#include "errors.hpp"
+
+#include "base/progress.hpp"
+#include "paper/sweep.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <memory>
+
+namespace nesshi::cli {
+
+namespace {
+
+struct SweepArgs {
+    std::string spec, out = "sweep-out";
+    int threads = 0;
+    bool quiet = false;
+};
+
+std::string axis_help() {
+    std::string o = "Run a design-space sweep: the product of the spec's axes, one machine run per cell\n\n"
+                    "SPEC (TOML): metrics = [\"cycles.total\", ...] (dotted paths into the stats JSON), [axes] with\n"
+                    "NAME = value or [values], [chart] x = \"AXIS\", y = \"METRIC\". Axes:\n";
+    for (const auto& [name, help] : paper::sweep_axis_names()) o += fmt::format("  {:<14} {}\n", name, help);
+    return o;
+}
+
+void run_sweep_command(const SweepArgs& a) {
+    const paper::SweepSpec spec = paper::load_sweep_spec(a.spec);
+    paper::SweepOptions o;
+    o.out_dir = a.out;
+    o.threads = a.threads;
+    if (!a.quiet)
+        o.progress = [](const paper::SweepProgress& p) {
+            if (p.stale) {
+                fmt::print(stderr, "sweep: {} cells: {} loaded, {} to run, {} at a time\n", p.cells_total, p.cells_loaded,
+                           p.cells_to_run, p.threads);
+                if (!p.stale->empty()) {
+                    fmt::print(stderr, "  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
+                    for (const std::string& s : *p.stale) fmt::print(stderr, "    {}\n", s);
+                }
+                return;
+            }
+            const std::size_t done = p.cells_done + p.cells_failed;
+            std::string left;
+            if (done > 0 && done < p.cells_to_run)
+                left = fmt::format(", ~{} left", base::format_duration(p.elapsed_seconds / static_cast<double>(done) *
+                                                                        static_cast<double>(p.cells_to_run - done)));
+            fmt::print(stderr, "  {:<40} {:>7.1f} s   [{}/{}; {} elapsed{}]\n", p.finished, p.seconds, done, p.cells_to_run,
+                       base::format_duration(p.elapsed_seconds), left);
+        };
+    const paper::SweepRun r = paper::run_sweep(spec, o);
+    if (!a.quiet)
+        fmt::print(stderr, "cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
+}
+
+} // namespace
+
+void add_sweep(CLI::App& app) {
+    auto* cmd = app.add_subcommand("sweep", "Run a design-space sweep over machine, FIFO, cache and scene axes");
+    cmd->description(axis_help());
+    auto a = std::make_shared<SweepArgs>();
+    cmd->add_option("spec", a->spec, "the sweep spec (TOML)")->required();
+    cmd->add_option("--out", a->out, "output folder (default sweep-out): cells/, results.csv, results.jsonl, chart.svg");
+    cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("-q,--quiet", a->quiet, "no progress");
+    cmd->callback([a] { run_sweep_command(*a); });
+}
+
+} // namespace nesshi::cli

@@ -1,0 +1,104 @@
+// `nesshi sweep`: a design-space sweep. A spec (TOML) names axes, each a value or a list; the cells
+// are the product of the lists, each one machine run, stored with its provenance like the
+// paper's cells (a resumed sweep loads the cells that are still the current run's) and reported
+// as a tidy results.csv / results.jsonl (one row per cell: every axis, then every metric) and an
+// SVG chart of one metric against one axis, one series per value of the other swept axes.
+//
+//   # sweep.toml
+//   metrics = ["cycles.total", "cycles.os.processing"]   # dotted paths into the stats JSON
+//   [axes]
+//   scene = ["balls:1", "tetra:1"]
+//   size = 32
+//   grid = 10
+//   fifo_capacity = [24, 48, 96]
+//   cache_size = [4096, 65536]
+//   [chart]
+//   x = "fifo_capacity"
+//   y = "cycles.total"
+//
+//   paper::SweepSpec spec = paper::load_sweep_spec("sweep.toml");
+//   paper::SweepRun r = paper::run_sweep(spec, {.out_dir = "out"});
+#pragma once
+
+#include "paper/paper.hpp"
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace nesshi::paper {
+
+// An axis and its values, as written (numbers and booleans in their TOML spelling).
+struct SweepAxis {
+    std::string name;
+    std::vector<std::string> values;
+};
+
+struct SweepSpec {
+    std::string file;              // where it came from, for messages
+    std::vector<SweepAxis> axes;   // in the file's order
+    std::vector<std::string> metrics;
+    std::string chart_x, chart_y;  // "" = none asked: x = the first swept numeric axis, y = cycles.total
+};
+
+// The axes a spec may name (scene, size, grid, model, pes, balance, epoch, window, ray_slots,
+// fifo_capacity, fifo_latency, quantum, cache, cache_size, cache_ways, cache_line, miss_cycles,
+// resident, os_machine, ic_machine, seq_machine, kernels), with a line of help each.
+const std::vector<std::pair<std::string, std::string>>& sweep_axis_names();
+// The metrics when a spec names none.
+const std::vector<std::string>& default_sweep_metrics();
+
+// Parses and checks a spec: unknown keys and axes, values of the wrong type, an empty list, a
+// chart axis that is not an axis, each as a located error (file:line:col). Every value is checked
+// by building each cell's options, so a bad value is reported before anything runs.
+SweepSpec parse_sweep_spec(const std::string& text, const std::string& file);
+SweepSpec load_sweep_spec(const std::string& file);
+
+// One cell: a value per axis, in the spec's axis order.
+struct SweepCell {
+    std::vector<std::string> values;
+    std::string id; // file-name-safe and stable: a hash of the axis names and values
+};
+std::vector<SweepCell> sweep_cells(const SweepSpec& s);
+
+// The run a cell stands for.
+struct SweepRunInputs {
+    std::string scene = "balls";
+    int grid = 0; // 0: the cost model's choice
+    rt::RenderOptions render;
+    machine::Options machine;
+};
+SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c); // throws PaperError on a bad value
+
+struct SweepProgress {
+    std::size_t cells_total = 0, cells_loaded = 0, cells_to_run = 0, cells_done = 0, cells_failed = 0;
+    const std::vector<std::string>* stale = nullptr; // at the start: cells run again, and why
+    std::string finished;                            // the cell just finished ("" otherwise): its axes
+    double seconds = 0, elapsed_seconds = 0;         // of that cell; of the run so far
+    int threads = 1;
+};
+
+struct SweepOptions {
+    std::string out_dir = "sweep-out";
+    int threads = 0; // cells at once (0 = all cores)
+    std::function<void(const SweepProgress&)> progress;
+};
+
+struct SweepRun {
+    std::vector<std::string> rows_jsonl;  // one per cell that has a result, in sweep_cells order
+    std::vector<std::string> files;       // written into out_dir
+    std::vector<std::string> failures;    // "cell axes: message"
+    std::size_t loaded = 0, run = 0;
+};
+// Runs (or loads) every cell, then writes results.csv, results.jsonl and chart.svg. Throws PaperError naming failed cells after writing the rest.
+SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o);
+
+// The outputs, from cells' stats JSON texts (by sweep_cells index; "" = no result).
+std::string sweep_csv(const SweepSpec& s, const std::vector<SweepCell>& cells, const std::vector<std::string>& json);
+std::vector<std::string> sweep_jsonl(const SweepSpec& s, const std::vector<SweepCell>& cells,
+                                     const std::vector<std::string>& json);
+std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& cells,
+                            const std::vector<std::string>& json);
+
+} // namespace nesshi::paper

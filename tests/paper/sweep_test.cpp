@@ -1,0 +1,100 @@
+// The sweep spec, its cells and its tidy outputs (the runs themselves are checked from the CLI).
+#include "paper/sweep.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+using namespace nesshi;
+using namespace nesshi::paper;
+
+namespace {
+
+std::string error_of(const std::string& text) {
+    try {
+        parse_sweep_spec(text, "s.toml");
+    } catch (const PaperError& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+const char* kSpec = R"(metrics = ["cycles.total", "machine.cache.misses"]
+[axes]
+scene = ["balls:1", "tetra:1"]
+size = 16
+fifo_capacity = [0, 48, 24]
+cache_size = 4096
+[chart]
+x = "fifo_capacity"
+)";
+
+std::string stats(std::uint64_t total) {
+    return nlohmann::json{{"cycles", {{"total", total}}}, {"machine", {{"cache", {{"misses", 7}}}}}}.dump();
+}
+
+} // namespace
+
+TEST_CASE("Sweep spec: the axes in the file's order, the product of the lists, checked values", "[unit][sweep]") {
+    const SweepSpec s = parse_sweep_spec(kSpec, "s.toml");
+    REQUIRE(s.axes.size() == 4);
+    CHECK(s.axes[0].name == "scene");
+    CHECK(s.axes[2].name == "fifo_capacity");
+    CHECK(s.axes[2].values == std::vector<std::string>{"0", "48", "24"});
+    const std::vector<SweepCell> cells = sweep_cells(s);
+    REQUIRE(cells.size() == 6);
+    CHECK(cells[1].values == std::vector<std::string>{"balls:1", "16", "48", "4096"});
+    CHECK(cells[0].id != cells[1].id);
+    CHECK(sweep_cells(s)[1].id == cells[1].id); // stable
+    const SweepRunInputs in = sweep_inputs(s, cells[1]);
+    CHECK(in.render.width == 16);
+    CHECK(in.machine.fifo_capacity == 48);
+    CHECK(in.machine.cache.enabled); // a cache_* axis turns the cache on
+    CHECK(in.machine.cache.bytes == 4096);
+    CHECK(in.machine.ray_slots == 4); // as render does: 48 / 12 rays in flight
+    CHECK(sweep_inputs(s, cells[0]).machine.ray_slots == 0);
+    CHECK(s.metrics == std::vector<std::string>{"cycles.total", "machine.cache.misses"});
+    CHECK(parse_sweep_spec("[axes]\nscene = \"tetra:1\"\n", "s.toml").metrics == default_sweep_metrics());
+}
+
+TEST_CASE("Sweep spec: bad input is a located error", "[unit][sweep]") {
+    CHECK_THAT(error_of("[axes]\nfifo_depth = [1, 2]\n"), Catch::StartsWith("s.toml:2:1: error: unknown axis 'fifo_depth'"));
+    CHECK_THAT(error_of("[axes]\nsize = []\n"), Catch::StartsWith("s.toml:2:8: error: size: empty list"));
+    CHECK_THAT(error_of("[axes]\nsize = 1.5\n"), Catch::Contains("a value must be a string, a whole number or a boolean"));
+    CHECK_THAT(error_of("[axes]\npes = [1, 0]\n"), Catch::Contains("pes = 0: must be a whole number from 1 to 64"));
+    CHECK_THAT(error_of("[axes]\nmodel = \"X\"\n"), Catch::Contains("model = X: must be S, M or V"));
+    CHECK_THAT(error_of("[axes]\nresident = \"yes\"\n"), Catch::Contains("resident = yes: must be true or false"));
+    CHECK_THAT(error_of("frobs = 1\n[axes]\nsize = 8\n"), Catch::StartsWith("s.toml:1:1: error: unknown key 'frobs'"));
+    CHECK_THAT(error_of("metrics = \"cycles.total\"\n[axes]\nsize = 8\n"), Catch::Contains("'metrics' must be a list of strings"));
+    CHECK_THAT(error_of("metrics = []\n"), Catch::Contains("no [axes]"));
+    CHECK_THAT(error_of("[axes]\nsize = 8\n[chart]\nx = \"grid\"\n"), Catch::Contains("chart x 'grid' is not one of the spec's axes"));
+    CHECK_THAT(error_of("[axes\n"), Catch::StartsWith("s.toml:1:"));
+}
+
+TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a chart per series", "[unit][sweep]") {
+    const SweepSpec s = parse_sweep_spec(kSpec, "s.toml");
+    const std::vector<SweepCell> cells = sweep_cells(s);
+    std::vector<std::string> json(cells.size());
+    json[0] = stats(100);
+    json[1] = stats(90);
+    json[2] = nlohmann::json{{"cycles", {{"total", 95}}}}.dump(); // no cache numbers
+    // cells 3..5 (tetra) have no result: left out
+    const std::string csv = sweep_csv(s, cells, json);
+    CHECK(csv.substr(0, csv.find('\n')) == "cell,scene,size,fifo_capacity,cache_size,cycles.total,machine.cache.misses");
+    CHECK(csv.find(cells[1].id + ",balls:1,16,48,4096,90,7\n") != std::string::npos);
+    CHECK(csv.find(cells[2].id + ",balls:1,16,24,4096,95,\n") != std::string::npos);
+    CHECK(std::count(csv.begin(), csv.end(), '\n') == 4);
+    const std::vector<std::string> rows = sweep_jsonl(s, cells, json);
+    REQUIRE(rows.size() == 3);
+    const nlohmann::json r = nlohmann::json::parse(rows[2]);
+    CHECK(r["scene"] == "balls:1");
+    CHECK(r["fifo_capacity"].is_number_integer());
+    CHECK(r["cycles.total"] == 95);
+    CHECK(r["machine.cache.misses"].is_null());
+    const std::string svg = sweep_chart_svg(s, cells, json);
+    CHECK(svg.find("cycles.total against fifo_capacity") != std::string::npos);
+    CHECK(svg.find("scene=balls:1") != std::string::npos); // one series per other swept axis value
+    CHECK(svg.find(">24</text>") < svg.find(">48</text>")); // numeric x in ascending order
+    CHECK(std::count(svg.begin(), svg.end(), '<' ) > 10);
+}
