@@ -41,8 +41,10 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const Options& mo) {
     const bool vliw = mo.model == Model::V;
     MachineSetup s;
     const isa::Machine seq = isa::load_machine(or_preset(mo.seq_machine, "seq"));
-    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? isa::load_machine(or_preset(mo.os_machine, "os")) : seq);
-    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? isa::load_machine(or_preset(mo.ic_machine, "ic")) : seq);
+    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? isa::load_machine(or_preset(mo.os_machine, "os")) : seq,
+                                &s.os_build);
+    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? isa::load_machine(or_preset(mo.ic_machine, "ic")) : seq,
+                                &s.ic_build);
     const rt::Grid& g = prep.grid;
     if (!abi::os_sram_fits(g.geom.n[0], g.geom.n[1], g.geom.n[2]))
         throw std::runtime_error(fmt::format(
@@ -108,6 +110,8 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
                                                        : run_interleaved(setup, prep, opt, mo, ncorners, sink, threads);
 
     Stats& ms = res.machine;
+    ms.os_kernel = setup.os_build;
+    ms.ic_kernel = setup.ic_build;
     ms.model = mo.model;
     ms.threads = threads;
     for (const PeResult& r : results) {

@@ -2,7 +2,11 @@
 
 #include "assembler/assembler.hpp"
 #include "sched/block.hpp"
+#include "sched/legalize.hpp"
 
+#include "base/error.hpp"
+
+#include <optional>
 #include <stdexcept>
 
 namespace nesshi::machine {
@@ -18,7 +22,9 @@ bool scheduled_for(std::string_view text, const isa::Machine& m) {
 } // namespace
 
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
-                                                    const isa::Machine& m) {
+                                                    const isa::Machine& m, KernelBuild* build) {
+    KernelBuild b;
+    b.machine = m.name;
     // Named "kernels/<path>" in diagnostics and line tables, so its "../abi.inc" is "kernels/abi.inc".
     static const std::string kPrefix = "kernels/";
     assembler::AsmOptions opts;
@@ -30,10 +36,38 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     std::string text = sources.text(path);
     std::string name = kPrefix + path;
     const std::string pk = path.substr(0, path.rfind('.')) + ".pk";
+    auto assembles = [&](const std::string& t) -> std::optional<std::string> {
+        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
+        if (a.ok) return std::nullopt;
+        return a.diagnostics;
+    };
     if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its blocks for m
         name = kPrefix + pk;
-        text = sched::pack_source(sources.text(pk), name, m, opts).text;
+        // The hand-scheduled code between the blocks first gets the nops m's latencies need (with
+        // its blocks written sequentially), then the scheduled file once more (blocks may start
+        // earlier than written).
+        try {
+            const sched::Legalized hand = sched::legalize(sources.text(pk), name, [&](const std::string& t) -> std::optional<std::string> {
+                try {
+                    (void)sched::pack_source(t, name, m, opts);
+                    return std::nullopt;
+                } catch (const base::Error& e) {
+                    return std::string(e.what());
+                }
+            });
+            const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
+            const sched::Legalized packed = sched::legalize(pr.text, name, assembles);
+            text = packed.text;
+            b.scheduled = true;
+            b.blocks = static_cast<int>(pr.blocks.size());
+            b.nops = hand.nops + packed.nops;
+        } catch (const base::Error& e) {
+            throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
+                                     m.source + "):\n" + e.what());
+        }
     }
+    b.source = name;
+    if (build) *build = b;
     assembler::AsmResult r = assembler::assemble_string(text, name, m, opts);
     if (!r.ok)
         throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name +

@@ -12,6 +12,7 @@
 // data). See machine/README.md for the scheduling and cost models.
 #pragma once
 #include "iss/cache.hpp"
+#include "machine/kernel_build.hpp"
 #include "rt/render.hpp"
 
 #include <cstdint>
@@ -109,6 +110,7 @@ struct Stats {
     std::uint64_t visits = 0, returns = 0, misses = 0, hits = 0; // FIFO messages
     std::uint64_t cache_accesses = 0, cache_misses = 0;
     std::uint64_t max_fifo_words = 0;      // highest occupancy seen on any FIFO
+    KernelBuild os_kernel, ic_kernel;      // how the OS and IC stages' kernels were built
     double wall_seconds = 0;               // host time of the simulation
     std::uint64_t simulated_bundles = 0;   // bundles issued by every ISS instance
     int threads = 1;

@@ -7,6 +7,8 @@
 //   run.load(kernels::os_image(geom, occupancy));  run.run();  run.feed(ray.words());  run.run();
 #pragma once
 
+#include "machine/kernel_build.hpp"
+
 #include "kernels/image.hpp"
 #include "kernels/sources.hpp"
 
@@ -21,13 +23,15 @@
 
 namespace nesshi::machine {
 
+
 // Assembles kernel `path` of `sources` ("os/dda.s") for machine `m`; its .include of
 // "../abi.inc" resolves inside `sources`. When `m` is not the preset the kernel was scheduled for
 // and `sources` hold its source before scheduling ("os/dda.pk"), that source's straight-line
-// blocks are scheduled for `m` first (sched/block.hpp); hand-scheduled loops stay as written.
+// blocks are scheduled for `m` first (sched/block.hpp), and the hand-scheduled code between them
+// gets the nop bundles m's latencies need (sched/legalize.hpp). `build`, if given, says which.
 // Throws std::runtime_error with the diagnostics.
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
-                                                    const isa::Machine& m);
+                                                    const isa::Machine& m, KernelBuild* build = nullptr);
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const std::string& machine);
 
