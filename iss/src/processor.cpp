@@ -180,6 +180,10 @@ template <bool Checked, bool Traced> struct EngineLoop {
         c.pc = pc;
         c.land_next = c.cycle + 1;
         c.lat1_owed = false;
+        if (pc != first) { // this cycle landed the bundle before's writes (a fault here leaves it so)
+            c.last_owed = true;
+            c.lat1_landed = bundles[pc - 1].lat1_writes;
+        }
     }
 
     // land_slow() for one cycle whose previous bundle is owed its credit (`prev`: its latency-1
@@ -197,6 +201,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
         c.pending -= count;
         s.n = 0;
         const uint32_t ring[2] = {count - ring_float, ring_float};
+        c.last_ring_cycle = c.cycle;
+        c.last_ring = {ring[0], ring[1]};
         for (int f = 0; f < 2; ++f) {
             if (!ring[f]) continue;
             --k.write_adjust[f][prev[f]];
