@@ -32,7 +32,7 @@ double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
 std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
                                const Result& r) {
     nlohmann::json j = nlohmann::json::parse(
-        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size()));
+        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size(), mo));
     // The kernels count no voxel steps or intersection tests, so of the native tracer's traversal
     // counters only `rays` (counted by SC) is known; the others are left out rather than given as 0.
     for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};
