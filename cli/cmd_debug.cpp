@@ -23,8 +23,9 @@ void run_debug(const DebugOpts& o) {
     auto prog = load_sim_input(o.input, o.machine);
     iss::Processor p(prog, o.engine == "fast" ? iss::Engine::Fast : iss::Engine::Checked);
     // Channels: inputs from word files ([CH=]FILE, default channel 0); every other channel the
-    // program uses gets an unbounded queue, so sends never block.
-    std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> chans;
+    // program uses gets an unbounded queue, so sends never block. `run` and `restart` make them
+    // again (the inputs refilled, the outputs emptied).
+    std::vector<std::pair<uint32_t, std::vector<uint32_t>>> inputs;
     for (const auto& spec : o.fifo_in) {
         uint32_t ch = 0;
         std::string file;
@@ -33,22 +34,31 @@ void run_debug(const DebugOpts& o) {
         } catch (const std::invalid_argument& e) {
             throw UsageError(e.what());
         }
-        auto q = std::make_unique<iss::QueueChannel>();
-        for (uint32_t w : iss::read_word_file(file)) q->feed(w);
-        q->close();
-        chans[ch] = std::move(q);
+        inputs.emplace_back(ch, iss::read_word_file(file));
     }
-    for (const auto& d : prog->ops()) {
-        auto k = d.instr.info().kind;
-        if ((k == isa::Kind::Recv || k == isa::Kind::Send) && !chans.count(d.imm)) {
+    std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> chans;
+    auto attach_channels = [&] {
+        chans.clear();
+        for (const auto& [ch, words] : inputs) {
             auto q = std::make_unique<iss::QueueChannel>();
-            if (k == isa::Kind::Recv) q->close();
-            chans[d.imm] = std::move(q);
+            for (uint32_t w : words) q->feed(w);
+            q->close();
+            chans[ch] = std::move(q);
         }
-    }
-    for (auto& [ch, q] : chans) p.attach_channel(ch, q.get());
+        for (const auto& d : prog->ops()) {
+            auto k = d.instr.info().kind;
+            if ((k == isa::Kind::Recv || k == isa::Kind::Send) && !chans.count(d.imm)) {
+                auto q = std::make_unique<iss::QueueChannel>();
+                if (k == isa::Kind::Recv) q->close();
+                chans[d.imm] = std::move(q);
+            }
+        }
+        for (auto& [ch, q] : chans) p.attach_channel(ch, q.get());
+    };
+    attach_channels();
 
     iss::Debugger dbg(p, stdout);
+    dbg.on_restart = attach_channels;
     fmt::print("nesshi debug: {} on {} ({} bundles, {} engine); 'help' lists commands\n", o.input,
                prog->machine().name, prog->size(), o.engine);
     dbg.execute("disas");

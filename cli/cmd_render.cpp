@@ -140,7 +140,9 @@ void run_render(const RenderArgs& a) {
     if (!a.quiet) {
         fmt::print("{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
                    a.model, opt.max_depth, opt.cutoff > 0 ? fmt::format(", cut-off {:g}", opt.cutoff) : "");
-        fmt::print("{}", rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text());
+        fmt::print("{}", rt::format_grid(prep.grid) +
+                             (native ? machine::memory_report(prep.grid, prep.shapes.shapes.size())
+                                     : machine::memory_report(prep.grid, prep.shapes.shapes.size(), mo)).text());
         if (native) {
             fmt::print("{}", rt::format_rays(r.stats));
         } else {

@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "errors.hpp"
 
+#include "kernels/abi.hpp"
 #include "machine/memory_report.hpp"
 #include "rt/grid.hpp"
 #include "rt/scene.hpp"
@@ -41,7 +42,9 @@ void scene_info(const std::string& what, const std::vector<int>& grids) {
         fmt::print("bounding box ({:g} {:g} {:g}) - ({:g} {:g} {:g})\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     if (grids.empty()) return;
     rt::ShapeSet set = rt::build_shapes(s);
-    fmt::print("shape records {} ({} bytes in IC memory)\n", set.shapes.size(), set.shapes.size() * kernels::kShapeWords * 4);
+    // The same count as the memory lines' "records": every shape's record plus the END record.
+    fmt::print("shape records {} + the END record ({} bytes in IC memory, {} B each)\n", set.shapes.size(),
+               kernels::abi::ic_records_bytes(set.shapes.size()), kernels::kShapeWords * 4);
     for (int n : grids) {
         rt::Grid g = rt::build_grid(s, set, n);
         fmt::print("{}{}", rt::format_grid(g), machine::memory_report(g, set.shapes.size()).text());

@@ -149,19 +149,27 @@ void run_sim(const SimOpts& o) {
     std::optional<iss::Fault> fault;
     iss::Status st;
     std::map<uint32_t, std::vector<uint32_t>> outputs;
+    // The processor whose state is reported: in lock-step, the checked one when it stopped on a
+    // dynamic rule the fast engine trusts (the fast one has issued the faulting bundle already,
+    // one cycle or more past the fault), so every engine reports a fault at the same count.
+    const iss::Processor* shown = &p;
+    std::unique_ptr<iss::Processor> checked;
     if (lockstep) {
-        iss::Processor checked(prog, iss::Engine::Checked);
+        checked = std::make_unique<iss::Processor>(prog, iss::Engine::Checked);
         Fifos fifos2 = make_fifos(o, inputs);
-        fifos2.attach(checked);
-        auto r = iss::run_lockstep(p, checked, o.max_cycles);
+        fifos2.attach(*checked);
+        auto r = iss::run_lockstep(p, *checked, o.max_cycles);
         st = r.status;
         fault = r.fault;
+        if (checked->status() == iss::Status::Faulted && p.status() != iss::Status::Faulted) shown = checked.get();
         for (auto& [ch, q] : fifos.out) {
             outputs[ch] = q->drain_all();
             if (!fault && outputs[ch] != fifos2.out[ch]->drain_all())
                 fault = iss::Fault{iss::FaultKind::Divergence, p.cycle(), p.pc(),
                                    fmt::format("fast and checked engines sent different words on channel {}", ch), {}};
         }
+        if (shown != &p) // the words the checked engine sent before its fault
+            for (auto& [ch, q] : fifos2.out) outputs[ch] = q->drain_all();
     } else {
         st = p.run(o.max_cycles);
         if (p.fault()) fault = p.fault();
@@ -183,11 +191,15 @@ void run_sim(const SimOpts& o) {
         auto [ch, file] = channel_spec(spec, 1);
         write_file(file, iss::format_words(outputs[ch]));
     }
-    iss::Stats s = iss::compute_stats(p);
+    iss::Stats s = iss::compute_stats(*shown);
     if (!o.stats_json.empty()) write_file(o.stats_json, iss::stats_json(s).dump(2) + "\n");
     if (!o.quiet) {
-        fmt::print("{}: {} after {} cycles ({} engine)\n", o.input,
-                   fault ? "stopped" : "halted", p.cycle(), o.engine);
+        // The first line says why the run stopped; the full fault report follows the statistics.
+        if (fault)
+            fmt::print("{}: stopped after {} cycles ({} engine): {}: {}\n", o.input, shown->cycle(), o.engine,
+                       iss::fault_rule(fault->kind), fault->message);
+        else
+            fmt::print("{}: halted after {} cycles ({} engine)\n", o.input, shown->cycle(), o.engine);
         fmt::print("{}", iss::stats_text(s));
     }
     if (!fault) dump_and_check(o, p, expect);

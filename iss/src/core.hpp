@@ -48,6 +48,13 @@ struct Core {
     std::array<uint32_t, isa::kMaxSlots> wb_op;
     std::array<uint32_t, 2> lat1_landed{}; // per file: latency-1 writes of the bundle issued last
     bool lat1_owed = false; // that bundle's landing cycle has not been through land() yet
+    // The histogram bucket of the last cycle landed (land_next - 1): whether the bundle before
+    // it was owed its credit, and the ring writes per file that landed in it (when that cycle
+    // is last_ring_cycle). A processor stopped at a cycle boundary has landed that cycle's
+    // writes without running it; Processor::write_histogram leaves that cycle out.
+    bool last_owed = false;
+    uint64_t last_ring_cycle = ~uint64_t{0};
+    std::array<uint32_t, 2> last_ring{};
     MemorySystem* mem = nullptr;
     Channel* const* channels = nullptr; // by DecodedOp::chan (one slot per channel the program uses)
     uint64_t* words_received = nullptr;

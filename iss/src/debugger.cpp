@@ -53,7 +53,9 @@ std::optional<uint16_t> register_index(std::string_view t) {
 const std::vector<DebugCommand>& Debugger::commands() {
     static const std::vector<DebugCommand> table = {
         {"step", {"s", "si"}, "[N]", "issue N bundles (default 1); Enter repeats the last step", &Debugger::cmd_step},
-        {"continue", {"c", "run", "r"}, "", "run to a breakpoint, a watch change, halt or fault", &Debugger::cmd_continue},
+        {"continue", {"c"}, "", "run to a breakpoint, a watch change, halt or fault (Ctrl-C stops it)", &Debugger::cmd_continue},
+        {"run", {"r"}, "", "restart the program, then continue (breakpoints and watches stay)", &Debugger::cmd_run},
+        {"restart", {}, "", "back to the loaded program: pc 0, cycle 0, registers zero, data and inputs reloaded", &Debugger::cmd_restart},
         {"until", {"u"}, "LOC", "run until the bundle at LOC is next to issue", &Debugger::cmd_until},
         {"break", {"b"}, "LOC", "stop before the bundle at LOC issues (label or bundle address)", &Debugger::cmd_break},
         {"delete", {"d"}, "[ID]", "delete breakpoint or watch ID (all when omitted)", &Debugger::cmd_delete},
@@ -176,6 +178,10 @@ void Debugger::run_until(const std::function<bool()>& stop, bool stop_at_breaks)
             }
         }
         if (!first && stop()) break;
+        if (interrupt.exchange(false, std::memory_order_relaxed)) {
+            say("interrupted: ");
+            break;
+        }
         first = false;
         p_.step(1, max_cycles - (p_.cycle() - start)); // the limit holds inside a step (a long wait) too
         bool changed = false;
@@ -200,16 +206,50 @@ void Debugger::run_until(const std::function<bool()>& stop, bool stop_at_breaks)
 void Debugger::cmd_step(const std::vector<std::string>& a) {
     uint64_t n = 1;
     if (!a.empty()) {
+        if (auto k = number(a[0]); k && *k < 0) { // as a value, -1 would be 2^32 - 1 bundles
+            say("step takes a count of 0 or more, not {}\n", a[0]);
+            return;
+        }
         auto v = value(a[0]);
         if (!v) return;
         n = *v;
     }
+    if (n == 0) return; // nothing to issue
     uint64_t done = 0;
     run_until([&] { return ++done >= n; }, false);
 }
 
 void Debugger::cmd_continue(const std::vector<std::string>&) {
     run_until([] { return false; }, true);
+}
+
+void Debugger::restart() {
+    p_.reset();
+    if (on_restart) on_restart();
+    for (auto& [id, w] : watches_) read_watch(w, w.last);
+    interrupt.store(false, std::memory_order_relaxed);
+    std::string kept;
+    if (!breaks_.empty() || !watches_.empty())
+        kept = fmt::format(" ({} breakpoint{} and {} watch{} kept)", breaks_.size(), breaks_.size() == 1 ? "" : "s",
+                           watches_.size(), watches_.size() == 1 ? "" : "es");
+    say("restarted{}\n", kept);
+}
+
+void Debugger::cmd_restart(const std::vector<std::string>&) {
+    restart();
+    where();
+}
+
+void Debugger::cmd_run(const std::vector<std::string>& a) {
+    restart();
+    // From pc 0 a breakpoint there stops before anything issues, as a fresh start should.
+    auto hit = std::find_if(breaks_.begin(), breaks_.end(), [&](auto& b) { return b.second == p_.pc(); });
+    if (hit != breaks_.end()) {
+        say("breakpoint {}: ", hit->first);
+        where();
+        return;
+    }
+    cmd_continue(a);
 }
 
 void Debugger::cmd_until(const std::vector<std::string>& a) {
@@ -443,6 +483,32 @@ void Debugger::cmd_help(const std::vector<std::string>& a) {
     if (a.empty())
         say("Values: numbers (12, 0x1f), labels (loop, buf+8) and registers (r3, f1) work wherever a value\n"
             "or address is expected.\n");
+}
+
+std::vector<std::string> Debugger::complete(std::string_view line) const {
+    size_t start = line.find_last_of(" \t") == std::string_view::npos ? 0 : line.find_last_of(" \t") + 1;
+    std::string_view word = line.substr(start);
+    std::vector<std::string> before = split(line.substr(0, start));
+    std::vector<std::string> all;
+    if (before.empty()) {
+        for (const DebugCommand& c : commands()) all.emplace_back(c.name);
+    } else if (before.size() == 1 && (before[0] == "info" || before[0] == "i")) {
+        all = {"regs", "inflight", "ports", "break"};
+    } else if (before.size() == 1 && (before[0] == "help" || before[0] == "h" || before[0] == "?")) {
+        for (const DebugCommand& c : commands()) all.emplace_back(c.name);
+    } else {
+        for (uint32_t n = 0; n < isa::kMaxRegs; ++n) {
+            all.push_back(fmt::format("r{}", n));
+            all.push_back(fmt::format("f{}", n));
+        }
+        for (const isa::Symbol& sym : p_.program().object().symbols) all.push_back(sym.name);
+    }
+    std::vector<std::string> out;
+    for (std::string& c : all)
+        if (c.starts_with(word)) out.push_back(std::move(c));
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 void Debugger::cmd_quit(const std::vector<std::string>&) { quit_ = true; }

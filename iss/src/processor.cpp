@@ -81,6 +81,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
                 ++k.write_adjust[0][0];
                 ++k.write_adjust[1][0];
             }
+            c.last_owed = c.lat1_owed;
             c.lat1_owed = false;
             c.land_next = c.cycle + 1;
             return;
@@ -102,12 +103,14 @@ template <bool Checked, bool Traced> struct EngineLoop {
             const bool owed = c.lat1_owed;
             uint32_t n[2] = {owed ? c.lat1_landed[0] : 0, owed ? c.lat1_landed[1] : 0};
             c.lat1_owed = false;
+            c.last_owed = owed;
             if (!Traced && c.pending == 0) {
                 if (!owed) {
                     ++k.write_adjust[0][0];
                     ++k.write_adjust[1][0];
                 }
                 uint64_t gap = c.cycle - c.land_next;
+                if (gap) c.last_owed = false; // the last cycle landed is one of the gap's
                 k.write_adjust[0][0] += gap;
                 k.write_adjust[1][0] += gap;
                 c.land_next = c.cycle + 1;
@@ -124,6 +127,10 @@ template <bool Checked, bool Traced> struct EngineLoop {
             }
             c.pending -= count;
             s.n = 0;
+            if (count) {
+                c.last_ring_cycle = c.land_next;
+                c.last_ring = {count - ring_float, ring_float};
+            }
             if (count || !owed) [[unlikely]] { // else the credit is right: only latency-1 writes land
                 const uint32_t ring[2] = {count - ring_float, ring_float};
                 for (int f = 0; f < 2; ++f) {
@@ -173,6 +180,10 @@ template <bool Checked, bool Traced> struct EngineLoop {
         c.pc = pc;
         c.land_next = c.cycle + 1;
         c.lat1_owed = false;
+        if (pc != first) { // this cycle landed the bundle before's writes (a fault here leaves it so)
+            c.last_owed = true;
+            c.lat1_landed = bundles[pc - 1].lat1_writes;
+        }
     }
 
     // land_slow() for one cycle whose previous bundle is owed its credit (`prev`: its latency-1
@@ -190,6 +201,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
         c.pending -= count;
         s.n = 0;
         const uint32_t ring[2] = {count - ring_float, ring_float};
+        c.last_ring_cycle = c.cycle;
+        c.last_ring = {ring[0], ring[1]};
         for (int f = 0; f < 2; ++f) {
             if (!ring[f]) continue;
             --k.write_adjust[f][prev[f]];
@@ -583,6 +596,14 @@ std::vector<uint64_t> Processor::write_histogram(int file) const {
     std::vector<uint64_t> h = counters_.write_adjust[file];
     const auto& bundles = prog_->bundles();
     for (size_t pc = 0; pc < bundles.size(); ++pc) h[bundles[pc].lat1_writes[file]] += counters_.exec[pc];
+    // Stopped at a cycle boundary (cycle limit, block, a fault before the bundle issued): the
+    // writes of cycle() have landed but the cycle has not run; the histogram covers cycles
+    // 0 .. cycle()-1, as the cycle count does.
+    const Core& c = *core_;
+    if (c.land_next == c.cycle + 1) {
+        const uint32_t n = (c.last_owed ? c.lat1_landed[file] : 0) + (c.last_ring_cycle == c.cycle ? c.last_ring[file] : 0);
+        --h[n];
+    }
     return h;
 }
 

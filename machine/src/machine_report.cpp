@@ -32,7 +32,7 @@ double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
 std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
                                const Result& r) {
     nlohmann::json j = nlohmann::json::parse(
-        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size()));
+        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size(), mo));
     // The kernels count no voxel steps or intersection tests, so of the native tracer's traversal
     // counters only `rays` (counted by SC) is known; the others are left out rather than given as 0.
     for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};
@@ -110,23 +110,62 @@ std::string format_stats(const Stats& m) {
     return o;
 }
 
+// Chrome trace events (the format Perfetto reads): per PE a process, per stage a thread with "X"
+// slices; 1 trace microsecond = 1 machine cycle. Within an Activity stretch the order of its
+// kinds is not known (a stretch spans one scheduler step or more); it is drawn wait, then
+// communication, then processing, with neighbouring slices of one kind joined.
 void write_trace_json(const std::string& path, const std::vector<PeResult>& pes) {
     nlohmann::json events = nlohmann::json::array();
     static constexpr const char* kFifo[4] = {"FIFO OS in (DIS, SC, IC)", "FIFO IC in (OS)", "FIFO SC in (OS)",
                                              "FIFO SC in (IC)"};
+    static constexpr const char* kStage[3] = {"OS", "IC", "SC (modelled)"};
+    static constexpr const char* kKind[3] = {"wait", "communication", "processing"};
+    struct Slice {
+        std::uint64_t start, end;
+        int kind;
+    };
     for (std::size_t p = 0; p < pes.size(); ++p) {
         events.push_back({{"name", "process_name"}, {"ph", "M"}, {"pid", p}, {"args", {{"name", fmt::format("PE {}", p)}}}});
+        events.push_back({{"name", "process_sort_index"}, {"ph", "M"}, {"pid", p}, {"args", {{"sort_index", p}}}});
+        std::array<std::vector<Slice>, 3> slices;
+        for (int k = 0; k < 3; ++k) {
+            events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", p}, {"tid", k}, {"args", {{"name", kStage[k]}}}});
+            events.push_back({{"name", "thread_sort_index"}, {"ph", "M"}, {"pid", p}, {"tid", k}, {"args", {{"sort_index", k}}}});
+            for (const Activity& a : pes[p].activity[k]) {
+                std::uint64_t t = a.start;
+                const std::uint64_t len[3] = {a.wait, a.communication, a.processing};
+                for (int kind = 0; kind < 3; ++kind) {
+                    if (!len[kind]) continue;
+                    auto& v = slices[k];
+                    if (!v.empty() && v.back().kind == kind && v.back().end == t) v.back().end = t + len[kind];
+                    else v.push_back({t, t + len[kind], kind});
+                    t += len[kind];
+                }
+            }
+            for (const Slice& sl : slices[k])
+                events.push_back({{"name", kKind[sl.kind]}, {"cat", "stage"}, {"ph", "X"}, {"pid", p}, {"tid", k},
+                                  {"ts", sl.start}, {"dur", sl.end - sl.start}});
+        }
+        // Counters: FIFO words at each sample, and each stage's busy fraction (processing +
+        // communication slices) over the interval to the next sample.
         const auto& s = pes[p].samples;
+        std::array<std::size_t, 3> next{}; // per stage: the first slice not wholly before the interval
         for (std::size_t i = 0; i < s.size(); ++i) {
             for (int f = 0; f < 4; ++f)
                 events.push_back({{"name", kFifo[f]}, {"ph", "C"}, {"pid", p}, {"ts", s[i].cycle},
                                   {"args", {{"words", s[i].fifo[f]}}}});
-            if (i == 0) continue;
-            const double dt = static_cast<double>(s[i].cycle - s[i - 1].cycle);
-            if (dt <= 0) continue;
-            auto frac = [&](int k) { return static_cast<double>(s[i].busy[k] - s[i - 1].busy[k]) / dt; };
-            events.push_back({{"name", "activity (busy fraction)"}, {"ph", "C"}, {"pid", p}, {"ts", s[i - 1].cycle},
-                              {"args", {{"OS", frac(0)}, {"IC", frac(1)}, {"SC", frac(2)}}}});
+            if (i + 1 == s.size() || s[i + 1].cycle <= s[i].cycle) continue;
+            const std::uint64_t lo = s[i].cycle, hi = s[i + 1].cycle;
+            nlohmann::json args;
+            for (int k = 0; k < 3; ++k) {
+                const auto& v = slices[k];
+                while (next[k] < v.size() && v[next[k]].end <= lo) ++next[k];
+                std::uint64_t busy = 0;
+                for (std::size_t j = next[k]; j < v.size() && v[j].start < hi; ++j)
+                    if (v[j].kind != 0) busy += std::min(hi, v[j].end) - std::max(lo, v[j].start);
+                args[k == 2 ? "SC" : kStage[k]] = static_cast<double>(busy) / static_cast<double>(hi - lo);
+            }
+            events.push_back({{"name", "activity (busy fraction)"}, {"ph", "C"}, {"pid", p}, {"ts", lo}, {"args", args}});
         }
     }
     nlohmann::json doc = {{"traceEvents", events},

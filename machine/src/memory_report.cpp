@@ -2,6 +2,7 @@
 
 #include "iss/cache.hpp"
 #include "kernels/abi.hpp"
+#include "machine/machine.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -31,11 +32,19 @@ MemoryReport memory_report(const rt::Grid& g, std::size_t shape_count) {
     return m;
 }
 
+MemoryReport memory_report(const rt::Grid& g, std::size_t shape_count, const Options& mo) {
+    MemoryReport m = memory_report(g, shape_count);
+    m.ic_real_cache = mo.cache.enabled;
+    if (mo.cache.enabled) m.ic_cache_bytes = mo.cache.bytes;
+    m.ic_no_resident = !mo.resident;
+    return m;
+}
+
 namespace {
 std::string mib(std::size_t b) { return fmt::format("{:.3f} MiB", static_cast<double>(b) / (1024.0 * 1024.0)); }
 
 nlohmann::json memory_json(const MemoryReport& m) {
-    return {{"os_voxel_map_bytes", m.os_voxel_map},
+    nlohmann::json j = {{"os_voxel_map_bytes", m.os_voxel_map},
             {"os_padded_map_bytes", m.os_padded_map},
             {"os_below_map_bytes", m.os_below_map},
             {"os_total_bytes", m.os_total()},
@@ -49,6 +58,8 @@ nlohmann::json memory_json(const MemoryReport& m) {
             {"ic_resident_bytes", m.ic_resident_bytes},
             {"ic_cache_bytes", m.ic_cache_bytes},
             {"ic_fits_resident", m.ic_resident_fits()}};
+    if (m.ic_no_resident) j["ic_no_resident"] = true;
+    return j;
 }
 } // namespace
 
@@ -58,12 +69,13 @@ std::string MemoryReport::text() const {
                      os_below_map, padded[0], padded[1], padded[2], os_padded_map, mib(os_total()), mib(os_sram_bytes),
                      os_fits() ? "fits" : "DOES NOT FIT: use a coarser grid");
     o += fmt::format("         IC: header {} B + voxel table {} B + lists {} B + records {} B = {} against {} resident + {} "
-                     "cache ({})\n",
+                     "{}cache ({})\n",
                      ic_header, ic_offsets, ic_lists, ic_shapes, mib(ic_total()), mib(ic_resident_bytes),
-                     mib(ic_cache_bytes),
-                     ic_resident_fits() ? "fits resident"
-                                        : "exceeds resident: the most-referenced records go there, the other records, "
-                                          "the voxel table and the lists to global memory");
+                     mib(ic_cache_bytes), ic_real_cache ? "LRU " : "",
+                     ic_no_resident       ? "--no-resident: all in global memory, behind the cache"
+                     : ic_resident_fits() ? "fits resident"
+                                          : "exceeds resident: the most-referenced records go there, the other records, "
+                                            "the voxel table and the lists to global memory");
     return o;
 }
 
@@ -72,6 +84,13 @@ std::string MemoryReport::json() const { return memory_json(*this).dump(2); }
 std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count) {
     nlohmann::json j = nlohmann::json::parse(stats_json);
     j["grid"]["memory"] = memory_json(memory_report(g, shape_count));
+    return j.dump(2) + "\n";
+}
+
+std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count,
+                               const Options& mo) {
+    nlohmann::json j = nlohmann::json::parse(stats_json);
+    j["grid"]["memory"] = memory_json(memory_report(g, shape_count, mo));
     return j.dump(2) + "\n";
 }
 

@@ -78,6 +78,65 @@ struct Stage {
                                                  proc->fault_report()));
     }
     std::uint64_t busy() const { return proc->cycle() - proc->counters().wait_cycles; }
+
+    // --trace-json: the bundles with FIFO operations, whose executions are communication cycles.
+    std::vector<std::uint32_t> fifo_pcs;
+    std::uint64_t communication() const {
+        std::uint64_t n = 0;
+        for (std::uint32_t pc : fifo_pcs) n += proc->counters().exec[pc];
+        return n;
+    }
+};
+
+// A stage's clock and its wait and communication cycles so far (the rest is processing).
+struct Meter {
+    std::uint64_t clock = 0, wait = 0, communication = 0;
+};
+
+// Gathers a stage's time into Activity stretches (see pe.hpp).
+class ActivityLog {
+  public:
+    void add(const Meter& now) {
+        if (now.clock <= last_.clock) return;
+        if (open_.end == 0) open_.start = last_.clock;
+        open_.end = now.clock;
+        open_.wait += now.wait - last_.wait;
+        open_.communication += now.communication - last_.communication;
+        open_.processing = (open_.end - open_.start) - open_.wait - open_.communication;
+        last_ = now;
+        if (open_.end - open_.start >= span_) flush();
+    }
+    std::vector<Activity> finish() {
+        flush();
+        return std::move(done_);
+    }
+
+  private:
+    void flush() {
+        if (open_.end == 0) return;
+        done_.push_back(open_);
+        open_ = Activity{};
+        if (done_.size() >= 8000) { // keep the trace small: merge neighbours, double the span
+            std::vector<Activity> merged;
+            for (std::size_t i = 0; i < done_.size(); i += 2) {
+                Activity a = done_[i];
+                if (i + 1 < done_.size()) {
+                    const Activity& b = done_[i + 1];
+                    a.end = b.end;
+                    a.wait += b.wait;
+                    a.communication += b.communication;
+                    a.processing += b.processing;
+                }
+                merged.push_back(a);
+            }
+            done_ = std::move(merged);
+            span_ *= 2;
+        }
+    }
+    Meter last_;
+    Activity open_;
+    std::vector<Activity> done_;
+    std::uint64_t span_ = 256; // cycles: the trace's resolution
 };
 
 StageCycles stage_cycles(const iss::Processor& p) {
@@ -117,6 +176,9 @@ class Pe {
         ic_.out[abi::kChIcOs] = &os_in_;
         ic_.out[abi::kChIcSc] = &sc_ic_;
         for (Stage* s : {&os_, &ic_}) {
+            if (!mo.trace_json.empty())
+                for (std::uint32_t pc = 0; pc < s->proc->program().size(); ++pc)
+                    if (s->proc->program().bundles()[pc].fifo) s->fifo_pcs.push_back(pc);
             s->proc->attach_channel(abi::kChIn, s->in);
             s->proc->attach_channel(1, s->out[1]);
             s->proc->attach_channel(2, s->out[2]);
@@ -150,7 +212,10 @@ class Pe {
                 corners_done += sc_.corners_done() - reported_;
                 reported_ = sc_.corners_done();
             }
-            if (!mo_.trace_json.empty()) sample();
+            if (!mo_.trace_json.empty()) {
+                sample();
+                log_activity();
+            }
         }
     }
 
@@ -231,9 +296,6 @@ class Pe {
         s.fifo[1] = static_cast<std::uint32_t>(ic_in_.size());
         s.fifo[2] = static_cast<std::uint32_t>(sc_os_.size());
         s.fifo[3] = static_cast<std::uint32_t>(sc_ic_.size());
-        s.busy[0] = os_.busy();
-        s.busy[1] = ic_.busy();
-        s.busy[2] = sc_.cycles.processing + sc_.cycles.communication;
         samples_.push_back(s);
         next_sample_ = t + interval_;
         if (samples_.size() >= 4000) { // keep the trace small: halve the resolution
@@ -244,6 +306,15 @@ class Pe {
         }
     }
 
+    Meter meter(int i) const {
+        if (i == 2) return {sc_.clock(), sc_.cycles.wait, sc_.cycles.communication};
+        const Stage& s = i == 0 ? os_ : ic_;
+        return {s.proc->cycle(), s.proc->counters().wait_cycles, s.communication()};
+    }
+    void log_activity() {
+        for (int i = 0; i < 3; ++i) activity_[i].add(meter(i));
+    }
+
   public:
     PeResult finish() {
         // Every processor's clock runs to the PE's end, so processing + communication + wait = end.
@@ -252,6 +323,10 @@ class Pe {
         ic_.proc->idle_until(end);
         sc_.idle_until(end);
         PeResult r;
+        if (!mo_.trace_json.empty()) {
+            log_activity();
+            for (int i = 0; i < 3; ++i) r.activity[i] = activity_[i].finish();
+        }
         r.end = end;
         r.os = stage_cycles(*os_.proc);
         r.ic = stage_cycles(*ic_.proc);
@@ -283,6 +358,7 @@ class Pe {
     std::uint64_t reported_ = 0; // corners already added to the caller's count
     std::vector<Sample> samples_;
     std::uint64_t next_sample_ = 0, interval_ = 256;
+    std::array<ActivityLog, 3> activity_;
 };
 
 PeRun::PeRun(const MachineSetup& setup, const rt::PreparedScene& prep, const rt::RenderOptions& opt,

@@ -38,11 +38,20 @@ struct MachineSetup {
     OpPrices sc_prices;
 };
 
-// Samples of FIFO occupancy and stage activity for --trace-json.
+// Samples of FIFO occupancy for --trace-json.
 struct Sample {
     std::uint64_t cycle = 0;
     std::uint32_t fifo[4] = {0, 0, 0, 0};  // os_in, ic_in, sc_from_os, sc_from_ic
-    std::uint64_t busy[3] = {0, 0, 0};     // cumulative processing + communication: os, ic, sc
+};
+
+// A stretch [start, end) of one stage's own clock for --trace-json, with the cycles of each kind
+// spent in it (wait + communication + processing = end - start): the stage's counters read
+// after every scheduler step, gathered into stretches of at least `Pe::kActivityCycles` (doubled,
+// by merging neighbours, whenever a stage holds 8000). The stretches of a stage tile its time
+// from 0 to the PE's end, so their sums are the stage's cycles in the statistics.
+struct Activity {
+    std::uint64_t start = 0, end = 0;
+    std::uint64_t wait = 0, communication = 0, processing = 0;
 };
 
 struct PeResult {
@@ -53,6 +62,7 @@ struct PeResult {
     std::uint64_t bundles = 0, visits = 0, returns = 0, misses = 0, hits = 0;
     std::uint64_t cache_accesses = 0, cache_misses = 0, max_fifo = 0;
     std::vector<Sample> samples;
+    std::array<std::vector<Activity>, 3> activity; // os, ic, sc (--trace-json only)
 };
 
 class Pe;
@@ -86,8 +96,10 @@ std::vector<PeResult> run_interleaved(const MachineSetup& setup, const rt::Prepa
 std::vector<PeResult> run_dynamic(const MachineSetup& setup, const rt::PreparedScene& prep, const rt::RenderOptions& opt,
                                   const Options& mo, std::size_t ncorners, CornerSink sink, int& threads);
 
-// Chrome/Perfetto trace-event JSON: per PE (pid), counter tracks of FIFO words and of each
-// stage's activity (fraction of the sample interval spent processing or communicating).
+// Chrome/Perfetto trace-event JSON: per PE a process (pid) with one thread per stage (OS, IC, SC)
+// holding "X" slices named processing, communication and wait (from the Activity stretches; within
+// a stretch drawn in that order), counter tracks of FIFO words, and of each stage's busy
+// fraction (processing + communication over the sample interval, from the same slices).
 void write_trace_json(const std::string& path, const std::vector<PeResult>& pes);
 
 } // namespace nesshi::machine

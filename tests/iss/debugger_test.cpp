@@ -4,6 +4,8 @@
 #include "iss/debugger.hpp"
 
 #include <cstdio>
+#include <chrono>
+#include <thread>
 
 using namespace nesshi;
 using namespace nesshi::iss;
@@ -58,4 +60,104 @@ TEST_CASE("step stops at the debugger's cycle limit inside a wait") {
     CHECK(p->cycle() == 50);
     CHECK(contents(out).find("stopped after 50 cycles (limit)") != std::string::npos);
     std::fclose(out);
+}
+
+// Ctrl-C during `continue`: the SIGINT handler sets Debugger::interrupt; the run stops before
+// its next bundle with the state kept, the flag is cleared, and the session goes on.
+TEST_CASE("setting the interrupt flag stops a continue and keeps the state") {
+    // An endless loop: r2 stays 0.
+    auto p = make_proc("os", {{op("li", 1, 0, 0, 0)}, {op("addi", 1, 1, 0, 1), op("beqz", 0, 2, 0, 1)}});
+    std::FILE* out = std::tmpfile();
+    REQUIRE(out);
+    Debugger d(*p, out);
+    std::thread ctrl_c([&] { // as the signal handler would, from outside the run loop
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        d.interrupt.store(true);
+    });
+    CHECK(d.execute("continue"));
+    ctrl_c.join();
+    CHECK(p->status() == Status::Running);
+    CHECK(p->cycle() > 0);
+    CHECK(p->cycle() < d.max_cycles);
+    CHECK(!d.interrupt.load());
+    CHECK(contents(out).find("interrupted: cycle ") != std::string::npos);
+    const uint64_t at = p->cycle();
+    const uint32_t r1 = p->reg(R(1));
+    CHECK(r1 == at - 1); // one addi per cycle after the li: nothing lost, nothing redone
+    CHECK(d.execute("step"));
+    CHECK(p->cycle() == at + 1);
+    CHECK(p->reg(R(1)) == r1 + 1);
+    // Set before a command starts, the flag stops it at once (debug_interactive clears it first).
+    d.interrupt.store(true);
+    CHECK(d.execute("step 5"));
+    CHECK(p->cycle() == at + 1);
+    std::fclose(out);
+}
+
+// `step -1` used to read -1 as 2^32 - 1 bundles and run to the end; `step 0` issued one.
+TEST_CASE("step -1 is an error and step 0 does nothing") {
+    auto p = make_proc("os", {{op("nop")}, {op("nop")}, {op("halt")}});
+    std::FILE* out = std::tmpfile();
+    REQUIRE(out);
+    Debugger d(*p, out);
+    CHECK(d.execute("step -1"));
+    CHECK(p->cycle() == 0);
+    CHECK(contents(out).find("step takes a count of 0 or more, not -1") != std::string::npos);
+    CHECK(d.execute("step 0"));
+    CHECK(p->cycle() == 0);
+    CHECK(d.execute("step 1"));
+    CHECK(p->cycle() == 1);
+    std::fclose(out);
+}
+
+TEST_CASE("run restarts with the breakpoints kept; the host refills its inputs") {
+    auto p = make_proc("os", {{op("nop")}, {op("nop")}, {op("nop")}, {op("halt")}});
+    std::FILE* out = std::tmpfile();
+    REQUIRE(out);
+    Debugger d(*p, out);
+    int restarts = 0;
+    d.on_restart = [&] { ++restarts; };
+    CHECK(d.execute("break 2"));
+    CHECK(d.execute("continue"));
+    CHECK(p->pc() == 2);
+    CHECK(d.execute("continue"));
+    CHECK(p->status() == Status::Halted);
+    CHECK(d.execute("run"));
+    CHECK(restarts == 1);
+    CHECK(p->status() == Status::Running);
+    CHECK(p->pc() == 2);
+    CHECK(p->cycle() == 2);
+    CHECK(d.execute("restart"));
+    CHECK(restarts == 2);
+    CHECK(p->cycle() == 0);
+    CHECK(d.execute("break 0"));
+    CHECK(d.execute("run")); // a breakpoint at pc 0 stops before anything issues
+    CHECK(p->cycle() == 0);
+    std::fclose(out);
+}
+
+TEST_CASE("TAB completion offers commands, info topics, registers and labels") {
+    auto p = make_proc("os", {{op("nop")}, {op("nop")}, {op("halt")}}, Engine::Checked, {{"loop", 1}, {"done", 2}});
+    std::FILE* out = std::tmpfile();
+    REQUIRE(out);
+    Debugger d(*p, out);
+    using V = std::vector<std::string>;
+    CHECK(d.complete("con") == V{"continue"});
+    CHECK(d.complete("re") == V{"restart"});
+    CHECK(d.complete("info i") == V{"inflight"});
+    CHECK(d.complete("break lo") == V{"loop"});
+    CHECK(d.complete("print r12") == V{"r12", "r120", "r121", "r122", "r123", "r124", "r125", "r126", "r127"});
+    CHECK(d.complete("p f127") == V{"f127"});
+    CHECK(d.complete("until d") == V{"done"});
+    CHECK(d.complete("x zz").empty());
+    CHECK(d.complete("").size() == Debugger::commands().size());
+    std::fclose(out);
+}
+
+TEST_CASE("the history file: XDG_STATE_HOME, else HOME, else none") {
+    CHECK(debug_history_path("/s", "/h") == "/s/nesshi_history");
+    CHECK(debug_history_path("", "/h") == "/h/.nesshi_history");
+    CHECK(debug_history_path(nullptr, "/h") == "/h/.nesshi_history");
+    CHECK(debug_history_path(nullptr, nullptr).empty());
+    CHECK(debug_history_path(nullptr, "").empty());
 }

@@ -64,3 +64,40 @@ TEST_CASE("stats count cycles, bundles, ops and ILP") {
     CHECK(s.regions[1].label == "loop");
     CHECK(s.regions[1].bundles == 6);
 }
+
+// The write-port histogram covers the cycles run: a run stopped at the cycle limit, blocked on
+// a FIFO, or stopped by a fault before the bundle at cycle() issued had landed that cycle's
+// writes already, and counted cycle() + 1 cycles (1001 for `sim --max-cycles 1000`).
+TEST_CASE("the write-port histogram counts cycle() cycles however the run stops") {
+    auto sum = [](const std::vector<uint64_t>& h) { uint64_t n = 0; for (uint64_t v : h) n += v; return n; };
+    auto spin = [] {
+        return std::vector<Bundle>{{op("li", 1, 0, 0, 0)}, {op("addi", 1, 1, 0, 1), op("fli", 1, 0, 0, 0), op("beqz", 0, 2, 0, 1)}};
+    };
+    for (Engine e : {Engine::Fast, Engine::Checked}) {
+        auto p = make_proc("os", spin(), e);
+        REQUIRE(p->run(1000) == Status::Running);
+        REQUIRE(p->cycle() == 1000);
+        for (int f = 0; f < nesshi::isa::kNumRegFiles; ++f) CHECK(sum(p->write_histogram(f)) == 1000);
+        CHECK(p->write_histogram(0)[1] == 999); // li and 998 addi; the 1000th bundle's write lands in cycle 1000
+        REQUIRE(p->run(500) == Status::Running); // and it continues exactly
+        for (int f = 0; f < nesshi::isa::kNumRegFiles; ++f) CHECK(sum(p->write_histogram(f)) == 1500);
+        // One bundle at a time, as the debugger steps.
+        auto q = make_proc("os", spin(), e);
+        for (int i = 0; i < 20; ++i) q->step(1);
+        CHECK(q->cycle() == 20);
+        for (int f = 0; f < nesshi::isa::kNumRegFiles; ++f) CHECK(sum(q->write_histogram(f)) == 20);
+    }
+    // Blocked on an empty channel after a result of latency 4 (fdiv) was issued: the ring writes landing at the stop.
+    auto b = make_proc("os", {{op("fli", 2, 0, 0, 0x40000000), op("fli", 3, 0, 0, 0x40000000)},
+                              {op("fdiv", 4, 2, 3)}, {op("nop")}, {op("nop")}, {op("nop")},
+                              {op("recv", 1, 0, 0, 0)}, {op("halt")}});
+    QueueChannel ch;
+    b->attach_channel(0, &ch);
+    REQUIRE(b->run() == Status::Blocked);
+    for (int f = 0; f < nesshi::isa::kNumRegFiles; ++f) CHECK(sum(b->write_histogram(f)) == b->cycle());
+    ch.feed(1);
+    REQUIRE(b->run() == Status::Halted);
+    for (int f = 0; f < nesshi::isa::kNumRegFiles; ++f) CHECK(sum(b->write_histogram(f)) == b->cycle());
+    CHECK(b->write_histogram(1)[1] == 1); // the fdiv
+    CHECK(b->write_histogram(1)[2] == 1); // the two fli
+}

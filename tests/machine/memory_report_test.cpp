@@ -76,3 +76,30 @@ TEST_CASE("The memory report says the IC data fit resident memory exactly when t
     }
 }
 
+
+// The report used to describe the default machine whatever the options: a 1 MiB cache under
+// --cache-size 65536, and "fits resident" under --no-resident.
+TEST_CASE("The memory report follows --cache-size and --no-resident", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("tetra:1"), 10);
+    const std::size_t shapes = prep.shapes.shapes.size();
+    machine::Options mo = model(machine::Model::V);
+    const machine::MemoryReport ideal = machine::memory_report(prep.grid, shapes, mo);
+    CHECK(ideal.text() == machine::memory_report(prep.grid, shapes).text()); // the default machine: as before
+    CHECK(ideal.json() == machine::memory_report(prep.grid, shapes).json());
+    mo.cache.enabled = true;
+    mo.cache.bytes = 65536;
+    mo.resident = false;
+    const machine::MemoryReport m = machine::memory_report(prep.grid, shapes, mo);
+    CHECK(m.ic_cache_bytes == 65536);
+    CHECK(m.ic_no_resident);
+    CHECK_THAT(m.text(), Catch::Contains("+ 0.062 MiB LRU cache (--no-resident: all in global memory, behind the cache)"));
+    const nlohmann::json j = nlohmann::json::parse(m.json());
+    CHECK(j["ic_cache_bytes"].get<std::size_t>() == 65536);
+    CHECK(j["ic_no_resident"].get<bool>());
+    // The machine's stats JSON carries the same report; with --no-resident every IC access goes to global memory.
+    const RenderOptions opt = small(4);
+    const machine::Result r = machine::render(prep, opt, mo);
+    const nlohmann::json s = nlohmann::json::parse(machine::stats_json(prep, opt, mo, r));
+    CHECK(s["grid"]["memory"] == j);
+    CHECK(r.machine.cache_accesses > 0);
+}

@@ -10,6 +10,7 @@
 
 #include <fmt/core.h>
 
+#include <atomic>
 #include <cstdio>
 #include <functional>
 #include <optional>
@@ -45,9 +46,25 @@ class Debugger {
 
     uint64_t max_cycles = 100'000'000; // `step`, `continue` and `until` stop after this many cycles
 
+    // Set (by the SIGINT handler of debug_interactive, or by any thread) to stop a running
+    // `continue`, `until`, `step` or `run` before its next bundle; the state is kept, and the
+    // flag is cleared when the run stops on it. Lock-free, so a signal handler may set it.
+    std::atomic<bool> interrupt{false};
+
+    // Called by `run` and `restart` after the processor is back to its loaded state: the host
+    // re-creates what the program reads (e.g. refills its input FIFOs). Breakpoints and watches stay.
+    std::function<void()> on_restart;
+
+    // TAB completion: the candidates for the last word of `line` (the text before the cursor):
+    // command names for the first word, `info` topics after `info`, else register names and
+    // labels. Sorted, without duplicates.
+    std::vector<std::string> complete(std::string_view line) const;
+
   private:
     void cmd_step(const std::vector<std::string>& a);
     void cmd_continue(const std::vector<std::string>& a);
+    void cmd_run(const std::vector<std::string>& a);
+    void cmd_restart(const std::vector<std::string>& a);
     void cmd_until(const std::vector<std::string>& a);
     void cmd_break(const std::vector<std::string>& a);
     void cmd_delete(const std::vector<std::string>& a);
@@ -68,6 +85,7 @@ class Debugger {
     // Runs bundle by bundle until `stop` says so, a breakpoint, a watch change, or the run ends.
     void run_until(const std::function<bool()>& stop, bool stop_at_breaks);
     void where();
+    void restart(); // the processor and its inputs back to the loaded state
     bool finished();
     std::string loc_text(uint32_t pc) const;
 
@@ -91,8 +109,14 @@ class Debugger {
     bool quit_ = false;
 };
 
-// Reads commands with line editing and history until `quit` or end of input.
+// Reads commands with line editing, TAB completion (Debugger::complete) and history until
+// `quit` or end of input (Ctrl-D). Ctrl-C during a run stops it (Debugger::interrupt); at the
+// prompt it clears the line. The history persists in debug_history_path() when that is not empty.
 void debug_interactive(Debugger& d);
+// The history file: $XDG_STATE_HOME/nesshi_history when XDG_STATE_HOME is set (and not empty),
+// else $HOME/.nesshi_history, else "" (no history is kept). Arguments are the variables' values
+// (nullptr when unset).
+std::string debug_history_path(const char* xdg_state_home, const char* home);
 // Runs the commands of a script file, echoing each after a "(nesshi) " prompt (for goldens).
 // Throws base::Error (a std::runtime_error) when base::read_file refuses the file.
 void debug_script(Debugger& d, const std::string& path, std::FILE* out);

@@ -29,7 +29,9 @@ struct MemoryReport {
     bool ic_data_resident = false;  // kernels::abi::ic_data_fit_resident
     std::size_t os_sram_bytes = 0;     // the OS SRAM (ABI: OS_OCC_LIMIT, the presets' "sram")
     std::size_t ic_resident_bytes = 0; // IC resident memory (ABI, the presets' "resident")
-    std::size_t ic_cache_bytes = 0;    // the IC cache's default size (iss::CacheGeometry)
+    std::size_t ic_cache_bytes = 0;    // the IC cache's size: --cache-size, else the default (iss::CacheGeometry)
+    bool ic_real_cache = false;        // --cache: an LRU cache of that size (else the ideal one, 100% hits)
+    bool ic_no_resident = false;       // --no-resident: every IC datum in global memory, behind the cache
 
     std::size_t os_total() const { return os_used; }
     std::size_t ic_total() const { return ic_header + ic_offsets + ic_lists + ic_shapes; }
@@ -40,9 +42,17 @@ struct MemoryReport {
     std::string json() const; // the stats JSON's grid.memory object
 };
 
+struct Options;
+
+// With `mo`: the report of that machine (its cache size, resident memory used or not); without,
+// of the default machine (the ideal 1 MiB cache, resident memory used).
 MemoryReport memory_report(const rt::Grid& g, std::size_t shape_count);
+MemoryReport memory_report(const rt::Grid& g, std::size_t shape_count, const Options& mo);
 
 // A render's stats JSON (rt::stats_json) with the machine's memory report as grid.memory.
+// ic_no_resident appears only when true (the default report's keys do not change).
 std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count);
+std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count,
+                               const Options& mo);
 
 } // namespace nesshi::machine
