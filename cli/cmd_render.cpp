@@ -8,6 +8,7 @@
 
 #include "machine/memory_report.hpp"
 #include "machine/machine.hpp"
+#include "iss/stats.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/format.h>
@@ -31,6 +32,7 @@ struct RenderArgs {
     std::string out, stats_json, id_buffer, t_buffer;
     double cutoff = 0;
     bool quiet = false;
+    bool detail = false; // the OS's and IC's processor statistics after the summary
     // the simulated machine (models S, M, V)
     machine::Options mo;
     bool cache = false;
@@ -153,6 +155,11 @@ void run_render(const RenderArgs& a) {
                            mo.ray_slots, mo.ray_slots, mo.fifo_capacity, machine::kLongestMessageWords);
             fmt::print("{}", machine::format_stats(mr.machine));
             fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
+            if (a.detail) {
+                const char* over = mr.machine.per_pe.size() > 1 ? ", summed over PEs" : "";
+                fmt::print("\n--- OS stage{} ---\n{}", over, iss::stats_text(mr.machine.os_detail));
+                fmt::print("\n--- IC stage{} ---\n{}", over, iss::stats_text(mr.machine.ic_detail));
+            }
         }
     }
 }
@@ -203,6 +210,8 @@ void add_render(CLI::App& app) {
     cmd->add_option("--quantum", a->mo.quantum, "scheduling slack between a PE's stages, cycles (default 32)")
         ->check(CLI::PositiveNumber)->group(m);
     cmd->add_option("--max-cycles", a->mo.max_cycles, "stop with an error past this many cycles per PE")->group(m);
+    cmd->add_flag("--detail", a->detail, "also print the OS's and IC's processor statistics (units, ports, ILP histogram, regions)")
+        ->group(m);
     cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);
     cmd->add_option("--trace-json", a->mo.trace_json, "Chrome/Perfetto trace of stage activity and FIFO words")->group(m);
     cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);

@@ -15,6 +15,24 @@ double ratio(uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; }
 void trim_hist(std::vector<uint64_t>& h) {
     while (h.size() > 1 && h.back() == 0) h.pop_back();
 }
+
+// The ratios of the counts: ILP, utilisation of the whole, of each unit and of each port file.
+void derive_ratios(Stats& s) {
+    s.ilp = ratio(s.processing_ops, s.processing_cycles);
+    s.ops_per_bundle = ratio(s.ops, s.bundles);
+    s.utilisation = s.slots ? s.ilp / s.slots : 0;
+    for (auto& u : s.units) u.utilisation = ratio(u.ops, s.processing_cycles);
+    for (auto& ps : s.ports) {
+        ps.read_utilisation = ratio(ps.reads, uint64_t{ps.read_ports} * s.cycles);
+        ps.write_utilisation = ratio(ps.writes, uint64_t{ps.write_ports} * s.cycles);
+    }
+    for (auto& r : s.regions) r.ilp = ratio(r.processing_ops, r.processing_cycles);
+}
+
+void add_hist(std::vector<uint64_t>& into, const std::vector<uint64_t>& add) {
+    if (into.size() < add.size()) into.resize(add.size(), 0);
+    for (size_t i = 0; i < add.size(); ++i) into[i] += add[i];
+}
 } // namespace
 
 Stats compute_stats(const Processor& p, size_t hot) {
@@ -35,10 +53,12 @@ Stats compute_stats(const Processor& p, size_t hot) {
         s.ports.push_back(std::move(ps));
     }
     const uint32_t penalty = m.branch_penalty;
+    s.ilp_hist.assign(isa::kMaxSlots + 1, 0);
     for (uint32_t pc = 0; pc < prog.size(); ++pc) {
         const DecodedBundle& b = prog.bundles()[pc];
         uint64_t n = k.exec[pc];
         s.bundles += n;
+        s.ilp_hist[std::min<size_t>(b.ops, isa::kMaxSlots)] += n;
         s.ops += n * b.ops;
         if (b.fifo) {
             s.communication_cycles += n;
@@ -61,18 +81,14 @@ Stats compute_stats(const Processor& p, size_t hot) {
     s.cycles = s.processing_cycles + s.communication_cycles + s.wait_cycles;
     s.words_received = k.words_received;
     s.words_sent = k.words_sent;
-    s.ilp = ratio(s.processing_ops, s.processing_cycles);
-    s.ops_per_bundle = ratio(s.ops, s.bundles);
-    s.utilisation = s.slots ? s.ilp / s.slots : 0;
-    for (auto& u : s.units) u.utilisation = ratio(u.ops, s.processing_cycles);
     for (auto& ps : s.ports) {
         ps.read_hist[0] += s.cycles - s.bundles;
         for (size_t n = 0; n < ps.write_hist.size(); ++n) ps.writes += n * ps.write_hist[n];
-        ps.read_utilisation = ratio(ps.reads, uint64_t{ps.read_ports} * s.cycles);
-        ps.write_utilisation = ratio(ps.writes, uint64_t{ps.write_ports} * s.cycles);
         trim_hist(ps.read_hist);
         trim_hist(ps.write_hist);
     }
+    trim_hist(s.ilp_hist);
+    derive_ratios(s);
     for (const Region& r : prog.regions()) {
         RegionStats rs{r.label, r.first, r.end};
         for (uint32_t pc = r.first; pc < r.end; ++pc) {
@@ -84,11 +100,10 @@ Stats compute_stats(const Processor& p, size_t hot) {
             rs.processing_cycles += k.taken[pc] * penalty + k.stall[pc];
             rs.wait_cycles += k.wait[pc];
         }
-        uint64_t proc_ops = 0;
         for (uint32_t pc = r.first; pc < r.end; ++pc)
-            if (!prog.bundles()[pc].fifo) proc_ops += k.exec[pc] * prog.bundles()[pc].ops;
+            if (!prog.bundles()[pc].fifo) rs.processing_ops += k.exec[pc] * prog.bundles()[pc].ops;
         rs.cycles = rs.processing_cycles + rs.communication_cycles + rs.wait_cycles;
-        rs.ilp = ratio(proc_ops, rs.processing_cycles);
+        rs.ilp = ratio(rs.processing_ops, rs.processing_cycles);
         s.regions.push_back(std::move(rs));
     }
     std::vector<uint32_t> order(prog.size());
@@ -100,6 +115,50 @@ Stats compute_stats(const Processor& p, size_t hot) {
                          prog.bundles()[pc].ops});
     }
     return s;
+}
+
+void accumulate(Stats& into, const Stats& add) {
+    if (into.machine.empty()) {
+        into = add;
+        into.hot.clear();
+        return;
+    }
+    into.cycles += add.cycles;
+    into.processing_cycles += add.processing_cycles;
+    into.communication_cycles += add.communication_cycles;
+    into.wait_cycles += add.wait_cycles;
+    into.bubble_cycles += add.bubble_cycles;
+    into.stall_cycles += add.stall_cycles;
+    into.bundles += add.bundles;
+    into.processing_bundles += add.processing_bundles;
+    into.ops += add.ops;
+    into.processing_ops += add.processing_ops;
+    into.taken_branches += add.taken_branches;
+    into.words_received += add.words_received;
+    into.words_sent += add.words_sent;
+    add_hist(into.ilp_hist, add.ilp_hist);
+    for (size_t i = 0; i < into.units.size() && i < add.units.size(); ++i) {
+        into.units[i].ops += add.units[i].ops;
+        into.units[i].comm_ops += add.units[i].comm_ops;
+    }
+    for (size_t i = 0; i < into.ports.size() && i < add.ports.size(); ++i) {
+        into.ports[i].reads += add.ports[i].reads;
+        into.ports[i].writes += add.ports[i].writes;
+        add_hist(into.ports[i].read_hist, add.ports[i].read_hist);
+        add_hist(into.ports[i].write_hist, add.ports[i].write_hist);
+    }
+    for (size_t i = 0; i < into.regions.size() && i < add.regions.size(); ++i) {
+        RegionStats& r = into.regions[i];
+        const RegionStats& a = add.regions[i];
+        r.cycles += a.cycles;
+        r.processing_cycles += a.processing_cycles;
+        r.communication_cycles += a.communication_cycles;
+        r.wait_cycles += a.wait_cycles;
+        r.bundles += a.bundles;
+        r.ops += a.ops;
+        r.processing_ops += a.processing_ops;
+    }
+    derive_ratios(into);
 }
 
 std::string stats_text(const Stats& s) {
@@ -114,6 +173,11 @@ std::string stats_text(const Stats& s) {
     o += fmt::format("ILP             {:>12.2f}  operations per bundle over processing cycles\n", s.ilp);
     o += fmt::format("utilisation     {:>12.2f}  ILP / {} slots\n", s.utilisation, s.slots);
     o += fmt::format("taken branches  {:>12}\n", s.taken_branches);
+    {
+        std::string h;
+        for (size_t i = 0; i < s.ilp_hist.size(); ++i) h += fmt::format("{}{}", i ? " " : "", s.ilp_hist[i]);
+        o += fmt::format("bundles by ops  {:>12}  (bundles issued with 0, 1, 2, ... operations)\n", h);
+    }
     o += fmt::format("FIFO words      {:>12}  received, {} sent\n", s.words_received, s.words_sent);
     o += "\nunit        ops   comm ops  utilisation\n";
     for (const auto& u : s.units)
@@ -160,18 +224,19 @@ nlohmann::json stats_json(const Stats& s) {
     j["processing_ops"] = s.processing_ops;
     j["ilp"] = s.ilp;
     j["ops_per_bundle"] = s.ops_per_bundle;
-    j["utilisation"] = s.utilisation;
+    j["utilization"] = s.utilisation;
+    j["ilp_hist"] = s.ilp_hist;
     j["taken_branches"] = s.taken_branches;
     j["words_received"] = s.words_received;
     j["words_sent"] = s.words_sent;
     j["units"] = json::array();
     for (const auto& u : s.units)
-        j["units"].push_back({{"name", u.name}, {"ops", u.ops}, {"comm_ops", u.comm_ops}, {"utilisation", u.utilisation}});
+        j["units"].push_back({{"name", u.name}, {"ops", u.ops}, {"comm_ops", u.comm_ops}, {"utilization", u.utilisation}});
     j["ports"] = json::array();
     for (const auto& p : s.ports)
         j["ports"].push_back({{"file", p.file}, {"read_ports", p.read_ports}, {"write_ports", p.write_ports},
-                              {"reads", p.reads}, {"writes", p.writes}, {"read_utilisation", p.read_utilisation},
-                              {"write_utilisation", p.write_utilisation}, {"read_hist", p.read_hist},
+                              {"reads", p.reads}, {"writes", p.writes}, {"read_utilization", p.read_utilisation},
+                              {"write_utilization", p.write_utilisation}, {"read_hist", p.read_hist},
                               {"write_hist", p.write_hist}});
     j["regions"] = json::array();
     for (const auto& r : s.regions)

@@ -69,6 +69,15 @@ std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& o
         };
         j["machine"]["kernels"] = {{"os", build(m.os_kernel)}, {"ic", build(m.ic_kernel)}};
     }
+    // What `nesshi sim` gives for one processor, for the OS and IC stages (SC is a cost model):
+    // summed over PEs, and per PE when there are several.
+    nlohmann::json detail = {{"os", iss::stats_json(m.os_detail)}, {"ic", iss::stats_json(m.ic_detail)}};
+    if (m.per_pe.size() > 1) {
+        detail["per_pe"] = nlohmann::json::array();
+        for (const PeCycles& p : m.per_pe)
+            detail["per_pe"].push_back({{"os", iss::stats_json(p.os_detail)}, {"ic", iss::stats_json(p.ic_detail)}});
+    }
+    j["detail"] = std::move(detail);
     j["host"]["wall_seconds"] = m.wall_seconds;
     j["host"]["simulated_bundles"] = m.simulated_bundles;
     j["host"]["bundles_per_second"] = m.bundles_per_second();

@@ -139,8 +139,9 @@ class ActivityLog {
     std::uint64_t span_ = 256; // cycles: the trace's resolution
 };
 
-StageCycles stage_cycles(const iss::Processor& p) {
-    const iss::Stats s = iss::compute_stats(p, 0);
+constexpr std::size_t kHotBundles = 10; // the most executed bundles each stage's detail lists
+
+StageCycles stage_cycles(const iss::Processor& p, const iss::Stats& s) {
     StageCycles c;
     c.processing = s.processing_cycles;
     c.communication = s.communication_cycles;
@@ -328,8 +329,10 @@ class Pe {
             for (int i = 0; i < 3; ++i) r.activity[i] = activity_[i].finish();
         }
         r.end = end;
-        r.os = stage_cycles(*os_.proc);
-        r.ic = stage_cycles(*ic_.proc);
+        r.os_detail = iss::compute_stats(*os_.proc, kHotBundles);
+        r.ic_detail = iss::compute_stats(*ic_.proc, kHotBundles);
+        r.os = stage_cycles(*os_.proc, r.os_detail);
+        r.ic = stage_cycles(*ic_.proc, r.ic_detail);
         r.sc = sc_.cycles;
         r.rays = sc_.rays;
         r.traversal = sc_.traversal;

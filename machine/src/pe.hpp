@@ -11,6 +11,7 @@
 // Model S: the three stages share one clock; whichever stage has work runs to completion of
 // that work while the others wait, so the PE's time is the sum of the stages' loads.
 #pragma once
+#include "iss/stats.hpp"
 
 #include "fifo.hpp"
 #include "sc_stage.hpp"
@@ -56,6 +57,7 @@ struct Activity {
 
 struct PeResult {
     StageCycles os, ic, sc;
+    iss::Stats os_detail, ic_detail; // what `nesshi sim` reports, for the OS's and the IC's processor
     std::uint64_t end = 0; // the PE's finishing cycle
     rt::RayStats rays;
     std::array<rt::TraceCounters, rt::kRayKinds> traversal{};

@@ -117,7 +117,9 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
     for (const PeResult& r : results) {
         ms.total_cycles = std::max(ms.total_cycles, r.end);
         ms.pe_cycles.push_back(r.end);
-        ms.per_pe.push_back({r.end, r.os, r.ic, r.sc});
+        ms.per_pe.push_back({r.end, r.os, r.ic, r.sc, r.os_detail, r.ic_detail});
+        iss::accumulate(ms.os_detail, r.os_detail);
+        iss::accumulate(ms.ic_detail, r.ic_detail);
         ms.os += r.os;
         ms.ic += r.ic;
         ms.sc += r.sc;
@@ -132,6 +134,10 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
         ms.simulated_bundles += r.bundles;
         res.render.stats.rays += r.rays;
         for (std::size_t k = 0; k < rt::kRayKinds; ++k) res.render.stats.traversal[k] += r.traversal[k];
+    }
+    if (results.size() == 1) { // one PE: its hottest bundles too (a sum over PEs has none)
+        ms.os_detail = results[0].os_detail;
+        ms.ic_detail = results[0].ic_detail;
     }
     ms.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     res.render.image = rt::resolve_image(colors, W, H);

@@ -327,6 +327,20 @@ TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machi
         CHECK(native["traversal"][kind].contains("voxel_steps"));
     }
     CHECK(j["traversal"]["eye"]["rays"].get<std::uint64_t>() == 17 * 17);
+    // The stages' processor detail agrees with their cycles (one PE: the sum is that PE's).
+    for (const char* st : {"os", "ic"}) {
+        INFO(st);
+        const nlohmann::json& d = j["detail"][st];
+        CHECK(d["processing_cycles"] == j["cycles"][st]["processing"]);
+        CHECK(d["communication_cycles"] == j["cycles"][st]["communication"]);
+        CHECK(d["wait_cycles"] == j["cycles"][st]["wait"]);
+        std::uint64_t hist = 0;
+        for (const auto& n : d["ilp_hist"]) hist += n.get<std::uint64_t>();
+        CHECK(hist == j["cycles"][st]["bundles"].get<std::uint64_t>());
+        CHECK(d["utilization"].get<double>() == Approx(j["cycles"][st]["utilization"].get<double>()));
+        CHECK(!d["regions"].empty());
+        CHECK(!d["hot"].empty());
+    }
     // The golden part: everything but host timings.
     j.erase("host");
     j["grid"].erase("build_seconds");

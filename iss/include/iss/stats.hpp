@@ -18,17 +18,19 @@
 //   ilp                   processing_ops / processing_cycles (the paper's "operations per bundle
 //                         over processing time")
 //   ops_per_bundle        ops / bundles
-//   utilisation           ilp / slots (the paper's unit utilisation)
+//   utilization           ilp / slots (the paper's unit utilisation; the JSON spells it as the
+//                         machine's stats JSON does)
+//   ilp_hist[n]           issued bundles with n operations (nops not counted)
 //   taken_branches        taken control transfers
 //   words_received, words_sent   FIFO words
 // units[] (one per issue slot)
 //   name, ops             operations issued in that slot in processing bundles
 //   comm_ops              operations issued in that slot in communication bundles
-//   utilisation           ops / processing_cycles
+//   utilization           ops / processing_cycles
 // ports[] (one per register file: IRF, FPRF)
 //   read_ports, write_ports   from the machine description
 //   reads, writes         register reads at issue; writes counted in the cycle they land
-//   read_utilisation      reads / (read_ports * cycles); write_utilisation likewise
+//   read_utilization      reads / (read_ports * cycles); write_utilization likewise
 //   read_hist[n], write_hist[n]   cycles in which n ports were used (over all cycles)
 // regions[] (a region runs from a code label to the next label)
 //   label, first, end     bundle range [first, end)
@@ -67,7 +69,7 @@ struct RegionStats {
     std::string label;
     uint32_t first = 0, end = 0;
     uint64_t cycles = 0, processing_cycles = 0, communication_cycles = 0, wait_cycles = 0;
-    uint64_t bundles = 0, ops = 0;
+    uint64_t bundles = 0, ops = 0, processing_ops = 0;
     double ilp = 0;
 };
 
@@ -86,6 +88,7 @@ struct Stats {
     uint64_t bundles = 0, processing_bundles = 0, ops = 0, processing_ops = 0;
     uint64_t taken_branches = 0, words_received = 0, words_sent = 0;
     double ilp = 0, ops_per_bundle = 0, utilisation = 0;
+    std::vector<uint64_t> ilp_hist; // issued bundles by operation count
     std::vector<UnitStats> units;
     std::vector<PortStats> ports;
     std::vector<RegionStats> regions;
@@ -95,6 +98,10 @@ struct Stats {
 // `hot` limits the hot-spot listing.
 Stats compute_stats(const Processor& p, size_t hot = 10);
 std::string stats_text(const Stats& s);
+// Adds `add` (another processor running the same program on the same machine, e.g. another PE's
+// stage) into `into`: counts and histograms summed, ratios recomputed; `hot` is left out (a
+// merge of per-processor top lists would not be the top list of the sum). `into` may be empty.
+void accumulate(Stats& into, const Stats& add);
 nlohmann::json stats_json(const Stats& s);
 
 } // namespace nesshi::iss

@@ -12,6 +12,7 @@
 // data). See machine/README.md for the scheduling and cost models.
 #pragma once
 #include "iss/cache.hpp"
+#include "iss/stats.hpp"
 #include "machine/kernel_build.hpp"
 #include "rt/render.hpp"
 
@@ -94,6 +95,7 @@ struct StageCycles {
 struct PeCycles {
     std::uint64_t end = 0;
     StageCycles os, ic, sc;
+    iss::Stats os_detail, ic_detail; // what `nesshi sim` reports for the PE's OS and IC processors
 };
 
 struct Stats {
@@ -105,6 +107,9 @@ struct Stats {
     // cache, unbounded FIFOs, interleaved DIS); 0 otherwise and for models S and V.
     std::uint64_t s_cycles = 0;
     StageCycles os, ic, sc;                // summed over PEs
+    // The OS's and the IC's processor statistics (units, register ports with histograms, ILP
+    // histogram, per-label regions) summed over PEs; with one PE also its hottest bundles.
+    iss::Stats os_detail, ic_detail;
     std::vector<std::uint64_t> pe_cycles;  // finishing time of each PE
     std::vector<PeCycles> per_pe;          // each PE's own stage cycles (os, ic, sc are their sums)
     std::uint64_t visits = 0, returns = 0, misses = 0, hits = 0; // FIFO messages
