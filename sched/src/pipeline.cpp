@@ -40,18 +40,6 @@ constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next 
 char file_prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
 std::string reg_name(isa::RegFile f, int r) { return fmt::format("{}{}", file_prefix(f), r); }
 
-bool parse_reg(std::string_view s, isa::RegFile& f, int& r) {
-    if (s.size() < 2 || (s[0] != 'r' && s[0] != 'f')) return false;
-    int v = 0;
-    for (char c : s.substr(1)) {
-        if (!std::isdigit(static_cast<unsigned char>(c))) return false;
-        v = v * 10 + (c - '0');
-        if (v > 1000) return false;
-    }
-    f = s[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float;
-    r = v;
-    return true;
-}
 
 // ---- the region -------------------------------------------------------------------------------
 
@@ -77,25 +65,6 @@ struct Region {
     std::map<std::string, int> virtual_index;
     std::vector<std::pair<int, int>> noalias; // int register pairs
 };
-
-std::vector<std::string> split_operands(const std::string& s) {
-    std::vector<std::string> out;
-    if (trim(s).empty()) return out;
-    int depth = 0;
-    std::string cur;
-    for (char c : s) {
-        if (c == '(') ++depth;
-        if (c == ')') --depth;
-        if (c == ',' && depth == 0) {
-            out.push_back(trim(cur));
-            cur.clear();
-        } else {
-            cur += c;
-        }
-    }
-    out.push_back(trim(cur));
-    return out;
-}
 
 Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
     Region r;

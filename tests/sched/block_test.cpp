@@ -114,6 +114,32 @@ TEST_CASE("pack_source keeps what is outside the blocks and reports each block",
     CHECK(r.blocks[0].bundles == 1);
 }
 
+TEST_CASE("pack_source places a block's virtual registers on the declared range", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("seq"); // one unit: the bundles keep program order
+    // %a dies at the first read of it, and its f10 goes to the back of the free list: %c takes
+    // the front (f12); %b dies at the fmul, whose %d then takes f10; %d is never read.
+    const std::string text = "#pack virtual f10-f12   # temporaries\n#pack begin\n        fmul %a, f1, f2\n"
+                             "        fadd %b, f1, f3\n        fadd %c, %a, f4\n        fmul %d, %b, %c\n"
+                             "        fsw %c, 0(r1)\n#pack end\n        halt\n";
+    const sched::PackResult r = sched::pack_source(text, "t.pk", m);
+    CHECK(r.text.find("#pack") == std::string::npos);
+    CHECK(r.text.find("{ fmul f10, f1, f2 }") != std::string::npos);
+    CHECK(r.text.find("{ fadd f11, f1, f3 }") != std::string::npos);
+    CHECK(r.text.find("{ fadd f12, f10, f4 }") != std::string::npos);
+    CHECK(r.text.find("{ fmul f10, f11, f12 }") != std::string::npos);
+    CHECK(r.text.find("{ fsw f12, 0(r1) }") != std::string::npos);
+    // Errors name the line.
+    CHECK_THROWS_WITH(sched::pack_source("#pack begin\n        fadd %a, f1, f2\n#pack end\n", "t.pk", m),
+                      "t.pk:2: error: %a: no '#pack virtual' range of float registers before this block");
+    CHECK_THROWS_WITH(sched::pack_source("#pack virtual f10-f12\n#pack begin\n        fadd f1, %a, f2\n#pack end\n", "t.pk", m),
+                      Catch::Contains("t.pk:3: error: %a is read before this block writes it"));
+    CHECK_THROWS_WITH(sched::pack_source("#pack virtual f10-f10\n#pack begin\n        fadd %a, f1, f2\n"
+                                         "        fadd %b, f1, f2\n        fadd f3, %a, %b\n#pack end\n", "t.pk", m),
+                      "t.pk:4: error: %b: every register of the '#pack virtual' range is live here");
+    CHECK_THROWS_WITH(sched::pack_source("#pack virtual f10-r12\n", "t.pk", m),
+                      Catch::Contains("t.pk:1: error: '#pack virtual' takes one register range of one file"));
+}
+
 TEST_CASE("malformed blocks are errors with a location", "[unit][sched][block]") {
     const isa::Machine m = isa::load_machine("os");
     CHECK_THROWS_WITH(sched::pack_source("#pack begin\n        nop\n", "t.pk", m),
