@@ -614,21 +614,24 @@ class ModuloScheduler {
 //     edge (latency L, distance D) asks stage_to - stage_from >= ceil((row_from + L - row_to) / II)
 //     - D, difference constraints that have an integer solution exactly when their graph has no
 //     positive cycle (Bellman-Ford).
-// These are the rules ModuloScheduler::fits and the final edge check apply, in real cycles: on a
+// These are the rules ModuloScheduler::fits and the final edge check apply, so a complete
+// assignment is a modulo schedule of this tool's kernel shape (loop control in the kernel, the
+// branch in its last row), and exhausting the tree proves that none exists at this II. On a
 // machine with a taken-branch bubble a stage lasts II cycles in the prologue and epilogue and
-// II + bubble around the kernel's back edge, and landings and edges must hold for both (the
-// heuristic leaves that to the assembler's check). A complete assignment is a modulo schedule
-// of this tool's kernel shape (loop control in the kernel, the branch in its last row), and
-// exhausting the tree proves that none exists at this II. Ops go in order of height (longest path to the end), rows from the earliest
+// II + bubble around the kernel's back edge; `bubble` adds landings and edges under that stage
+// length too (the heuristic leaves them to the assembler's check). Those rules are exact for a
+// kernel that is not unrolled, but an unrolled kernel crosses its back edge once per unroll, so
+// they only guide the search to tables that assemble, and a proof is a search without them. Ops go in order of height (longest path to the end), rows from the earliest
 // the placed predecessors allow.
 class ExactScheduler {
   public:
     enum class Outcome { Accepted, Exhausted, Timeout };
     using Clock = std::chrono::steady_clock;
 
+    // bubble: also the rules of a stage that lasts II + the taken-branch bubble (see above).
     ExactScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
-                   Clock::time_point deadline)
-        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), deadline_(deadline) {}
+                   Clock::time_point deadline, bool bubble)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), deadline_(deadline), bubble_(bubble) {}
 
     // Calls accept for each schedule found until it returns true (Accepted), the tree is
     // exhausted, or the deadline passes.
@@ -698,7 +701,7 @@ class ExactScheduler {
     // Cycles from one stage to the next: II in straight-line code, II + the taken-branch bubble
     // around the kernel's back edge. A rule in real cycles must hold for both.
     std::vector<int> periods() const {
-        if (m_.branch_penalty == 0) return {ii_};
+        if (m_.branch_penalty == 0 || !bubble_) return {ii_};
         return {ii_, ii_ + static_cast<int>(m_.branch_penalty)};
     }
 
@@ -823,6 +826,7 @@ class ExactScheduler {
     int ii_;
     isa::Instr branch_, counter_;
     Clock::time_point deadline_;
+    bool bubble_ = true;
     const std::function<bool(const Schedule&)>* accept_ = nullptr;
     std::vector<Row> rows_;
     std::vector<int> row_, stage_;
@@ -1208,20 +1212,30 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
                     if (open.empty()) proven_below = ii + 1;
                     continue;
                 }
-                ExactScheduler ex(g, m, ii, branch, counter, deadline);
-                const ExactScheduler::Outcome o = ex.run(accept);
-                nodes += ex.nodes();
+                // With a branch bubble: first a search with the bubble's rules (its tables mostly
+                // assemble), then the proof, without them (they are exact only for a kernel that
+                // is not unrolled).
+                ExactScheduler::Outcome o = ExactScheduler::Outcome::Exhausted;
+                std::uint64_t tables = 0;
+                for (const bool bubble : {true, false}) {
+                    if (bubble && m.branch_penalty == 0) continue;
+                    ExactScheduler ex(g, m, ii, branch, counter, deadline, bubble);
+                    o = ex.run(accept);
+                    nodes += ex.nodes();
+                    tables = ex.tables();
+                    if (o != ExactScheduler::Outcome::Exhausted) break;
+                }
                 if (o == ExactScheduler::Outcome::Accepted) break;
                 if (o == ExactScheduler::Outcome::Timeout) {
                     open = fmt::format("II {} undecided after {} s{}", ii, opts.exact_seconds,
-                                       ex.tables() ? fmt::format(" ({} modulo schedule{} found did not assemble; the last: {})",
-                                                                 ex.tables(), ex.tables() == 1 ? "" : "s",
-                                                                 why_not.substr(std::min(why_not.size(), why_not.find("error: ") + 7)))
-                                                   : "");
+                                       tables ? fmt::format(" ({} modulo schedule{} found did not assemble; the last: {})",
+                                                            tables, tables == 1 ? "" : "s",
+                                                            why_not.substr(std::min(why_not.size(), why_not.find("error: ") + 7)))
+                                              : "");
                     break;
                 }
-                if (ex.tables() > 0 && open.empty())
-                    open = fmt::format("II {} has {} modulo schedule{} but none assembles", ii, ex.tables(), ex.tables() == 1 ? "" : "s");
+                if (tables > 0 && open.empty())
+                    open = fmt::format("II {} has {} modulo schedule{} but none assembles", ii, tables, tables == 1 ? "" : "s");
                 if (open.empty()) proven_below = ii + 1;
             }
             const double secs = std::chrono::duration<double>(Clock::now() - start).count();
