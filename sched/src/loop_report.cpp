@@ -229,6 +229,12 @@ std::vector<LoopReport> analyse_loops(const isa::ObjectFile& obj, const isa::Mac
         if (path.empty()) continue;
         LoopReport r = analyse_region(bundles, obj, m, sym->name, path);
         r.dispatch = true;
+        for (std::size_t c = 0; c < path.size();) {
+            std::size_t e = c;
+            while (e + 1 < path.size() && path[e + 1] == path[e] + 1) ++e;
+            r.span += fmt::format("{}{}-{}", r.span.empty() ? "" : ", ", path[c], path[e]);
+            c = e + 1;
+        }
         for (std::size_t c = 1; c < path.size(); ++c)
             if (path[c] != path[c - 1] + 1)
                 for (const isa::Symbol& s : obj.symbols)
@@ -250,8 +256,8 @@ std::string LoopReport::text() const {
     else {
         std::string via;
         for (const std::string& t : through) via += (via.empty() ? ", through " : ", ") + t;
-        o = fmt::format("# LOOP BODY {} ({}, bundles {}..{}{}): one pass of a jr-dispatched loop, to its jr, "
-                        "no exit taken\n", label, source, first, last, via);
+        o = fmt::format("# LOOP BODY {} ({}, bundles {}{}): one pass of a jr-dispatched loop, to its jr, "
+                        "no exit taken\n", label, source, span, via);
     }
     o += fmt::format("#   bundles {}, achieved II {}, {} operations ({:.2f} per cycle)\n", bundles, ii, ops,
                      static_cast<double>(ops) / ii);
@@ -280,6 +286,7 @@ std::string LoopReport::json() const {
                      {"critical_distance", critical_distance}, {"verdict", verdict},
                      {"max_live", {{"irf", max_live[0]}, {"fprf", max_live[1]}}},
                      {"kind", dispatch ? "dispatch body" : "loop"}, {"through", through}};
+    if (dispatch) j["bundle_ranges"] = span;
     for (const ResourceUse& u : resources) j["resources"].push_back({{"name", u.name}, {"used", u.used}, {"capacity", u.capacity}});
     for (const Lifetime& l : lifetimes) j["lifetimes"].push_back({{"register", l.reg}, {"cycles", l.cycles}});
     j["reservation_table"] = mrt;

@@ -49,6 +49,7 @@ struct LoopReport {
     std::string verdict;
     bool dispatch = false;             // a pass of a jr-dispatched loop (a body), not a branch-back loop
     std::vector<std::string> through;  // the labels its path jumps to after its first bundle
+    std::string span;                  // its bundles as ranges in path order: "50-59, 97-120, 40-49"
 
     std::string text() const;
     std::string json() const;
