@@ -31,7 +31,9 @@ void add_loop(CLI::App& app) {
         fmt::print(stderr, "{}", r.diagnostics);
         if (!r.ok) throw Reported(kExitInput);
         const std::vector<sched::LoopReport> loops = sched::analyse_loops(r.object, m, a->label);
-        if (loops.empty()) fmt::print("{}: no loops (a label whose block ends in a branch back to it)\n", a->input);
+        if (loops.empty())
+            fmt::print("{}: no loops: straight-line code (no label whose block ends in a branch back to it, and no "
+                       "stored label address that a jr could dispatch to)\n", a->input);
         std::string json = "[";
         for (std::size_t k = 0; k < loops.size(); ++k) {
             fmt::print("{}{}", k ? "\n" : "", loops[k].text());

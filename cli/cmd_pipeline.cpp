@@ -71,7 +71,7 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("--sequential", a->sequential, "Also write the region's sequential meaning (the reference "
                                                    "--verify compares with) to FILE");
     cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only");
-    cmd->add_option("--exact", a->exact, "When the II is above the MII, search the smaller IIs for up to SECONDS; "
+    cmd->add_option("--exact", a->exact, "When the II is above the MII, branch and bound over the smaller IIs for up to SECONDS; "
                                          "the report says whether the II is proven optimal");
     cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
                                          "and compare memory and registers");

@@ -1,18 +1,11 @@
 # Writes kernel_sources.cpp: each kernel (kernels/*/*.s), its source before scheduling
-# (kernels/*/*.pk, and GEN_DIR/*/*.pk generated in the build) and abi.inc as a string, so an
-# installed `nesshi` needs no source tree (run at build time whenever a source changes).
+# (kernels/*/*.pk) and abi.inc as a string, so an installed `nesshi` needs no source tree (run at
+# build time whenever a source changes).
 file(GLOB files RELATIVE "${SRC_DIR}" "${SRC_DIR}/abi.inc" "${SRC_DIR}/*/*.s" "${SRC_DIR}/*/*.pk")
-file(GLOB generated RELATIVE "${GEN_DIR}" "${GEN_DIR}/*/*.pk")
-list(APPEND files ${generated})
-list(REMOVE_DUPLICATES files)
 list(SORT files)
 set(body "// Generated from kernels/ by embed_kernels.cmake; do not edit.\n#include \"kernels/sources.hpp\"\nnamespace nesshi::kernels {\nconst std::vector<SourceFile>& embedded_sources() {\n  static const std::vector<SourceFile> files = {\n")
 foreach(f ${files})
-  if(EXISTS "${SRC_DIR}/${f}")
-    file(READ "${SRC_DIR}/${f}" text)
-  else()
-    file(READ "${GEN_DIR}/${f}" text)
-  endif()
+  file(READ "${SRC_DIR}/${f}" text)
   string(APPEND body "    {\"${f}\", R\"NESSHI(${text})NESSHI\"},\n")
 endforeach()
 string(APPEND body "  };\n  return files;\n}\n}\n")

@@ -5,8 +5,8 @@
 # lower shape index; HIT to the SC, or the tag back to the OS (RETURN). Float operations exactly as
 # the twins rt/twins/triangle.hpp and quadric.hpp; protocol and memory layout: kernels/abi.hpp.
 #
-# GENERATED: kernels/tools/gen_ic.py writes intersect.pk, `nesshi schedule` list-schedules
-# each straight-line body into the bundles below (run kernels/tools/build.sh after editing).
+# GENERATED from kernels/ic/intersect.pk: `nesshi schedule` places each body's temporaries and
+# list-schedules it into the bundles below (edit the .pk, then run kernels/tools/build.sh).
 #
 # The software pipeline: three primitives in flight
 # A voxel list mixes kinds, so there is no single loop body to modulo-schedule. Instead every
@@ -51,7 +51,7 @@
 #   f1-f3 o  f4-f6 d  f7 tmin  f8 tmax  f9 t_out  f10 bound = best t  f12 best record (bits)
 #   f13 f14 best u, v  f15 best front  f16-f20 candidate t, u, v, front, record  f21 +inf f22 -inf
 #   f23 0  f24 1  f28 tmin_up  f30-f46 payload buffer A  f50-f66 buffer B  f47-f49 range-test values
-#   f67 masked candidate  f71-f127 head temporaries (allocated by gen_ic.py by linear scan)
+#   f67 masked candidate  f71-f127 head temporaries (%v1, %v2, ... in the .pk; linear scan)
                 .include "../abi.inc"
                 .text
 start:

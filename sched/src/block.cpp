@@ -11,7 +11,9 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <deque>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -269,6 +271,113 @@ bool marker(std::string_view line, std::string_view word) {
     return trim(line).starts_with(word);
 }
 
+// The pools of `#pack virtual rA-rB` / `fA-fB` lines, per register file, in register order.
+using Pools = std::array<std::vector<int>, isa::kNumRegFiles>;
+
+void declare_pool(Pools& pools, std::string_view line, std::string_view filename, int ln) {
+    const std::string range = strip_comment(trim(line).substr(std::string_view("#pack virtual").size()));
+    const std::size_t dash = range.find('-');
+    isa::RegFile fa, fb;
+    int a = 0, b = 0;
+    if (dash == std::string::npos || !parse_reg(trim(range.substr(0, dash)), fa, a) ||
+        !parse_reg(trim(range.substr(dash + 1)), fb, b) || fa != fb || a > b || b >= isa::kMaxRegs)
+        throw base::Error(base::SourceLoc(filename, ln),
+                          fmt::format("'#pack virtual' takes one register range of one file, e.g. f71-f127; not '{}'", range));
+    std::vector<int>& pool = pools[static_cast<std::size_t>(fa)];
+    pool.clear();
+    for (int r = a; r <= b; ++r) pool.push_back(r);
+}
+
+// A block's ops with their virtual registers (%name, live inside the block) on the pools'
+// registers: linear scan in program order. An op frees the registers of the values it reads for
+// the last time before its result takes one; a freed register goes to the back of the free list,
+// a result takes the front (so a register is reused as late as the range allows). A value never read keeps
+// its register to the block's end. The pools' registers belong to the tool: the block must not
+// name them.
+std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, const std::vector<int>& lines,
+                                           const Pools& pools, std::string_view filename) {
+    struct Ref {
+        std::string name;
+        std::size_t pos, len; // in the op text
+        isa::RegFile file;
+        bool dest;
+    };
+    auto fail = [&](std::size_t i, const std::string& msg) -> void {
+        throw base::Error(base::SourceLoc(filename, lines[i]), msg);
+    };
+    std::vector<std::vector<Ref>> refs(ops.size());
+    std::map<std::string, std::size_t> last; // name -> its last op
+    std::map<std::string, isa::RegFile> file_of;
+    for (std::size_t i = 0; i < ops.size(); ++i) {
+        const std::string& op = ops[i];
+        if (op.find('%') == std::string::npos) continue;
+        const std::size_t sp = op.find_first_of(" \t");
+        const std::string mnemonic = op.substr(0, sp);
+        const auto opc = isa::find_opcode(mnemonic);
+        if (!opc) fail(i, fmt::format("'{}': virtual registers go in the operands of a machine operation", mnemonic));
+        const isa::OpInfo& info = isa::kOps[*opc];
+        const std::vector<std::string> operands = split_operands(sp == std::string::npos ? "" : op.substr(sp));
+        if (operands.size() != info.num_operands) fail(i, fmt::format("'{}' takes {} operands", mnemonic, info.num_operands));
+        std::size_t at = sp; // where the next operand's text starts
+        for (std::size_t k = 0; k < operands.size(); ++k) {
+            const std::size_t start = op.find(operands[k], at);
+            at = start + operands[k].size();
+            const std::size_t pct = operands[k].find('%');
+            if (pct == std::string::npos) continue;
+            std::size_t e = pct + 1;
+            while (e < operands[k].size() && (std::isalnum(static_cast<unsigned char>(operands[k][e])) || operands[k][e] == '_')) ++e;
+            const std::string name = operands[k].substr(pct, e - pct);
+            const isa::Operand& desc = info.operands[k];
+            isa::RegFile f;
+            if (desc.kind == isa::OperandKind::FloatReg) f = isa::RegFile::Float;
+            else if (desc.kind == isa::OperandKind::IntReg || (desc.kind == isa::OperandKind::Mem && operands[k].find('(') < pct))
+                f = isa::RegFile::Int;
+            else fail(i, fmt::format("{}: a virtual register where '{}' takes no register", name, mnemonic));
+            if (pools[static_cast<std::size_t>(f)].empty())
+                fail(i, fmt::format("{}: no '#pack virtual' range of {} registers before this block", name,
+                                    f == isa::RegFile::Int ? "integer" : "float"));
+            const auto [it, fresh] = file_of.emplace(name, f);
+            if (!fresh && it->second != f) fail(i, fmt::format("{} is used both as an integer and as a float register", name));
+            refs[i].push_back({name, start + pct, e - pct, f, desc.is_dest});
+            last[name] = i;
+        }
+    }
+    std::array<std::deque<int>, isa::kNumRegFiles> free;
+    for (std::size_t f = 0; f < free.size(); ++f) free[f].assign(pools[f].begin(), pools[f].end());
+    std::map<std::string, int> reg; // live virtual -> register
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < ops.size(); ++i) {
+        std::map<std::string, int> here;
+        for (const Ref& r : refs[i]) {
+            if (r.dest) continue;
+            const auto it = reg.find(r.name);
+            if (it == reg.end())
+                fail(i, fmt::format("{} is read before this block writes it (a virtual register lives inside one block)", r.name));
+            here[r.name] = it->second;
+        }
+        for (const Ref& r : refs[i]) { // in operand order, once each
+            if (r.dest || last[r.name] != i || !reg.count(r.name)) continue;
+            free[static_cast<std::size_t>(r.file)].push_back(reg[r.name]);
+            reg.erase(r.name);
+        }
+        for (const Ref& r : refs[i]) {
+            if (!r.dest) continue;
+            if (!reg.count(r.name)) {
+                std::deque<int>& pool = free[static_cast<std::size_t>(r.file)];
+                if (pool.empty()) fail(i, fmt::format("{}: every register of the '#pack virtual' range is live here", r.name));
+                reg[r.name] = pool.front();
+                pool.pop_front();
+            }
+            here[r.name] = reg[r.name];
+        }
+        std::string text = ops[i];
+        for (auto r = refs[i].rbegin(); r != refs[i].rend(); ++r)
+            text.replace(r->pos, r->len, fmt::format("{}{}", r->file == isa::RegFile::Int ? 'r' : 'f', here[r->name]));
+        out.push_back(std::move(text));
+    }
+    return out;
+}
+
 } // namespace
 
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
@@ -288,18 +397,39 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
         source_line.push_back(static_cast<int>(current + 1));
     };
     Block* open = nullptr;
+    Pools pools;
+    std::vector<std::string> texts; // of the open block, as written
+    std::vector<int> text_lines;    // their source lines (1-based)
     for (std::size_t i = 0; i < lines.size(); ++i) {
         const std::string& s = lines[i];
         current = i;
+        if (marker(s, "#pack virtual")) {
+            if (open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack virtual' inside a block");
+            declare_pool(pools, s, filename, static_cast<int>(i + 1));
+            emit("");
+            continue;
+        }
         if (marker(s, "#pack begin")) {
             if (open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack begin' inside a block");
             blocks.push_back({static_cast<int>(i + 1), {}, {}});
             open = &blocks.back();
+            texts.clear();
+            text_lines.clear();
             emit("");
             continue;
         }
         if (marker(s, "#pack end")) {
             if (!open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack end' without '#pack begin'");
+            // Each op alone, with nops until it lands; its diagnostics point at its own line.
+            const std::vector<std::string> ops = allocate_virtuals(texts, text_lines, pools, filename);
+            for (std::size_t k = 0; k < ops.size(); ++k) {
+                current = static_cast<std::size_t>(text_lines[k] - 1);
+                open->texts.push_back(ops[k]);
+                emit("        " + ops[k]);
+                open->lines.push_back(out_line);
+                for (std::uint32_t n = 1; n < m.max_latency(); ++n) emit("        nop");
+            }
+            current = i;
             open = nullptr;
             emit("");
             continue;
@@ -309,14 +439,9 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
             continue;
         }
         const std::string op = strip_comment(s);
-        if (op.empty()) {
-            emit("");
-            continue;
-        }
-        open->texts.push_back(op);
-        emit("        " + op);
-        open->lines.push_back(out_line);
-        for (std::uint32_t k = 1; k < m.max_latency(); ++k) emit("        nop");
+        if (op.empty()) continue;
+        texts.push_back(op);
+        text_lines.push_back(static_cast<int>(i + 1));
     }
     if (open) throw base::Error(base::SourceLoc(filename, open->begin_line), "'#pack begin' is never closed by '#pack end'");
 
@@ -339,6 +464,7 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     bool in_block = false;
     std::vector<std::string> result;
     for (const std::string& s : lines) {
+        if (marker(s, "#pack virtual")) continue;
         if (marker(s, "#pack begin")) {
             in_block = true;
             continue;

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <functional>
 #include <cctype>
 #include <map>
 #include <numeric>
@@ -40,18 +41,6 @@ constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next 
 char file_prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
 std::string reg_name(isa::RegFile f, int r) { return fmt::format("{}{}", file_prefix(f), r); }
 
-bool parse_reg(std::string_view s, isa::RegFile& f, int& r) {
-    if (s.size() < 2 || (s[0] != 'r' && s[0] != 'f')) return false;
-    int v = 0;
-    for (char c : s.substr(1)) {
-        if (!std::isdigit(static_cast<unsigned char>(c))) return false;
-        v = v * 10 + (c - '0');
-        if (v > 1000) return false;
-    }
-    f = s[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float;
-    r = v;
-    return true;
-}
 
 // ---- the region -------------------------------------------------------------------------------
 
@@ -77,25 +66,6 @@ struct Region {
     std::map<std::string, int> virtual_index;
     std::vector<std::pair<int, int>> noalias; // int register pairs
 };
-
-std::vector<std::string> split_operands(const std::string& s) {
-    std::vector<std::string> out;
-    if (trim(s).empty()) return out;
-    int depth = 0;
-    std::string cur;
-    for (char c : s) {
-        if (c == '(') ++depth;
-        if (c == ')') --depth;
-        if (c == ',' && depth == 0) {
-            out.push_back(trim(cur));
-            cur.clear();
-        } else {
-            cur += c;
-        }
-    }
-    out.push_back(trim(cur));
-    return out;
-}
 
 Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
     Region r;
@@ -631,6 +601,240 @@ class ModuloScheduler {
     std::vector<int> time_, last_time_, height_;
 };
 
+// ---- exact modulo scheduling (--exact) ---------------------------------------------------------
+
+// Branch and bound over modulo reservation tables at one II. Every op, and the counter decrement,
+// gets a row (cycle mod II); the branch is fixed at row II - 1, where the emitter puts it. A
+// partial assignment is cut as soon as
+//   - a row's bundle is illegal (isa::assign_slots, isa::check_bundle: adding ops never makes a
+//     bundle legal again),
+//   - the writes landing in one cycle mod II exceed a file's write ports,
+//   - an adjusted access of an induction register falls inside the flight of its step, or
+//   - the dependences among the ops placed have no stage numbers: with t = row + II * stage, an
+//     edge (latency L, distance D) asks stage_to - stage_from >= ceil((row_from + L - row_to) / II)
+//     - D, difference constraints that have an integer solution exactly when their graph has no
+//     positive cycle (Bellman-Ford).
+// These are the rules ModuloScheduler::fits and the final edge check apply, so a complete
+// assignment is a modulo schedule of this tool's kernel shape (loop control in the kernel, the
+// branch in its last row), and exhausting the tree proves that none exists at this II. On a
+// machine with a taken-branch bubble a stage lasts II cycles in the prologue and epilogue and
+// II + bubble around the kernel's back edge; `bubble` adds landings and edges under that stage
+// length too (the heuristic leaves them to the assembler's check). Those rules are exact for a
+// kernel that is not unrolled, but an unrolled kernel crosses its back edge once per unroll, so
+// they only guide the search to tables that assemble, and a proof is a search without them. Ops go in order of height (longest path to the end), rows from the earliest
+// the placed predecessors allow.
+class ExactScheduler {
+  public:
+    enum class Outcome { Accepted, Exhausted, Timeout };
+    using Clock = std::chrono::steady_clock;
+
+    // bubble: also the rules of a stage that lasts II + the taken-branch bubble (see above).
+    ExactScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
+                   Clock::time_point deadline, bool bubble)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), deadline_(deadline), bubble_(bubble) {}
+
+    // Calls accept for each schedule found until it returns true (Accepted), the tree is
+    // exhausted, or the deadline passes.
+    Outcome run(const std::function<bool(const Schedule&)>& accept) {
+        accept_ = &accept;
+        const int n = static_cast<int>(g_.nodes.size());
+        rows_.assign(static_cast<std::size_t>(ii_), {});
+        row_.assign(static_cast<std::size_t>(n), -1);
+        stage_.assign(static_cast<std::size_t>(n), 0);
+        if (!add(branch_, ii_ - 1, -1)) return Outcome::Exhausted;
+        std::vector<int> height(static_cast<std::size_t>(n), 0);
+        for (int iter = 0; iter <= n; ++iter)
+            for (const Edge& e : g_.edges)
+                if (e.from != e.to)
+                    height[static_cast<std::size_t>(e.from)] =
+                        std::max(height[static_cast<std::size_t>(e.from)], height[static_cast<std::size_t>(e.to)] + e.latency - e.distance * ii_);
+        order_.resize(static_cast<std::size_t>(n));
+        std::iota(order_.begin(), order_.end(), 0);
+        std::stable_sort(order_.begin(), order_.end(),
+                         [&](int a, int b) { return height[static_cast<std::size_t>(a)] > height[static_cast<std::size_t>(b)]; });
+        // The counter decrement has no edges: its row is tried last, at each leaf.
+        const bool accepted = search(0);
+        if (accepted) return Outcome::Accepted;
+        return timed_out_ ? Outcome::Timeout : Outcome::Exhausted;
+    }
+
+    std::uint64_t nodes() const { return nodes_; }
+    std::uint64_t tables() const { return tables_; } // complete modulo schedules handed to accept
+
+  private:
+    struct Row {
+        std::vector<isa::Instr> ops;
+        std::vector<int> nodes; // -1 for loop control
+    };
+
+    bool legal(const std::vector<isa::Instr>& ops) const {
+        std::vector<isa::Instr> copy = ops;
+        std::vector<int> pinned(copy.size(), -1);
+        if (!isa::assign_slots(m_, copy, pinned)) return false;
+        return isa::check_bundle(m_, copy).empty();
+    }
+
+    static int writes_to(const isa::Instr& x, int f) {
+        int c = 0;
+        for (const isa::RegOperand& o : isa::register_operands(x))
+            if (o.write && static_cast<int>(o.file) == f) ++c;
+        return c;
+    }
+
+    // Writes landing in one cycle, per file, within the ports: mod II (prologue and epilogue, no
+    // taken branch) and mod II + bubble (the kernel around its back edge).
+    bool landings_ok(const isa::Instr& in, int row) const {
+        for (const int period : periods()) {
+            const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % period;
+            for (int f = 0; f < isa::kNumRegFiles; ++f) {
+                int count = writes_to(in, f);
+                if (count == 0) continue;
+                for (int r = 0; r < ii_; ++r)
+                    for (const isa::Instr& other : rows_[static_cast<std::size_t>(r)].ops)
+                        if ((r + static_cast<int>(m_.latency_of(other.info()))) % period == land) count += writes_to(other, f);
+                if (static_cast<std::uint32_t>(count) > m_.regs[static_cast<std::size_t>(f)].write_ports) return false;
+            }
+        }
+        return true;
+    }
+
+    // Cycles from one stage to the next: II in straight-line code, II + the taken-branch bubble
+    // around the kernel's back edge. A rule in real cycles must hold for both.
+    std::vector<int> periods() const {
+        if (m_.branch_penalty == 0 || !bubble_) return {ii_};
+        return {ii_, ii_ + static_cast<int>(m_.branch_penalty)};
+    }
+
+    bool induction_ok(int op, int row) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        for (const Induction& ind : g_.inductions) {
+            const int lat = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+            if (lat <= 1) continue;
+            if (op == ind.op) {
+                if (lat > ii_) return false;
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()); ++i) {
+                    const Node& o = g_.nodes[static_cast<std::size_t>(i)];
+                    if (!(o.adjusted && o.base == ind.reg) || row_[static_cast<std::size_t>(i)] < 0) continue;
+                    const int d = ((row_[static_cast<std::size_t>(i)] - row) % ii_ + ii_) % ii_;
+                    if (d > 0 && d < lat) return false;
+                }
+            } else if (nd.adjusted && nd.base == ind.reg && row_[static_cast<std::size_t>(ind.op)] >= 0) {
+                const int d = ((row - row_[static_cast<std::size_t>(ind.op)]) % ii_ + ii_) % ii_;
+                if (d > 0 && d < lat) return false;
+            }
+        }
+        return true;
+    }
+
+    bool add(const isa::Instr& in, int row, int node) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        std::vector<isa::Instr> ops = r.ops;
+        ops.push_back(in);
+        if (!legal(ops) || !landings_ok(in, row)) return false;
+        r.ops.push_back(in);
+        r.nodes.push_back(node);
+        return true;
+    }
+
+    void remove_last(int row) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        r.ops.pop_back();
+        r.nodes.pop_back();
+    }
+
+    static int ceil_div(int a, int b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
+
+    // Stage numbers for the placed ops (longest paths from 0), or false on a positive cycle.
+    bool stages() {
+        const int n = static_cast<int>(g_.nodes.size());
+        for (int i = 0; i < n; ++i) stage_[static_cast<std::size_t>(i)] = 0;
+        for (int iter = 0; iter <= n; ++iter) {
+            bool changed = false;
+            for (const Edge& e : g_.edges) {
+                const int rf = row_[static_cast<std::size_t>(e.from)], rt = row_[static_cast<std::size_t>(e.to)];
+                if (rf < 0 || rt < 0) continue;
+                int w = ceil_div(rf + e.latency - rt, ii_); // stages apart, at least, for each period
+                for (const int period : periods()) w = std::max(w, ceil_div(rf + e.latency - rt, period));
+                w -= e.distance;
+                if (e.from == e.to) {
+                    if (w > 0) return false;
+                    continue;
+                }
+                if (stage_[static_cast<std::size_t>(e.from)] + w > stage_[static_cast<std::size_t>(e.to)]) {
+                    stage_[static_cast<std::size_t>(e.to)] = stage_[static_cast<std::size_t>(e.from)] + w;
+                    changed = true;
+                }
+            }
+            if (!changed) return true;
+        }
+        return false;
+    }
+
+    bool leaf() {
+        for (int row = 0; row < ii_; ++row) {
+            if (!add(counter_, row, -1)) continue;
+            Schedule s;
+            s.ii = ii_;
+            const int n = static_cast<int>(g_.nodes.size());
+            s.time.resize(static_cast<std::size_t>(n));
+            for (int i = 0; i < n; ++i)
+                s.time[static_cast<std::size_t>(i)] = row_[static_cast<std::size_t>(i)] + ii_ * stage_[static_cast<std::size_t>(i)];
+            const int lo = *std::min_element(s.time.begin(), s.time.end());
+            const int shift = lo >= 0 ? -(lo / ii_) * ii_ : ((-lo + ii_ - 1) / ii_) * ii_;
+            for (int& t : s.time) t += shift;
+            s.branch = branch_;
+            s.counter = counter_;
+            s.counter_row = row;
+            ++tables_;
+            const bool ok = (*accept_)(s);
+            remove_last(row);
+            if (ok) return true;
+        }
+        return false;
+    }
+
+    bool search(std::size_t k) {
+        if ((++nodes_ & 255) == 1 && Clock::now() >= deadline_) timed_out_ = true; // the first node too
+        if (timed_out_) return false;
+        if (k == order_.size()) return leaf();
+        const int op = order_[k];
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        // Rows from the earliest the placed predecessors allow (short stages first).
+        int start = 0;
+        for (const Edge& e : g_.edges)
+            if (e.to == op && e.from != op && row_[static_cast<std::size_t>(e.from)] >= 0)
+                start = std::max(start, row_[static_cast<std::size_t>(e.from)] + ii_ * stage_[static_cast<std::size_t>(e.from)] +
+                                            e.latency - e.distance * ii_);
+        for (int j = 0; j < ii_; ++j) {
+            const int row = ((start + j) % ii_ + ii_) % ii_;
+            if (!induction_ok(op, row)) continue;
+            row_[static_cast<std::size_t>(op)] = row;
+            if (add(nd.instr, row, op)) {
+                const std::vector<int> saved = stage_;
+                if (stages() && search(k + 1)) return true;
+                stage_ = saved;
+                remove_last(row);
+            }
+            row_[static_cast<std::size_t>(op)] = -1;
+            if (timed_out_) return false;
+        }
+        return false;
+    }
+
+    const Graph& g_;
+    const isa::Machine& m_;
+    int ii_;
+    isa::Instr branch_, counter_;
+    Clock::time_point deadline_;
+    bool bubble_ = true;
+    const std::function<bool(const Schedule&)>* accept_ = nullptr;
+    std::vector<Row> rows_;
+    std::vector<int> row_, stage_;
+    std::vector<int> order_;
+    std::uint64_t nodes_ = 0, tables_ = 0;
+    bool timed_out_ = false;
+};
+
 // ---- registers --------------------------------------------------------------------------------
 
 struct Allocation {
@@ -963,46 +1167,89 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     // One II: schedules in different op orders (until `deadline` when given), the first that
     // also assembles is kept.
     using Clock = std::chrono::steady_clock;
+    // A schedule is kept when its code also assembles.
+    auto accept = [&](const Schedule& s) {
+        Allocation alloc = allocate(r, g, s, named, m, filename);
+        const Emitter em(r, g, s, alloc, m);
+        std::string code = em.code(r.trip, "__sa");
+        const assembler::AsmResult check =
+            assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, {});
+        if (!check.ok || check.warnings > 0) {
+            why_not = fmt::format("II {}: {}", s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
+            return false;
+        }
+        sched = s;
+        emitted = std::move(code);
+        stages = em.stages();
+        alloc_found = std::move(alloc);
+        return true;
+    };
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (!feasible_ii(g, ii)) return false;
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt).run();
-            if (!s) continue;
-            Allocation alloc = allocate(r, g, *s, named, m, filename);
-            const Emitter em(r, g, *s, alloc, m);
-            std::string code = em.code(r.trip, "__sa");
-            const assembler::AsmResult check =
-                assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, {});
-            if (!check.ok || check.warnings > 0) {
-                why_not = fmt::format("II {}: {}", ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
-                continue;
-            }
-            sched = s;
-            emitted = std::move(code);
-            stages = em.stages();
-            alloc_found = std::move(alloc);
-            return true;
+            if (s && accept(*s)) return true;
         }
         return false;
     };
     for (int ii = lo; ii <= hi && !try_ii(ii, std::nullopt); ++ii) {}
-    // --exact: spend the time on the IIs between the bound and the one found.
+    // --exact: branch and bound at each II from the bound up to the one found; the first II with
+    // a schedule that assembles is the answer, and it is proven optimal when every II below it
+    // was exhausted with no modulo schedule at all.
     std::string exact_note;
     if (sched && opts.exact_seconds > 0) {
         if (sched->ii == res.mii) {
             exact_note = "II proven optimal: it equals the lower bound max(ResMII, RecMII)";
         } else {
-            const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                     std::chrono::duration<double>(opts.exact_seconds));
+            const auto start = Clock::now();
+            const auto deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(opts.exact_seconds));
             const int found = sched->ii;
-            for (int ii = res.mii; ii < sched->ii && Clock::now() < deadline; ++ii)
-                if (try_ii(ii, deadline)) break;
-            exact_note = sched->ii == res.mii ? fmt::format("II proven optimal: {} s of search reached the lower bound",
-                                                            opts.exact_seconds)
-                         : sched->ii < found   ? fmt::format("best found (II {} improved to {}), bound not proven",
-                                                             found, sched->ii)
-                                               : fmt::format("best found: no schedule at II {}..{} in {} s, bound not proven",
-                                                             res.mii, sched->ii - 1, opts.exact_seconds);
+            std::uint64_t nodes = 0;
+            int proven_below = res.mii; // every II in [res.mii, proven_below) has no modulo schedule
+            std::string open;           // why the bound is not proven
+            for (int ii = res.mii; ii < found; ++ii) {
+                if (!feasible_ii(g, ii)) {
+                    if (open.empty()) proven_below = ii + 1;
+                    continue;
+                }
+                // With a branch bubble: first a search with the bubble's rules (its tables mostly
+                // assemble), then the proof, without them (they are exact only for a kernel that
+                // is not unrolled).
+                ExactScheduler::Outcome o = ExactScheduler::Outcome::Exhausted;
+                std::uint64_t tables = 0;
+                for (const bool bubble : {true, false}) {
+                    if (bubble && m.branch_penalty == 0) continue;
+                    ExactScheduler ex(g, m, ii, branch, counter, deadline, bubble);
+                    o = ex.run(accept);
+                    nodes += ex.nodes();
+                    tables = ex.tables();
+                    if (o != ExactScheduler::Outcome::Exhausted) break;
+                }
+                if (o == ExactScheduler::Outcome::Accepted) break;
+                if (o == ExactScheduler::Outcome::Timeout) {
+                    open = fmt::format("II {} undecided after {} s{}", ii, opts.exact_seconds,
+                                       tables ? fmt::format(" ({} modulo schedule{} found did not assemble; the last: {})",
+                                                            tables, tables == 1 ? "" : "s",
+                                                            why_not.substr(std::min(why_not.size(), why_not.find("error: ") + 7)))
+                                              : "");
+                    break;
+                }
+                if (tables > 0 && open.empty())
+                    open = fmt::format("II {} has {} modulo schedule{} but none assembles", ii, tables, tables == 1 ? "" : "s");
+                if (open.empty()) proven_below = ii + 1;
+            }
+            const double secs = std::chrono::duration<double>(Clock::now() - start).count();
+            const std::string searched = fmt::format("branch and bound, {} nodes in {:.2f} s", nodes, secs);
+            const std::string improved = sched->ii < found ? fmt::format(" (the heuristic found II {})", found) : "";
+            if (open.empty() && proven_below >= sched->ii)
+                exact_note = sched->ii > res.mii
+                                 ? fmt::format("II proven optimal{}: no modulo schedule at II {}..{} ({})", improved, res.mii,
+                                               sched->ii - 1, searched)
+                                 : fmt::format("II proven optimal{}: it equals the lower bound ({})", improved, searched);
+            else
+                exact_note = fmt::format("best found{}, bound not proven: {}{} ({})", improved, open,
+                                         proven_below > res.mii ? fmt::format("; none at II {}..{}", res.mii, proven_below - 1) : "",
+                                         searched);
         }
     }
     if (!sched)

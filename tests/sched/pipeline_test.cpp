@@ -18,12 +18,13 @@ using namespace nesshi;
 
 namespace {
 
-std::optional<std::string> check(const std::string& text, const isa::Machine& m, sched::PipelineResult* out = nullptr) {
-    const sched::PipelineResult r = sched::pipeline_source(text, "t.sa", m, {});
+std::optional<std::string> check(const std::string& text, const isa::Machine& m, sched::PipelineResult* out = nullptr,
+                                 const sched::PipelineOptions& opts = {}) {
+    const sched::PipelineResult r = sched::pipeline_source(text, "t.sa", m, opts);
     if (out) *out = r;
     iss::DiffOptions d;
     d.registers = r.source_registers;
-    return sched::verify(text, "t.sa", m, {}, sched::verification_trips(r),
+    return sched::verify(text, "t.sa", m, opts, sched::verification_trips(r),
                          [&](const isa::ObjectFile& a, const isa::ObjectFile& b) { return iss::run_differential(a, b, m, d); });
 }
 
@@ -109,4 +110,26 @@ TEST_CASE("random loops from the operation table pipeline and verify on every pr
             CHECK(r.ii >= r.mii);
         }
     }
+}
+
+TEST_CASE("exact search: branch and bound finds the II the heuristic missed and proves it", "[unit][sched][pipeline]") {
+    // A random loop (bench_sched's seed 1008 on os-real, 13 compute ops) where iterative modulo
+    // scheduling stops one cycle above the bound.
+    const isa::Machine m = isa::load_machine("os-real");
+    const std::string text = sched::random_linear_loop(1008, m, 13);
+    INFO(text);
+    const sched::PipelineResult heuristic = sched::pipeline_source(text, "t.sa", m, {});
+    REQUIRE(heuristic.mii == 7);
+    REQUIRE(heuristic.ii == 8);
+    sched::PipelineOptions exact;
+    exact.exact_seconds = 30;
+    sched::PipelineResult r;
+    CHECK(check(text, m, &r, exact) == std::nullopt); // the improved schedule computes the same
+    CHECK(r.ii == 7);
+    CHECK(r.report.find("II proven optimal (the heuristic found II 8)") != std::string::npos);
+    // With no time the search stops undecided, and says so.
+    exact.exact_seconds = 1e-9;
+    const sched::PipelineResult hurried = sched::pipeline_source(text, "t.sa", m, exact);
+    CHECK(hurried.ii == 8);
+    CHECK(hurried.report.find("best found, bound not proven: II 7 undecided") != std::string::npos);
 }

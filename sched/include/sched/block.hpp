@@ -2,7 +2,14 @@
 // assembly file, written one operation per line in sequential order, become bundles that obey
 // the machine's issue slots, register-file ports and exposed latencies; everything outside the
 // regions is copied unchanged. `nesshi schedule FILE -m MACHINE` runs it; the kernels' setup,
-// VISIT and resume blocks come from it (kernels/tools/build.sh).
+// VISIT and resume blocks and the IC kernel's primitive bodies come from it (kernels/tools/build.sh).
+//
+// Virtual registers: a block may name values `%name` (integer or float, by the operand); a
+// `#pack virtual f71-f127` line (one range per register file, for the blocks after it) gives the
+// registers they take. Before scheduling, each block's are placed by linear scan in program
+// order: a last read frees a register to the back of the free list, a result takes the front.
+// The range belongs to the tool (the blocks must not name its registers); a value lives inside
+// one block.
 //
 //   const sched::PackResult r = sched::pack_source(text, "dda.pk", isa::load_machine("os"));
 //   write(r.text);                       // assembly, the blocks bundled

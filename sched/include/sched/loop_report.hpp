@@ -1,5 +1,8 @@
 // The report for a hand-written loop (`nesshi loop FILE.s`): for each loop of an assembled
-// program (a code label whose block ends in a branch back to it), the achieved II, every
+// program (a code label whose block ends in a branch back to it), and for each pass of a loop
+// threaded through `jr` dispatch (a label whose address the program stores, `li` then `sw`, as
+// a dispatch table's entry: the path from it through unconditional jumps, falling through
+// conditional exits, to its `jr`; one pass is one iteration of that kind), the achieved II, every
 // resource's use against its capacity, ResMII with the resource that binds, RecMII with the
 // critical circuit spelled out, the verdict, register lifetimes and MaxLive per file, and the
 // modulo reservation table. Text like TI's pipeline information block, and JSON.
@@ -31,7 +34,7 @@ struct Lifetime {
 struct LoopReport {
     std::string label;
     std::string source;            // "file:line" of the label's bundle
-    std::uint32_t first = 0, last = 0; // bundle range, inclusive
+    std::uint32_t first = 0, last = 0; // first and last bundle of its path
     int bundles = 0, ii = 0;       // ii: bundles + the taken-branch bubble
     int ops = 0;
     int res_mii = 0, rec_mii = 0;
@@ -44,6 +47,9 @@ struct LoopReport {
     std::uint32_t file_size[2] = {0, 0};
     std::vector<std::string> mrt;  // one line per body bundle
     std::string verdict;
+    bool dispatch = false;             // a pass of a jr-dispatched loop (a body), not a branch-back loop
+    std::vector<std::string> through;  // the labels its path jumps to after its first bundle
+    std::string span;                  // its bundles as ranges in path order: "50-59, 97-120, 40-49"
 
     std::string text() const;
     std::string json() const;

@@ -45,8 +45,10 @@ namespace nesshi::sched {
 struct PipelineOptions {
     int ii = 0;              // 0: search upward from the MII; else this II only
     int max_ii_search = 64;  // how far above the MII to search
-    // > 0: when the II found is above the MII, search the IIs below it for this long; the report
-    // says "II proven optimal" (the II equals the lower bound) or "best found, bound not proven".
+    // > 0: when the II found is above the MII, branch and bound over modulo reservation tables at
+    // each II from the MII up, for this long in all; the first whose code assembles is kept. The
+    // report says "II proven optimal" (every smaller II has no table) or "best found, bound not
+    // proven" with the reason (time, or tables the assembler rejected).
     double exact_seconds = 0;
     // Emit the pipelined program with `li TRIP, trip` just before the region (verification).
     std::optional<std::uint32_t> force_trip;
