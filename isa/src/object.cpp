@@ -3,12 +3,12 @@
 
 #include "base/error.hpp"
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <array>
-#include <fstream>
 #include <iterator>
 
 namespace nesshi::isa {
@@ -255,11 +255,8 @@ ObjectFile read_object_file(const std::string& path) {
 }
 
 void write_object_file(const ObjectFile& obj, const std::string& path) {
-    auto bytes = write_object(obj);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw ObjectError(base::SourceLoc(path), "cannot write");
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out) throw ObjectError(base::SourceLoc(path), "write failed");
+    const auto bytes = write_object(obj);
+    base::write_file(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::vector<std::vector<Instr>> decode_bundles(const ObjectFile& obj) {

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 
 namespace nesshi::paper {
 
@@ -87,19 +86,6 @@ CellRecord parse_cell(const CellKey& key, const std::string& text, const std::st
     } catch (const std::exception& e) { // json::exception or PaperError
         throw PaperError(base::SourceLoc(file), fmt::format("malformed cell file: {} (delete it to run the cell again)", e.what()));
     }
-}
-
-void write_file_atomically(const std::string& file, const std::string& text) {
-    const std::string tmp = file + ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        f << text;
-        f.close();
-        if (!f) throw PaperError(base::SourceLoc(tmp), "cannot write");
-    }
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) throw PaperError(base::SourceLoc(tmp), fmt::format("cannot rename to {}: {}", file, ec.message()));
 }
 
 const CellRecord* PaperData::find(const std::string& scene, int grid, machine::Model m) const {

@@ -57,8 +57,6 @@ struct CellRecord {
 };
 // Parses a cell file's text; throws PaperError "FILE: error: ..." when a key is missing or wrong.
 CellRecord parse_cell(const CellKey& key, const std::string& json_text, const std::string& file);
-// Writes FILE.tmp then renames it over FILE, so a killed run never leaves half a cell behind.
-void write_file_atomically(const std::string& file, const std::string& text);
 
 struct PaperProgress {
     const CellRecord* finished = nullptr; // the cell just finished; nullptr: start or a periodic update
