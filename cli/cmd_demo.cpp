@@ -5,6 +5,7 @@
 #include "commands.hpp"
 
 #include "base/progress.hpp"
+#include "outputs.hpp"
 #include "sim_load.hpp"
 
 #include "iss/processor.hpp"
@@ -13,7 +14,8 @@
 #include "machine/memory_report.hpp"
 #include "rt/render.hpp"
 
-#include <fmt/core.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -29,6 +31,12 @@ namespace fs = std::filesystem;
 // location can be given with --examples.
 fs::path default_examples_dir() { return fs::path(NESSHI_EXAMPLES_DIR); }
 
+std::vector<std::string> file_names(const std::vector<fs::path>& files) {
+    std::vector<std::string> names;
+    for (const fs::path& f : files) names.push_back(f.filename().string());
+    return names;
+}
+
 void run_demo(const std::string& dir_opt, const std::string& main_example) {
     fs::path dir = dir_opt.empty() ? default_examples_dir() : fs::path(dir_opt);
     std::vector<fs::path> files;
@@ -38,6 +46,10 @@ void run_demo(const std::string& dir_opt, const std::string& main_example) {
     if (ec || files.empty())
         throw base::Error(fmt::format("no examples found in {} (use --examples DIR)", dir.string()));
     std::sort(files.begin(), files.end());
+    // --detail names an example that is not there: an error, not a table without its detail.
+    if (std::none_of(files.begin(), files.end(), [&](const fs::path& f) { return f.filename() == main_example; }))
+        throw UsageError(fmt::format("--detail {}: no such example in {} (the .s files there: {})", main_example,
+                                     dir.string(), fmt::join(file_names(files), " ")));
 
     fmt::print("Nesshisen ISS demo: the bundled examples on their machines (checked engine)\n\n");
     fmt::print("{:<22} {:<5} {:>7} {:>8} {:>5} {:>6} {:>6}  {}\n", "example", "mach", "cycles", "bundles", "ops",
@@ -82,6 +94,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 void run_machine_demo(const DemoArgs& a) {
+    refuse_stdout("-o", a.out, "stdout holds the demo's report (nesshi render --model V -o - writes a PNG there)");
+    check_output(a.out);
     fmt::print("Nesshisen demo: SPD '{}' at {}x{} through model V (one PE: OS and IC VLIW kernels on the ISS)\n",
                a.scene, a.size, a.size);
     const auto t_prep = std::chrono::steady_clock::now();

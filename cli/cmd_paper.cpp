@@ -2,6 +2,7 @@
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
 
 #include "base/progress.hpp"
 
@@ -61,7 +62,8 @@ std::vector<machine::Model> parse_models(const std::string& s) {
     return models;
 }
 
-// Prints a line per finished cell; on a terminal also a bar with the time left, redrawn in place.
+// Prints a line per finished cell to stderr (progress, never stdout: `nesshi paper | head -2` gets the
+// summary); on a terminal also a bar with the time left, redrawn in place.
 class ProgressPrinter {
   public:
     ProgressPrinter(const paper::PaperOptions& o, bool tty) : out_(o.out_dir), tty_(tty) {}
@@ -70,23 +72,22 @@ class ProgressPrinter {
         if (p.size != size_) { // a new phase: the matrix, then the grid pre-pass
             size_ = p.size;
             clear_status();
-            fmt::print("{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n",
+            fmt::print(stderr, "{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n",
                        phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
                        p.cells_to_run, p.threads);
         }
         if (p.finished) {
             clear_status();
             const paper::CellRecord& c = *p.finished;
-            fmt::print("  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
+            fmt::print(stderr, "  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
                        machine::model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
                        c.wall_seconds, p.cells_run + p.cells_failed, p.cells_to_run, tty_ ? "" : "; " + timing(p));
         }
         if (tty_ && p.cells_to_run > 0) draw_status(p);
-        std::fflush(stdout);
-    }
+            }
 
     void clear_status() {
-        if (status_shown_) fmt::print("\r\033[K");
+        if (status_shown_) fmt::print(stderr, "\r\033[K");
         status_shown_ = false;
     }
 
@@ -100,7 +101,7 @@ class ProgressPrinter {
 
     void draw_status(const paper::PaperProgress& p) {
         const int pct = static_cast<int>(p.fraction * 100);
-        fmt::print("\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
+        fmt::print(stderr, "\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
                    p.cells_to_run, timing(p));
         status_shown_ = true;
     }
@@ -116,6 +117,7 @@ void run_paper_command(const PaperArgs& a) {
     o.scenes = split(a.scenes);
     o.grids = parse_grids(a.grids);
     o.models = parse_models(a.models);
+    refuse_stdout("--out", a.out, "it is a folder (the cells, tables and charts)");
     o.out_dir = a.out;
     o.threads = a.threads;
     try {
@@ -123,7 +125,7 @@ void run_paper_command(const PaperArgs& a) {
     } catch (const paper::PaperError& e) { // every check of validate is about the options
         throw UsageError(e.message());
     }
-    auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDOUT_FILENO) != 0);
+    auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDERR_FILENO) != 0);
     if (!a.quiet) o.progress = [printer](const paper::PaperProgress& p) { (*printer)(p); };
     try {
         paper::PaperRun r = paper::run_paper(o);

@@ -4,6 +4,7 @@
 #include "outputs.hpp"
 
 #include "base/progress.hpp"
+#include "base/write_file.hpp"
 
 #include "machine/memory_report.hpp"
 #include "machine/machine.hpp"
@@ -12,7 +13,7 @@
 #include <fmt/format.h>
 
 #include <charconv>
-#include <fstream>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <unistd.h>
@@ -83,6 +84,10 @@ void run_render(const RenderArgs& a) {
     if (!native && !machine::parse_model(a.model, mo.model))
         throw UsageError(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
+    // One output may be stdout ('-'); the report then goes to stderr.
+    const bool output_on_stdout = stdout_output({{"-o", a.out}, {"--stats-json", a.stats_json}, {"--id-buffer", a.id_buffer},
+                                                 {"--t-buffer", a.t_buffer}, {"--trace-json", mo.trace_json}});
+    std::FILE* report = output_on_stdout ? stderr : stdout;
     check_outputs({a.out, a.stats_json, a.id_buffer, a.t_buffer, mo.trace_json});
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
     // (machine::Options::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
@@ -130,26 +135,24 @@ void run_render(const RenderArgs& a) {
     if (!a.out.empty()) rt::write_png(a.out, r.image);
     if (opt.id_buffer) rt::write_id_buffer(a.id_buffer, r.id_buffer);
     if (opt.t_buffer) rt::write_t_buffer(a.t_buffer, r.t_buffer);
-    if (!a.stats_json.empty()) {
-        std::ofstream f(a.stats_json);
-        f << (native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid, prep.shapes.shapes.size())
-                     : machine::stats_json(prep, opt, mo, mr));
-        if (!f) throw base::Error(base::SourceLoc(a.stats_json), "cannot write");
-    }
+    if (!a.stats_json.empty())
+        base::write_file(a.stats_json, native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid,
+                                                                            prep.shapes.shapes.size())
+                                              : machine::stats_json(prep, opt, mo, mr));
     if (!a.quiet) {
-        fmt::print("{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
+        fmt::print(report, "{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
                    a.model, opt.max_depth, opt.cutoff > 0 ? fmt::format(", cut-off {:g}", opt.cutoff) : "");
-        fmt::print("{}", rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text());
+        fmt::print(report, "{}", rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text());
         if (native) {
-            fmt::print("{}", rt::format_rays(r.stats));
+            fmt::print(report, "{}", rt::format_rays(r.stats));
         } else {
-            fmt::print("{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
+            fmt::print(report, "{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
             if (auto_slots)
-                fmt::print("ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
+                fmt::print(report, "ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
                            "so no FIFO fills (--ray-slots or --window to choose)\n",
                            mo.ray_slots, mo.ray_slots, mo.fifo_capacity, machine::kLongestMessageWords);
-            fmt::print("{}", machine::format_stats(mr.machine));
-            fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
+            fmt::print(report, "{}", machine::format_stats(mr.machine));
+            fmt::print(report, "SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
         }
     }
 }
@@ -164,10 +167,10 @@ void add_render(CLI::App& app) {
     cmd->add_option("--size", a->size, "image size W or WxH (default: the scene file's resolution, else 512)");
     cmd->add_option("--grid", a->grid, "voxels per axis, or 'auto' (default 50)");
     cmd->add_option("--threads", a->threads, "host threads (default: all cores); never changes the cycles")->check(CLI::NonNegativeNumber);
-    cmd->add_option("-o,--output", a->out, "PNG image");
-    cmd->add_option("--stats-json", a->stats_json, "statistics as JSON");
-    cmd->add_option("--id-buffer", a->id_buffer, "eye-ray primitive ids: raw int32 LE, (H+1) x (W+1)");
-    cmd->add_option("--t-buffer", a->t_buffer, "eye-ray hit distances: raw float32 LE, (H+1) x (W+1)");
+    cmd->add_option("-o,--output", a->out, "PNG image ('-': stdout; this or one other output, and the report goes to stderr)");
+    cmd->add_option("--stats-json", a->stats_json, "statistics as JSON ('-': stdout)");
+    cmd->add_option("--id-buffer", a->id_buffer, "eye-ray primitive ids: raw int32 LE, (H+1) x (W+1) ('-': stdout)");
+    cmd->add_option("--t-buffer", a->t_buffer, "eye-ray hit distances: raw float32 LE, (H+1) x (W+1) ('-': stdout)");
     cmd->add_option("--cutoff", a->cutoff, "contribution cut-off for secondary rays (0 = off, SPD mode)")
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("-q,--quiet", a->quiet, "no report, no progress bar");
