@@ -6,6 +6,7 @@
 
 #include "base/progress.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 #include "sim_load.hpp"
 
 #include "iss/processor.hpp"
@@ -132,7 +133,7 @@ void add_demo(CLI::App& app) {
     auto* cmd = app.add_subcommand("demo", "Render a scene through the simulated machine (model V); --isa: the ISA examples");
     auto a = std::make_shared<DemoArgs>();
     auto* scene = cmd->add_option("--scene", a->scene, "SPD name, NAME:SIZE or NFF file")->capture_default_str();
-    auto* size = cmd->add_option("--size", a->size, "image size N x N")->capture_default_str()->check(CLI::Range(1, 4096));
+    auto* size = cmd->add_option("--size", a->size, "image size N x N")->capture_default_str()->check(between(1, 4096));
     auto* out = cmd->add_option("-o,--output", a->out, "PNG image")->capture_default_str();
     auto* isa = cmd->add_flag("--isa", a->isa, "instead: assemble and simulate the bundled examples, print ILP and utilisation");
     // Options of the other demo are errors, not ignored.

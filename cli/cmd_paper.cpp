@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 
 #include "base/progress.hpp"
 
@@ -143,13 +144,13 @@ void run_paper_command(const PaperArgs& a) {
 void add_paper(CLI::App& app) {
     auto* cmd = app.add_subcommand("paper", "Re-run the paper's evaluation: Tables 2-4, Fig. 6 and a summary");
     auto a = std::make_shared<PaperArgs>();
-    cmd->add_option("--size", a->size, "image size N x N (default 512, the paper's)");
+    cmd->add_option("--size", a->size, "image size N x N (default 512, the paper's)")->check(between(1, 16384));
     cmd->add_option("--scenes", a->scenes,
                     "scenes, comma-separated (default balls,mount,rings,tetra,tree; NAME:SIZE or NFF)");
     cmd->add_option("--grids", a->grids, "voxels per side, comma-separated (default 20,50,100)");
     cmd->add_option("--models", a->models, "models, comma-separated (default S,M,V; S comes from the M run)");
     cmd->add_option("--out", a->out, "output folder (default paper-out); cells kept in OUT/cells");
-    cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(between(0, 1024));
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
     cmd->callback([a] {
         run_paper_command(*a);

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 #include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
@@ -66,9 +67,10 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("-o,--output", a->out, "Write the pipelined assembly to FILE and print the report (default, or '-': the code on stdout)");
     cmd->add_option("--sequential", a->sequential, "Also write the region's sequential meaning (the reference "
                                                    "--verify compares with) to FILE (a file, never stdout)");
-    cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only");
+    cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only")->check(between(1, 4096));
     cmd->add_option("--exact", a->exact, "When the II is above the MII, search the smaller IIs for up to SECONDS; "
-                                         "the report says whether the II is proven optimal");
+                                         "the report says whether the II is proven optimal")
+        ->check(between(0.0, 86400.0));
     cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
                                          "and compare memory and registers");
     cmd->add_flag("-q,--quiet", a->quiet, "Print nothing but errors and the verification result");

@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 
 #include "base/write_file.hpp"
 
@@ -72,7 +73,8 @@ void add_scene(CLI::App& app) {
     auto size = std::make_shared<int>(0);
     auto out = std::make_shared<std::string>();
     gen->add_option("name", *name, "balls mount rings tetra tree gears")->required();
-    gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)");
+    gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)")
+        ->check(between(1, 20));
     gen->add_option("-o,--output", *out, "output file (default, or '-': stdout)");
     gen->callback([=] {
         check_output(*out);

@@ -1,6 +1,7 @@
 // `nesshi sim`: run one processor standalone, print statistics, trace, FIFO files.
 #include "commands.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 #include "sim_load.hpp"
 
 #include "base/read_file.hpp"
@@ -245,7 +246,8 @@ void add_sim(CLI::App& app) {
     auto o = std::make_shared<SimOpts>();
     cmd->add_option("input", o->input, "Object file (.o), or assembly source (.s) assembled first")->required();
     cmd->add_option("-m,--machine", o->machine, "Machine (default: the one the object names)");
-    cmd->add_option("--max-cycles", o->max_cycles, "Stop with a fault after this many cycles")->capture_default_str();
+    cmd->add_option("--max-cycles", o->max_cycles, "Stop with a fault after this many cycles")
+        ->check(between<uint64_t>(1, UINT64_MAX))->capture_default_str();
     cmd->add_option("--fifo-in", o->fifo_in, "[CH=]FILE: words fed to channel CH (default 0); the program must receive on CH");
     cmd->add_option("--fifo-out", o->fifo_out, "[CH=]FILE: words sent on channel CH (default 1; FILE '-': stdout); the program must send on CH");
     cmd->add_option("--stats-json", o->stats_json, "Write statistics as JSON ('-': stdout, and the report goes to stderr)");
@@ -259,7 +261,8 @@ void add_sim(CLI::App& app) {
                                        "(default: f32, up to the next data label)");
     cmd->add_option("--expect", o->expect, "LABEL[:COUNT][:FORMAT]=FILE: compare memory at LABEL with the values "
                                            "in FILE after the run; the first difference is an error (exit 1)");
-    auto* ulp = cmd->add_option("--ulp", o->ulp, "f32 values of --expect may differ by up to N ulps (default 0: exact)");
+    auto* ulp = cmd->add_option("--ulp", o->ulp, "f32 values of --expect may differ by up to N ulps (default 0: exact)")
+        ->check(between<uint64_t>(0, UINT32_MAX));
     ulp->needs(cmd->get_option("--expect"));
     cmd->add_flag("-q,--quiet", o->quiet, "Print no statistics");
     cmd->callback([o] { run_sim(*o); });

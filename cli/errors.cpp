@@ -49,6 +49,11 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         else
             print_usage_error(who, e.what());
         return kExitUsage;
+    } catch (const CLI::ValidationError& e) { // "--pes: must be ..." (ranges.hpp) reads "--pes must be ..."
+        std::string msg = e.what();
+        if (const auto at = msg.find(": must be "); at != std::string::npos) msg.erase(at, 1);
+        print_usage_error(who, msg);
+        return kExitUsage;
     } catch (const CLI::ParseError& e) {
         print_usage_error(who, e.what());
         return kExitUsage;
