@@ -245,7 +245,7 @@ void add_sim(CLI::App& app) {
     auto* cmd = app.add_subcommand("sim", "Run a program on the instruction-set simulator and print statistics");
     auto o = std::make_shared<SimOpts>();
     cmd->add_option("input", o->input, "Object file (.o), or assembly source (.s) assembled first")->required();
-    cmd->add_option("-m,--machine", o->machine, "Machine (default: the one the object names)");
+    cmd->add_option("-m,--machine", o->machine, "Machine preset or TOML file (default: the one the object names; needed when it was assembled with -m FILE; the fingerprint must match)");
     cmd->add_option("--max-cycles", o->max_cycles, "Stop with a fault after this many cycles")
         ->check(between<uint64_t>(1, UINT64_MAX))->capture_default_str();
     cmd->add_option("--fifo-in", o->fifo_in, "[CH=]FILE: words fed to channel CH (default 0); the program must receive on CH");
