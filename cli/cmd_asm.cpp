@@ -1,16 +1,17 @@
 // `nesshi asm`: assemble a source file into an object (diagnostics to stderr, exit 1 on error).
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
 #include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 #include "isa/machine.hpp"
 #include "isa/object.hpp"
 
 #include <fmt/core.h>
 
-#include <fstream>
 #include <memory>
 
 namespace nesshi::cli {
@@ -25,10 +26,12 @@ void add_asm(CLI::App& app) {
                     "Machine preset (os, ic, seq, os-real, ...) or TOML file; default: the source's "
                     "'# machine: NAME' first line, else os");
     cmd->add_option("input", o->input, "Assembly source (.s)")->required();
-    cmd->add_option("-o,--output", o->output, "Object file (default: input with .o)");
-    cmd->add_option("--listing", o->listing, "Write a listing (encodings, slots, port usage)");
+    cmd->add_option("-o,--output", o->output, "Object file (default: input with .o; '-': stdout)");
+    cmd->add_option("--listing", o->listing, "Write a listing (encodings, slots, port usage); '-': stdout");
     cmd->add_option("-I,--include-dir", o->includes, "Directory searched by .include");
     cmd->callback([o] {
+        stdout_output({{"-o", o->output}, {"--listing", o->listing}});
+        check_outputs({o->output, o->listing});
         // The file is read here only for its header: with -m, a missing file is the assembler's error.
         const isa::Machine m = source_machine(o->machine, o->machine.empty() ? base::read_file(o->input) : "");
         assembler::AsmOptions opts;
@@ -45,11 +48,7 @@ void add_asm(CLI::App& app) {
             out = (has_ext ? o->input.substr(0, dot) : o->input) + ".o";
         }
         isa::write_object_file(r.object, out);
-        if (!o->listing.empty()) {
-            std::ofstream lst(o->listing, std::ios::trunc);
-            lst << r.listing;
-            if (!lst) throw base::Error(base::SourceLoc(o->listing), "cannot write listing");
-        }
+        if (!o->listing.empty()) base::write_file(o->listing, r.listing);
     });
 }
 } // namespace nesshi::cli

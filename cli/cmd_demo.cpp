@@ -6,6 +6,8 @@
 #include "stage_machines.hpp"
 
 #include "base/progress.hpp"
+#include "outputs.hpp"
+#include "ranges.hpp"
 #include "sim_load.hpp"
 
 #include "iss/processor.hpp"
@@ -14,7 +16,8 @@
 #include "machine/memory_report.hpp"
 #include "rt/render.hpp"
 
-#include <fmt/core.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -30,6 +33,12 @@ namespace fs = std::filesystem;
 // location can be given with --examples.
 fs::path default_examples_dir() { return fs::path(NESSHI_EXAMPLES_DIR); }
 
+std::vector<std::string> file_names(const std::vector<fs::path>& files) {
+    std::vector<std::string> names;
+    for (const fs::path& f : files) names.push_back(f.filename().string());
+    return names;
+}
+
 void run_demo(const std::string& dir_opt, const std::string& main_example) {
     fs::path dir = dir_opt.empty() ? default_examples_dir() : fs::path(dir_opt);
     std::vector<fs::path> files;
@@ -39,6 +48,10 @@ void run_demo(const std::string& dir_opt, const std::string& main_example) {
     if (ec || files.empty())
         throw base::Error(fmt::format("no examples found in {} (use --examples DIR)", dir.string()));
     std::sort(files.begin(), files.end());
+    // --detail names an example that is not there: an error, not a table without its detail.
+    if (std::none_of(files.begin(), files.end(), [&](const fs::path& f) { return f.filename() == main_example; }))
+        throw UsageError(fmt::format("--detail {}: no such example in {} (the .s files there: {})", main_example,
+                                     dir.string(), fmt::join(file_names(files), " ")));
 
     fmt::print("Nesshisen ISS demo: the bundled examples on their machines (checked engine)\n\n");
     fmt::print("{:<22} {:<5} {:>7} {:>8} {:>5} {:>6} {:>6}  {}\n", "example", "mach", "cycles", "bundles", "ops",
@@ -84,6 +97,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 void run_machine_demo(const DemoArgs& a) {
+    refuse_stdout("-o", a.out, "stdout holds the demo's report (nesshi render --model V -o - writes a PNG there)");
+    check_output(a.out);
     fmt::print("Nesshisen demo: SPD '{}' at {}x{} through model V (one PE: OS and IC VLIW kernels on the ISS)\n",
                a.scene, a.size, a.size);
     if (!a.machines.os_machine.empty() || !a.machines.ic_machine.empty() || !a.machines.seq_machine.empty())
@@ -124,7 +139,7 @@ void add_demo(CLI::App& app) {
     auto* cmd = app.add_subcommand("demo", "Render a scene through the simulated machine (model V); --isa: the ISA examples");
     auto a = std::make_shared<DemoArgs>();
     auto* scene = cmd->add_option("--scene", a->scene, "SPD name, NAME:SIZE or NFF file")->capture_default_str();
-    auto* size = cmd->add_option("--size", a->size, "image size N x N")->capture_default_str()->check(CLI::Range(1, 4096));
+    auto* size = cmd->add_option("--size", a->size, "image size N x N")->capture_default_str()->check(between(1, 4096));
     auto* out = cmd->add_option("-o,--output", a->out, "PNG image")->capture_default_str();
     auto* isa = cmd->add_flag("--isa", a->isa, "instead: assemble and simulate the bundled examples, print ILP and utilisation");
     // Options of the other demo are errors, not ignored.

@@ -20,7 +20,7 @@ void add_dis(CLI::App& app) {
     auto o = std::make_shared<Opts>();
     cmd->add_option("input", o->input, "Object file (.o)")->required();
     cmd->add_option("-m,--machine", o->machine,
-                    "Machine preset or TOML file (default: the object's machine, when a preset)");
+                    "Machine preset or TOML file (default: the object's machine, when a preset; the fingerprint must match)");
     cmd->add_flag("--no-slots", o->no_slots, "Omit slot prefixes (the output no longer pins slots)");
     cmd->add_flag("--no-lines", o->no_lines, "Omit .file/.loc line-table directives");
     cmd->callback([o] {
@@ -29,7 +29,9 @@ void add_dis(CLI::App& app) {
             std::string name = o->machine.empty() ? obj.machine : o->machine;
             if (o->machine.empty() && !isa::is_preset(name))
                 throw isa::ObjectError(base::SourceLoc(o->input),
-                                       fmt::format("machine '{}' is not a preset; name its description with -m", name));
+                                       fmt::format("assembled for machine '{}', which is not a preset: name its description with "
+                                                   "-m FILE (the object's fingerprint checks that it is the same machine)",
+                                                   name));
             isa::Machine m = isa::load_machine(name);
             assembler::DisOptions opts;
             opts.slots = !o->no_slots;

@@ -2,12 +2,14 @@
 // (machine/kernel_report.hpp holds the measurements, the paper's figures and the goals).
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
+
+#include "base/write_file.hpp"
 
 #include "machine/kernel_report.hpp"
 
 #include <fmt/core.h>
 
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -17,21 +19,19 @@ void add_kernels(CLI::App& app) {
     auto* cmd = app.add_subcommand("kernels", "Cycle report of the hand-scheduled kernels (measured on the ISS)");
     auto json = std::make_shared<std::string>();
     auto dir = std::make_shared<std::string>();
-    cmd->add_option("--json", *json, "Also write the table as JSON to FILE");
+    cmd->add_option("--json", *json, "Also write the table as JSON to FILE ('-': the JSON on stdout, the table on stderr)");
     cmd->add_option("--kernels", *dir, "A folder of kernel sources to measure instead of the built-in ones");
     auto machines = std::make_shared<machine::KernelMachines>();
     cmd->add_option("--os-machine", machines->os, "measure the os rows on this machine: preset or TOML (default os)");
     cmd->add_option("--ic-machine", machines->ic, "measure the ic rows on this machine (default ic)");
     cmd->add_option("--seq-machine", machines->seq, "measure the seq rows on this machine (default seq)");
     cmd->callback([json, dir, machines] {
+        const bool json_on_stdout = stdout_output({{"--json", *json}});
+        check_output(*json);
         const machine::KernelReport report =
             machine::kernel_report(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir), *machines);
-        fmt::print("{}", report.text());
-        if (!json->empty()) {
-            std::ofstream f(*json);
-            if (!f) throw base::Error(base::SourceLoc(*json), "cannot write");
-            f << report.json() << "\n";
-        }
+        fmt::print(json_on_stdout ? stderr : stdout, "{}", report.text());
+        if (!json->empty()) base::write_file(*json, report.json() + "\n");
     });
 }
 

@@ -1,16 +1,18 @@
 // `nesshi loop FILE.s`: the report of each hand-written loop in a program (sched/loop_report.hpp).
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
 #include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 #include "isa/machine.hpp"
 #include "sched/loop_report.hpp"
 
 #include <fmt/core.h>
 
-#include <fstream>
+#include <cstdio>
 
 namespace nesshi::cli {
 
@@ -23,8 +25,10 @@ void add_loop(CLI::App& app) {
     cmd->add_option("input", a->input, "Assembly source (.s)")->required();
     cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
     cmd->add_option("--label", a->label, "Only the loop at this label");
-    cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE");
+    cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE ('-': the JSON on stdout, the text on stderr)");
     cmd->callback([a] {
+        std::FILE* report = stdout_output({{"--json", a->json}}) ? stderr : stdout;
+        check_output(a->json);
         const std::string text = base::read_file(a->input);
         const isa::Machine m = source_machine(a->machine, text);
         const assembler::AsmResult r = assembler::assemble_string(text, a->input, m, {});
@@ -32,18 +36,14 @@ void add_loop(CLI::App& app) {
         if (!r.ok) throw Reported(kExitInput);
         const std::vector<sched::LoopReport> loops = sched::analyse_loops(r.object, m, a->label);
         if (loops.empty())
-            fmt::print("{}: no loops: straight-line code (no label whose block ends in a branch back to it, and no "
+            fmt::print(report, "{}: no loops: straight-line code (no label whose block ends in a branch back to it, and no "
                        "stored label address that a jr could dispatch to)\n", a->input);
         std::string json = "[";
         for (std::size_t k = 0; k < loops.size(); ++k) {
-            fmt::print("{}{}", k ? "\n" : "", loops[k].text());
+            fmt::print(report, "{}{}", k ? "\n" : "", loops[k].text());
             json += (k ? ",\n" : "\n") + loops[k].json();
         }
-        if (!a->json.empty()) {
-            std::ofstream f(a->json, std::ios::binary | std::ios::trunc);
-            f << json << "\n]\n";
-            if (!f) throw base::Error(base::SourceLoc(a->json), "cannot write");
-        }
+        if (!a->json.empty()) base::write_file(a->json, json + "\n]\n");
     });
 }
 

@@ -3,6 +3,8 @@
 #include "commands.hpp"
 #include "errors.hpp"
 #include "stage_machines.hpp"
+#include "outputs.hpp"
+#include "ranges.hpp"
 
 #include "base/progress.hpp"
 
@@ -63,7 +65,8 @@ std::vector<machine::Model> parse_models(const std::string& s) {
     return models;
 }
 
-// Prints a line per finished cell; on a terminal also a bar with the time left, redrawn in place.
+// Prints a line per finished cell to stderr (progress, never stdout: `nesshi paper | head -2` gets the
+// summary); on a terminal also a bar with the time left, redrawn in place.
 class ProgressPrinter {
   public:
     ProgressPrinter(const paper::PaperOptions& o, bool tty) : out_(o.out_dir), tty_(tty) {}
@@ -72,28 +75,27 @@ class ProgressPrinter {
         if (p.size != size_) { // a new phase: the matrix, then the grid pre-pass
             size_ = p.size;
             clear_status();
-            fmt::print("{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n",
+            fmt::print(stderr, "{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n",
                        phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
                        p.cells_to_run, p.threads);
         }
         if (p.stale && !p.stale->empty()) {
             clear_status();
-            fmt::print("  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
-            for (const std::string& s : *p.stale) fmt::print("    {}\n", s);
+            fmt::print(stderr, "  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
+            for (const std::string& s : *p.stale) fmt::print(stderr, "    {}\n", s);
         }
         if (p.finished) {
             clear_status();
             const paper::CellRecord& c = *p.finished;
-            fmt::print("  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
+            fmt::print(stderr, "  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
                        machine::model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
                        c.wall_seconds, p.cells_run + p.cells_failed, p.cells_to_run, tty_ ? "" : "; " + timing(p));
         }
         if (tty_ && p.cells_to_run > 0) draw_status(p);
-        std::fflush(stdout);
-    }
+            }
 
     void clear_status() {
-        if (status_shown_) fmt::print("\r\033[K");
+        if (status_shown_) fmt::print(stderr, "\r\033[K");
         status_shown_ = false;
     }
 
@@ -107,7 +109,7 @@ class ProgressPrinter {
 
     void draw_status(const paper::PaperProgress& p) {
         const int pct = static_cast<int>(p.fraction * 100);
-        fmt::print("\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
+        fmt::print(stderr, "\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
                    p.cells_to_run, timing(p));
         status_shown_ = true;
     }
@@ -123,6 +125,7 @@ void run_paper_command(const PaperArgs& a) {
     o.scenes = split(a.scenes);
     o.grids = parse_grids(a.grids);
     o.models = parse_models(a.models);
+    refuse_stdout("--out", a.out, "it is a folder (the cells, tables and charts)");
     o.out_dir = a.out;
     o.threads = a.threads;
     o.machine = a.machine;
@@ -131,7 +134,7 @@ void run_paper_command(const PaperArgs& a) {
     } catch (const paper::PaperError& e) { // every check of validate is about the options
         throw UsageError(e.message());
     }
-    auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDOUT_FILENO) != 0);
+    auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDERR_FILENO) != 0);
     if (!a.quiet) o.progress = [printer](const paper::PaperProgress& p) { (*printer)(p); };
     try {
         paper::PaperRun r = paper::run_paper(o);
@@ -149,13 +152,13 @@ void run_paper_command(const PaperArgs& a) {
 void add_paper(CLI::App& app) {
     auto* cmd = app.add_subcommand("paper", "Re-run the paper's evaluation: Tables 2-4, Fig. 6 and a summary");
     auto a = std::make_shared<PaperArgs>();
-    cmd->add_option("--size", a->size, "image size N x N (default 512, the paper's)");
+    cmd->add_option("--size", a->size, "image size N x N (default 512, the paper's)")->check(between(1, 16384));
     cmd->add_option("--scenes", a->scenes,
                     "scenes, comma-separated (default balls,mount,rings,tetra,tree; NAME:SIZE or NFF)");
     cmd->add_option("--grids", a->grids, "voxels per side, comma-separated (default 20,50,100)");
     cmd->add_option("--models", a->models, "models, comma-separated (default S,M,V; S comes from the M run)");
     cmd->add_option("--out", a->out, "output folder (default paper-out); cells kept in OUT/cells");
-    cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(between(0, 1024));
     cmd->add_option("--kernels", a->machine.kernels_dir, "kernel source folder (default: built in)");
     add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");

@@ -2,10 +2,13 @@
 // optionally verified by simulation against the region's sequential meaning.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
+#include "ranges.hpp"
 #include "source_machine.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 #include "isa/machine.hpp"
 #include "iss/differential.hpp"
 #include "sched/pipeline.hpp"
@@ -13,7 +16,6 @@
 #include <fmt/core.h>
 
 #include <cstdio>
-#include <fstream>
 
 namespace nesshi::cli {
 
@@ -27,24 +29,19 @@ struct PipelineArgs {
 };
 
 void run_pipeline(const PipelineArgs& a) {
+    refuse_stdout("--sequential", a.sequential, "stdout holds the pipelined code or its report; give a file");
+    check_outputs({a.out, a.sequential});
     const std::string text = base::read_file(a.input);
     const isa::Machine m = source_machine(a.machine, text);
     sched::PipelineOptions po;
     po.ii = a.ii;
     po.exact_seconds = a.exact;
     const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
-    if (!a.out.empty()) {
-        std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
-        f << r.pipelined;
-        if (!f) throw base::Error(base::SourceLoc(a.out), "cannot write");
-    }
-    if (!a.sequential.empty()) {
-        std::ofstream f(a.sequential, std::ios::binary | std::ios::trunc);
-        f << r.linear;
-        if (!f) throw base::Error(base::SourceLoc(a.sequential), "cannot write");
-    }
-    if (!a.quiet) fmt::print("{}", a.out.empty() ? r.pipelined : r.report);
-    std::fflush(stdout);
+    const bool to_file = !a.out.empty() && a.out != "-"; // -o -: stdout, as without -o
+    if (to_file) base::write_file(a.out, r.pipelined);
+    if (!a.sequential.empty()) base::write_file(a.sequential, r.linear);
+    if (!a.quiet) fmt::print("{}", to_file ? r.report : r.pipelined);
+    base::flush_stdout();
     if (!a.verify) return;
     iss::DiffOptions d;
     d.registers = r.source_registers;
@@ -67,12 +64,13 @@ void add_pipeline(CLI::App& app) {
     auto a = std::make_shared<PipelineArgs>();
     cmd->add_option("input", a->input, "Linear assembly (.sa): a .pipeline TRIP ... .endpipeline region")->required();
     cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
-    cmd->add_option("-o,--output", a->out, "Write the pipelined assembly to FILE (default: stdout)");
+    cmd->add_option("-o,--output", a->out, "Write the pipelined assembly to FILE and print the report (default, or '-': the code on stdout)");
     cmd->add_option("--sequential", a->sequential, "Also write the region's sequential meaning (the reference "
-                                                   "--verify compares with) to FILE");
-    cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only");
+                                                   "--verify compares with) to FILE (a file, never stdout)");
+    cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only")->check(between(1, 4096));
     cmd->add_option("--exact", a->exact, "When the II is above the MII, branch and bound over the smaller IIs for up to SECONDS; "
-                                         "the report says whether the II is proven optimal");
+                                         "the report says whether the II is proven optimal")
+        ->check(between(0.0, 86400.0));
     cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
                                          "and compare memory and registers");
     cmd->add_flag("-q,--quiet", a->quiet, "Print nothing but errors and the verification result");

@@ -3,8 +3,10 @@
 #include "errors.hpp"
 #include "stage_machines.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 
 #include "base/progress.hpp"
+#include "base/write_file.hpp"
 
 #include "machine/memory_report.hpp"
 #include "machine/machine.hpp"
@@ -14,7 +16,8 @@
 #include <fmt/format.h>
 
 #include <charconv>
-#include <fstream>
+#include <climits>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <unistd.h>
@@ -46,13 +49,16 @@ struct RenderArgs {
 
 const char* const kModels = "native, S, M, V";
 
-int parse_int(const std::string& s, const char* what) {
+// A positive integer of --size or --grid; `words` says what is allowed.
+int parse_int(const std::string& s, const char* what, int max, const char* words) {
     int v = 0;
     auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || p != s.data() + s.size() || v < 1)
-        throw UsageError(fmt::format("bad {} '{}'", what, s));
+    if (ec != std::errc() || p != s.data() + s.size() || v < 1 || v > max)
+        throw UsageError(fmt::format("bad {} '{}' ({})", what, s, words));
     return v;
 }
+
+constexpr const char* kSizeWords = "--size is W or WxH, each an integer between 1 and 16384";
 
 // Options that would be silently ignored are errors: machine options with --model native, and
 // options without the one that gives them a meaning.
@@ -86,6 +92,10 @@ void run_render(const RenderArgs& a) {
     if (!native && !machine::parse_model(a.model, mo.model))
         throw UsageError(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
+    // One output may be stdout ('-'); the report then goes to stderr.
+    const bool output_on_stdout = stdout_output({{"-o", a.out}, {"--stats-json", a.stats_json}, {"--id-buffer", a.id_buffer},
+                                                 {"--t-buffer", a.t_buffer}, {"--trace-json", mo.trace_json}});
+    std::FILE* report = output_on_stdout ? stderr : stdout;
     check_outputs({a.out, a.stats_json, a.id_buffer, a.t_buffer, mo.trace_json});
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
     // (machine::Options::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
@@ -95,13 +105,12 @@ void run_render(const RenderArgs& a) {
     mo.dynamic_balance = a.balance == "dynamic";
     rt::RenderOptions opt;
     if (auto x = a.size.find('x'); x != std::string::npos) {
-        opt.width = parse_int(a.size.substr(0, x), "width");
-        opt.height = parse_int(a.size.substr(x + 1), "height");
+        opt.width = parse_int(a.size.substr(0, x), "width", 16384, kSizeWords);
+        opt.height = parse_int(a.size.substr(x + 1), "height", 16384, kSizeWords);
     } else {
-        opt.width = opt.height = parse_int(a.size, "size");
+        opt.width = opt.height = parse_int(a.size, "size", 16384, kSizeWords);
     }
-    if (opt.width > 16384 || opt.height > 16384) throw UsageError("image size is limited to 16384");
-    int grid = a.grid == "auto" ? 0 : parse_int(a.grid, "grid resolution");
+    int grid = a.grid == "auto" ? 0 : parse_int(a.grid, "grid resolution", INT_MAX, "--grid is 'auto' or an integer from 1");
     try {
         rt::check_grid_resolution(grid); // the one limit, shared with scene info
     } catch (const std::invalid_argument& e) {
@@ -133,32 +142,30 @@ void run_render(const RenderArgs& a) {
     if (!a.out.empty()) rt::write_png(a.out, r.image);
     if (opt.id_buffer) rt::write_id_buffer(a.id_buffer, r.id_buffer);
     if (opt.t_buffer) rt::write_t_buffer(a.t_buffer, r.t_buffer);
-    if (!a.stats_json.empty()) {
-        std::ofstream f(a.stats_json);
-        f << (native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid, prep.shapes.shapes.size())
-                     : machine::stats_json(prep, opt, mo, mr));
-        if (!f) throw base::Error(base::SourceLoc(a.stats_json), "cannot write");
-    }
+    if (!a.stats_json.empty())
+        base::write_file(a.stats_json, native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid,
+                                                                            prep.shapes.shapes.size())
+                                              : machine::stats_json(prep, opt, mo, mr));
     if (!a.quiet) {
-        fmt::print("{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
+        fmt::print(report, "{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
                    a.model, opt.max_depth, opt.cutoff > 0 ? fmt::format(", cut-off {:g}", opt.cutoff) : "");
-        fmt::print("{}", rt::format_grid(prep.grid) +
+        fmt::print(report, "{}", rt::format_grid(prep.grid) +
                              (native ? machine::memory_report(prep.grid, prep.shapes.shapes.size())
                                      : machine::memory_report(prep.grid, prep.shapes.shapes.size(), mo)).text());
         if (native) {
-            fmt::print("{}", rt::format_rays(r.stats));
+            fmt::print(report, "{}", rt::format_rays(r.stats));
         } else {
-            fmt::print("{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
+            fmt::print(report, "{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
             if (auto_slots)
-                fmt::print("ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
+                fmt::print(report, "ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
                            "so no FIFO fills (--ray-slots or --window to choose)\n",
                            mo.ray_slots, mo.ray_slots, mo.fifo_capacity, machine::kLongestMessageWords);
-            fmt::print("{}", machine::format_stats(mr.machine));
-            fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
+            fmt::print(report, "{}", machine::format_stats(mr.machine));
+            fmt::print(report, "SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
             if (a.detail) {
                 const char* over = mr.machine.per_pe.size() > 1 ? ", summed over PEs" : "";
-                fmt::print("\n--- OS stage{} ---\n{}", over, iss::stats_text(mr.machine.os_detail));
-                fmt::print("\n--- IC stage{} ---\n{}", over, iss::stats_text(mr.machine.ic_detail));
+                fmt::print(report, "\n--- OS stage{} ---\n{}", over, iss::stats_text(mr.machine.os_detail));
+                fmt::print(report, "\n--- IC stage{} ---\n{}", over, iss::stats_text(mr.machine.ic_detail));
             }
         }
     }
@@ -173,43 +180,49 @@ void add_render(CLI::App& app) {
     cmd->add_option("--model", a->model, "native (C++ tracer, the default), V (VLIW OS + IC), M (sequential pipeline), S (one sequential processor)");
     cmd->add_option("--size", a->size, "image size W or WxH (default: the scene file's resolution, else 512)");
     cmd->add_option("--grid", a->grid, "voxels per axis, or 'auto' (default 50)");
-    cmd->add_option("--threads", a->threads, "host threads (default: all cores); never changes the cycles")->check(CLI::NonNegativeNumber);
-    cmd->add_option("-o,--output", a->out, "PNG image");
-    cmd->add_option("--stats-json", a->stats_json, "statistics as JSON");
-    cmd->add_option("--id-buffer", a->id_buffer, "eye-ray primitive ids: raw int32 LE, (H+1) x (W+1)");
-    cmd->add_option("--t-buffer", a->t_buffer, "eye-ray hit distances: raw float32 LE, (H+1) x (W+1)");
+    cmd->add_option("--threads", a->threads, "host threads (default: all cores); never changes the cycles")->check(between(0, 1024));
+    cmd->add_option("-o,--output", a->out, "PNG image ('-': stdout; this or one other output, and the report goes to stderr)");
+    cmd->add_option("--stats-json", a->stats_json, "statistics as JSON ('-': stdout)");
+    cmd->add_option("--id-buffer", a->id_buffer, "eye-ray primitive ids: raw int32 LE, (H+1) x (W+1) ('-': stdout)");
+    cmd->add_option("--t-buffer", a->t_buffer, "eye-ray hit distances: raw float32 LE, (H+1) x (W+1) ('-': stdout)");
     cmd->add_option("--cutoff", a->cutoff, "contribution cut-off for secondary rays (0 = off, SPD mode)")
-        ->check(CLI::Range(0.0, 1.0));
+        ->check(between(0.0, 1.0));
     cmd->add_flag("-q,--quiet", a->quiet, "no report, no progress bar");
     auto* m = "Machine (models S, M, V)";
-    cmd->add_option("--pes", a->mo.pes, "processing elements (default 1)")->check(CLI::PositiveNumber)->group(m);
+    cmd->add_option("--pes", a->mo.pes, "processing elements (default 1)")->check(between(1, 64))->group(m);
     cmd->add_option("--balance", a->balance, "DIS: interleaved (corner k to PE k mod N, default) or dynamic")
         ->check(CLI::IsMember({"interleaved", "dynamic"}))->group(m);
     cmd->add_option("--epoch", a->mo.epoch, "dynamic balancing: cycles between DIS hand-outs (default 20000)")
-        ->check(CLI::PositiveNumber)->group(m);
+        ->check(between<std::uint64_t>(1, 1'000'000'000))->group(m);
     cmd->add_option("--window", a->mo.window, "eye rays in flight per PE, the DIS's limit (default 64)")
-        ->check(CLI::PositiveNumber)->group(m);
+        ->check(between(1, 1 << 20))->group(m);
     cmd->add_option("--fifo-capacity", a->mo.fifo_capacity,
                     "words per FIFO, 0 = unbounded (default); without --window it also sets --ray-slots to capacity/12, "
                     "which cannot deadlock")
+        ->check(between<std::size_t>(0, std::size_t{1} << 28))
         ->group(m);
     cmd->add_option("--ray-slots", a->mo.ray_slots,
                     "rays in flight per PE (default 4096, the OS's ray state table); at most capacity/12 never fills a "
                     "FIFO")
-        ->check(CLI::Range(1, 4096))
+        ->check(between(1, 4096))
         ->group(m);
-    cmd->add_option("--fifo-latency", a->mo.fifo_latency, "extra cycles per FIFO hop (default 0)")->group(m);
+    cmd->add_option("--fifo-latency", a->mo.fifo_latency, "extra cycles per FIFO hop (default 0)")
+        ->check(between<std::uint32_t>(0, 1'000'000))->group(m);
     cmd->add_flag("--cache", a->cache, "a real IC cache over global memory instead of 100% hits")->group(m);
-    cmd->add_option("--cache-size", a->mo.cache.bytes, "IC cache bytes (default 1 MiB)")->group(m);
-    cmd->add_option("--cache-ways", a->mo.cache.ways, "IC cache ways (default 4)")->group(m);
-    cmd->add_option("--cache-line", a->mo.cache.line, "IC cache line bytes (default 32)")->group(m);
-    cmd->add_option("--miss-cycles", a->mo.cache.miss_cycles, "IC cache miss penalty (default 20)")->group(m);
+    cmd->add_option("--cache-size", a->mo.cache.bytes, "IC cache bytes (default 1 MiB)")
+        ->check(between<std::uint32_t>(16, 1u << 30))->group(m);
+    cmd->add_option("--cache-ways", a->mo.cache.ways, "IC cache ways (default 4)")->check(between<std::uint32_t>(1, 1024))->group(m);
+    cmd->add_option("--cache-line", a->mo.cache.line, "IC cache line bytes (default 32)")
+        ->check(between<std::uint32_t>(4, 4096))->group(m);
+    cmd->add_option("--miss-cycles", a->mo.cache.miss_cycles, "IC cache miss penalty (default 20)")
+        ->check(between<std::uint32_t>(0, 1'000'000))->group(m);
     cmd->add_flag("--no-resident")
         ->description("all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
         ->group(m);
     cmd->add_option("--quantum", a->mo.quantum, "scheduling slack between a PE's stages, cycles (default 32)")
-        ->check(CLI::PositiveNumber)->group(m);
-    cmd->add_option("--max-cycles", a->mo.max_cycles, "stop with an error past this many cycles per PE")->group(m);
+        ->check(between<std::uint64_t>(1, 1'000'000))->group(m);
+    cmd->add_option("--max-cycles", a->mo.max_cycles, "stop with an error past this many cycles per PE (default 0: no limit)")
+        ->check(between<std::uint64_t>(0, UINT64_MAX))->group(m);
     cmd->add_flag("--detail", a->detail, "also print the OS's and IC's processor statistics (units, ports, ILP histogram, regions)")
         ->group(m);
     cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);

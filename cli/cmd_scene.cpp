@@ -1,6 +1,10 @@
 // `nesshi scene`: `info` (counts, view, bounds, grid sizes against the machine's memories) and `gen`.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
+#include "ranges.hpp"
+
+#include "base/write_file.hpp"
 
 #include "kernels/abi.hpp"
 #include "machine/memory_report.hpp"
@@ -12,7 +16,6 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
 
 namespace nesshi::cli {
 
@@ -73,9 +76,11 @@ void add_scene(CLI::App& app) {
     auto size = std::make_shared<int>(0);
     auto out = std::make_shared<std::string>();
     gen->add_option("name", *name, "balls mount rings tetra tree gears")->required();
-    gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)");
-    gen->add_option("-o,--output", *out, "output file (default: stdout)");
+    gen->add_option("-s,--size", *size, "size factor (default: the generator's, the paper's scenes)")
+        ->check(between(1, 20));
+    gen->add_option("-o,--output", *out, "output file (default, or '-': stdout)");
     gen->callback([=] {
+        check_output(*out);
         std::string nm = *name;
         int sz = *size;
         if (auto p = rt::parse_spd_name(nm)) {
@@ -83,13 +88,8 @@ void add_scene(CLI::App& app) {
             if (sz == 0) sz = p->size;
         }
         std::string text = rt::generate_spd(nm, sz);
-        if (out->empty()) {
-            fmt::print("{}", text);
-        } else {
-            std::ofstream f(*out, std::ios::binary);
-            f << text;
-            if (!f) throw base::Error(base::SourceLoc(*out), "cannot write");
-        }
+        if (out->empty()) fmt::print("{}", text);
+        else base::write_file(*out, text);
     });
 }
 

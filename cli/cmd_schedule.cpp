@@ -2,16 +2,16 @@
 // file into bundles (sched/block.hpp); everything else is copied.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "outputs.hpp"
 #include "source_machine.hpp"
 
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 #include "isa/machine.hpp"
 #include "sched/block.hpp"
 
 #include <fmt/core.h>
 
-#include <cstdio>
-#include <fstream>
 
 namespace nesshi::cli {
 
@@ -25,10 +25,11 @@ void add_schedule(CLI::App& app) {
     auto a = std::make_shared<Args>();
     cmd->add_option("input", a->input, "Assembly source with blocks written one op per line, in order")->required();
     cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
-    cmd->add_option("-o,--output", a->output, "Write the scheduled assembly here (default: stdout)");
+    cmd->add_option("-o,--output", a->output, "Write the scheduled assembly here (default, or '-': stdout)");
     cmd->add_option("-I,--include-dir", a->includes, "Directory searched by .include");
     cmd->add_flag("--report", a->report, "Print each block's ops and bundles to stderr");
     cmd->callback([a] {
+        check_output(a->output);
         const std::string text = base::read_file(a->input);
         const isa::Machine m = source_machine(a->machine, text);
         assembler::AsmOptions opts;
@@ -37,17 +38,8 @@ void add_schedule(CLI::App& app) {
         if (a->report)
             for (const sched::BlockStats& b : r.blocks)
                 fmt::print(stderr, "{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);
-        if (a->output.empty()) {
-            fmt::print("{}", r.text);
-            return;
-        }
-        const std::string tmp = a->output + ".tmp"; // a failed run leaves the old file whole
-        {
-            std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-            f << r.text;
-            if (!f) throw base::Error(base::SourceLoc(tmp), "cannot write");
-        }
-        if (std::rename(tmp.c_str(), a->output.c_str()) != 0) throw base::Error(base::SourceLoc(a->output), "cannot write");
+        if (a->output.empty()) fmt::print("{}", r.text);
+        else base::replace_file(a->output, r.text); // a failed run leaves the old file whole
     });
 }
 

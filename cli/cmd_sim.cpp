@@ -1,9 +1,11 @@
 // `nesshi sim`: run one processor standalone, print statistics, trace, FIFO files.
 #include "commands.hpp"
 #include "outputs.hpp"
+#include "ranges.hpp"
 #include "sim_load.hpp"
 
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 #include "iss/channel.hpp"
 #include "iss/lockstep.hpp"
 #include "iss/memory_dump.hpp"
@@ -11,13 +13,16 @@
 #include "iss/stats.hpp"
 #include "iss/trace.hpp"
 
-#include <fmt/core.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
+#include <set>
+#include <system_error>
 
 namespace nesshi::cli {
 
@@ -64,10 +69,25 @@ Fifos make_fifos(const SimOpts& o, const std::vector<std::vector<uint32_t>>& inp
     return f;
 }
 
-void write_file(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::trunc | std::ios::binary);
-    out << text;
-    if (!out) throw base::Error(base::SourceLoc(path), "cannot write");
+// A FIFO file for a channel the program never uses would change nothing (an input never read,
+// an output always empty): a usage error that names the channels it does use.
+void check_channels_used(const SimOpts& o, const iss::Program& prog) {
+    std::set<uint32_t> recv, send;
+    for (const auto& d : prog.ops()) {
+        const isa::Kind k = d.instr.info().kind;
+        if (k == isa::Kind::Recv) recv.insert(d.imm);
+        if (k == isa::Kind::Send) send.insert(d.imm);
+    }
+    auto check = [&](const char* option, const std::string& spec, uint32_t def, const std::set<uint32_t>& used,
+                     const char* verb) {
+        const uint32_t ch = channel_spec(spec, def).first;
+        if (used.count(ch)) return;
+        throw UsageError(fmt::format("{} {}: {} never {} on channel {} ({})", option, spec, o.input, verb, ch,
+                                     used.empty() ? fmt::format("it {} on no channel", verb)
+                                                  : fmt::format("it {} on {}", verb, fmt::join(used, ", "))));
+    };
+    for (const auto& spec : o.fifo_in) check("--fifo-in", spec, 0, recv, "receives");
+    for (const auto& spec : o.fifo_out) check("--fifo-out", spec, 1, send, "sends");
 }
 
 // --expect SPEC=FILE: the dump spec and the values read from FILE.
@@ -123,9 +143,18 @@ void dump_and_check(const SimOpts& o, const iss::Processor& p, const std::vector
 
 void run_sim(const SimOpts& o) {
     for (const auto& spec : o.fifo_in) channel_spec(spec, 0); // usage errors first
+    // One output may be stdout ('-'); the report then goes to stderr, and --dump (results on
+    // stdout) cannot be used with it.
+    std::vector<NamedOutput> outs = {{"--trace", o.trace}, {"--stats-json", o.stats_json}};
+    for (const auto& spec : o.fifo_out) outs.emplace_back("--fifo-out", channel_spec(spec, 1).second);
+    const bool output_on_stdout = stdout_output(outs);
+    if (output_on_stdout && !o.dump.empty())
+        throw UsageError("--dump prints on stdout, where another output already goes ('-'); give that output a file");
+    std::FILE* report = output_on_stdout ? stderr : stdout;
     check_outputs({o.trace, o.stats_json});
     for (const auto& spec : o.fifo_out) check_output(channel_spec(spec, 1).second);
     auto prog = load_sim_input(o.input, o.machine);
+    check_channels_used(o, *prog);
     const std::vector<Expectation> expect = read_expectations(o, *prog);
     std::vector<std::vector<uint32_t>> inputs;
     for (const auto& spec : o.fifo_in) inputs.push_back(iss::read_word_file(channel_spec(spec, 0).second));
@@ -134,15 +163,20 @@ void run_sim(const SimOpts& o) {
     Fifos fifos = make_fifos(o, inputs);
     fifos.attach(p);
 
-    std::FILE* trace_file = nullptr;
+    std::optional<base::OutputFile> trace_file;
     std::unique_ptr<iss::Tracer> tracer;
+    iss::ChromeTracer* chrome_tracer = nullptr;
     if (!o.trace.empty()) {
-        trace_file = o.trace == "-" ? stdout : std::fopen(o.trace.c_str(), "wb");
-        if (!trace_file) throw base::Error(base::SourceLoc(o.trace), "cannot write");
+        trace_file.emplace(o.trace);
         bool chrome = o.trace_format == "chrome" ||
                       (o.trace_format == "auto" && o.trace.size() > 5 && o.trace.ends_with(".json"));
-        if (chrome) tracer = std::make_unique<iss::ChromeTracer>(trace_file);
-        else tracer = std::make_unique<iss::TextTracer>(trace_file);
+        if (chrome) {
+            auto t = std::make_unique<iss::ChromeTracer>(trace_file->get());
+            chrome_tracer = t.get();
+            tracer = std::move(t);
+        } else {
+            tracer = std::make_unique<iss::TextTracer>(trace_file->get());
+        }
         p.set_tracer(tracer.get());
     }
 
@@ -154,6 +188,7 @@ void run_sim(const SimOpts& o) {
     // one cycle or more past the fault), so every engine reports a fault at the same count.
     const iss::Processor* shown = &p;
     std::unique_ptr<iss::Processor> checked;
+    try { // the tracers print with fmt, which throws std::system_error when the trace file fails
     if (lockstep) {
         checked = std::make_unique<iss::Processor>(prog, iss::Engine::Checked);
         Fifos fifos2 = make_fifos(o, inputs);
@@ -177,8 +212,14 @@ void run_sim(const SimOpts& o) {
     }
     if (tracer) {
         p.set_tracer(nullptr);
+        if (chrome_tracer) chrome_tracer->finish();
         tracer.reset();
-        if (trace_file != stdout) std::fclose(trace_file);
+        trace_file->close();
+    }
+    } catch (const std::system_error& e) {
+        if (!trace_file) throw;
+        p.set_tracer(nullptr);
+        throw base::WriteError(o.trace, e.code().value());
     }
     if (!fault && st == iss::Status::Running)
         fault = iss::Fault{iss::FaultKind::CycleLimit, p.cycle(), p.pc(),
@@ -189,21 +230,21 @@ void run_sim(const SimOpts& o) {
 
     for (const auto& spec : o.fifo_out) {
         auto [ch, file] = channel_spec(spec, 1);
-        write_file(file, iss::format_words(outputs[ch]));
+        base::write_file(file, iss::format_words(outputs[ch]));
     }
     iss::Stats s = iss::compute_stats(*shown);
-    if (!o.stats_json.empty()) write_file(o.stats_json, iss::stats_json(s).dump(2) + "\n");
+    if (!o.stats_json.empty()) base::write_file(o.stats_json, iss::stats_json(s).dump(2) + "\n");
     if (!o.quiet) {
         // The first line says why the run stopped; the full fault report follows the statistics.
         if (fault)
-            fmt::print("{}: stopped after {} cycles ({} engine): {}: {}\n", o.input, shown->cycle(), o.engine,
+            fmt::print(report, "{}: stopped after {} cycles ({} engine): {}: {}\n", o.input, shown->cycle(), o.engine,
                        iss::fault_rule(fault->kind), fault->message);
         else
-            fmt::print("{}: halted after {} cycles ({} engine)\n", o.input, shown->cycle(), o.engine);
-        fmt::print("{}", iss::stats_text(s));
+            fmt::print(report, "{}: halted after {} cycles ({} engine)\n", o.input, shown->cycle(), o.engine);
+        fmt::print(report, "{}", iss::stats_text(s));
     }
     if (!fault) dump_and_check(o, p, expect);
-    std::fflush(stdout);
+    base::flush_stdout(); // the report before the fault on stderr, and checked
     if (fault) {
         fmt::print(stderr, "{}", iss::format_fault(p.program(), *fault));
         throw Reported(kExitFault);
@@ -216,11 +257,12 @@ void add_sim(CLI::App& app) {
     auto* cmd = app.add_subcommand("sim", "Run a program on the instruction-set simulator and print statistics");
     auto o = std::make_shared<SimOpts>();
     cmd->add_option("input", o->input, "Object file (.o), or assembly source (.s) assembled first")->required();
-    cmd->add_option("-m,--machine", o->machine, "Machine (default: the one the object names)");
-    cmd->add_option("--max-cycles", o->max_cycles, "Stop with a fault after this many cycles")->capture_default_str();
-    cmd->add_option("--fifo-in", o->fifo_in, "[CH=]FILE: words fed to channel CH (default 0)");
-    cmd->add_option("--fifo-out", o->fifo_out, "[CH=]FILE: words sent on channel CH (default 1)");
-    cmd->add_option("--stats-json", o->stats_json, "Write statistics as JSON");
+    cmd->add_option("-m,--machine", o->machine, "Machine preset or TOML file (default: the one the object names; needed when it was assembled with -m FILE; the fingerprint must match)");
+    cmd->add_option("--max-cycles", o->max_cycles, "Stop with a fault after this many cycles")
+        ->check(between<uint64_t>(1, UINT64_MAX))->capture_default_str();
+    cmd->add_option("--fifo-in", o->fifo_in, "[CH=]FILE: words fed to channel CH (default 0); the program must receive on CH");
+    cmd->add_option("--fifo-out", o->fifo_out, "[CH=]FILE: words sent on channel CH (default 1; FILE '-': stdout); the program must send on CH");
+    cmd->add_option("--stats-json", o->stats_json, "Write statistics as JSON ('-': stdout, and the report goes to stderr)");
     cmd->add_option("--trace", o->trace, "Write a per-cycle trace ('-' for stdout; *.json: Chrome trace events)");
     cmd->add_option("--trace-format", o->trace_format, "auto, text or chrome")
         ->check(CLI::IsMember({"auto", "text", "chrome"}))->capture_default_str()
@@ -231,7 +273,8 @@ void add_sim(CLI::App& app) {
                                        "(default: f32, up to the next data label)");
     cmd->add_option("--expect", o->expect, "LABEL[:COUNT][:FORMAT]=FILE: compare memory at LABEL with the values "
                                            "in FILE after the run; the first difference is an error (exit 1)");
-    auto* ulp = cmd->add_option("--ulp", o->ulp, "f32 values of --expect may differ by up to N ulps (default 0: exact)");
+    auto* ulp = cmd->add_option("--ulp", o->ulp, "f32 values of --expect may differ by up to N ulps (default 0: exact)")
+        ->check(between<uint64_t>(0, UINT32_MAX));
     ulp->needs(cmd->get_option("--expect"));
     cmd->add_flag("-q,--quiet", o->quiet, "Print no statistics");
     cmd->callback([o] { run_sim(*o); });

@@ -1,10 +1,13 @@
 #include "errors.hpp"
 
 #include "base/error.hpp"
+#include "base/write_file.hpp"
 
 #include <fmt/core.h>
 
+#include <cerrno>
 #include <string>
+#include <system_error>
 
 namespace nesshi::cli {
 
@@ -30,7 +33,7 @@ void print_usage_error(const std::string& who, const std::string& msg) {
 } // namespace
 
 const char* exit_status_help() {
-    return "Exit status: 0 success, 1 bad input or failed check, 2 usage error, 3 simulated fault.";
+    return "Exit status: 0 success, 1 bad input, failed check or failed write, 2 usage error, 3 simulated fault.";
 }
 
 int report_error(const CLI::App& app, std::exception_ptr error) {
@@ -46,6 +49,11 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         else
             print_usage_error(who, e.what());
         return kExitUsage;
+    } catch (const CLI::ValidationError& e) { // "--pes: must be ..." (ranges.hpp) reads "--pes must be ..."
+        std::string msg = e.what();
+        if (const auto at = msg.find(": must be "); at != std::string::npos) msg.erase(at, 1);
+        print_usage_error(who, msg);
+        return kExitUsage;
     } catch (const CLI::ParseError& e) {
         print_usage_error(who, e.what());
         return kExitUsage;
@@ -54,9 +62,19 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         return kExitUsage;
     } catch (const Reported& e) {
         return e.status();
+    } catch (const base::WriteError& e) {
+        if (e.broken_pipe()) return kExitInput; // the reader went away (`| head -1`): end quietly
+        fmt::print(stderr, "{}: error: {}\n", who, e.message());
+        return kExitInput;
     } catch (const base::Error& e) {
         if (e.loc().known()) fmt::print(stderr, "{}\n", e.what());
         else fmt::print(stderr, "{}: error: {}\n", who, e.message());
+        return kExitInput;
+    } catch (const std::system_error& e) {
+        // fmt::print throws this when a write fails. Files go through base::write_file and
+        // OutputFile (WriteError, which names them), so this one was a print to standard output.
+        if (e.code() == std::errc::broken_pipe) return kExitInput;
+        fmt::print(stderr, "{}: error: {}\n", who, base::WriteError("-", e.code().value()).message());
         return kExitInput;
     } catch (const std::exception& e) {
         fmt::print(stderr, "{}: error: {}\n", who, e.what());

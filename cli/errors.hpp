@@ -2,7 +2,9 @@
 //
 // Commands throw and never print an error themselves. An error that knows its input (a
 // base::Error with a location) prints as "file:line:col: error: message"; any other as
-// "nesshi CMD: error: message", CMD being the subcommand that ran ("scene info").
+// "nesshi CMD: error: message", CMD being the subcommand that ran ("scene info"). A failed write
+// is "nesshi CMD: error: writing 'PATH': No space left on device" (exit 1); a broken pipe (the
+// reader of stdout went away) ends the command quietly, exit 1.
 #pragma once
 
 #include "base/error.hpp"
@@ -17,7 +19,7 @@ namespace nesshi::cli {
 // The exit statuses of every command (also in `nesshi --help` and the README).
 enum Exit : int {
     kExitOk = 0,
-    kExitInput = 1, // bad input, failed check or verification, unwritable output
+    kExitInput = 1, // bad input, failed check or verification, unwritable output or a failed write
     kExitUsage = 2, // bad command line: unknown command or option, bad option value
     kExitFault = 3, // the simulated program faulted (or deadlocked, or hit its cycle limit)
 };

@@ -2,6 +2,9 @@
 #include "commands.hpp"
 #include "errors.hpp"
 
+#include "base/write_file.hpp"
+
+#include <csignal>
 #include <exception>
 
 namespace {
@@ -36,10 +39,20 @@ int main(int argc, char** argv) {
     nesshi::cli::add_schedule(app);
     nesshi::cli::add_sweep(app);
     one_value_per_option(app);
+    // A closed pipe (`nesshi isa | head -1`) is an EPIPE write error, which ends the command
+    // quietly (errors.cpp), instead of a SIGPIPE that kills it half-way through writing a file.
+    std::signal(SIGPIPE, SIG_IGN);
+    int status = nesshi::cli::kExitOk;
     try {
         app.parse(argc, argv);
     } catch (...) {
-        return nesshi::cli::report_error(app, std::current_exception());
+        status = nesshi::cli::report_error(app, std::current_exception());
     }
-    return nesshi::cli::kExitOk;
+    try {
+        nesshi::base::flush_stdout(); // what was printed really arrived (`nesshi isa > /dev/full`, --help too)
+    } catch (...) {
+        const int s = nesshi::cli::report_error(app, std::current_exception());
+        if (status == nesshi::cli::kExitOk) status = s;
+    }
+    return status;
 }

@@ -1,5 +1,9 @@
 #include "outputs.hpp"
 
+#include "errors.hpp"
+
+#include <fmt/core.h>
+
 #include <filesystem>
 #include <system_error>
 
@@ -22,6 +26,22 @@ void check_output(const std::string& path) {
         throw base::Error(base::SourceLoc(path), "cannot write: no folder " + dir.string());
     if (::access(dir.c_str(), W_OK) != 0)
         throw base::Error(base::SourceLoc(path), "cannot write: the folder " + dir.string() + " is not writable");
+}
+
+bool stdout_output(const std::vector<NamedOutput>& outputs) {
+    const char* first = nullptr;
+    for (const auto& [name, value] : outputs) {
+        if (value != "-") continue;
+        if (first)
+            throw UsageError(fmt::format("{} - and {} - would both write to standard output; give one of them a file",
+                                         first, name));
+        first = name;
+    }
+    return first != nullptr;
+}
+
+void refuse_stdout(const char* option, const std::string& value, const char* why) {
+    if (value == "-") throw UsageError(fmt::format("{} cannot be '-' (standard output): {}", option, why));
 }
 
 } // namespace nesshi::cli

@@ -16,6 +16,24 @@ namespace nesshi::assembler {
 
 namespace {
 
+// A string literal the lexer reads back as `s` (its escapes: \\ \" \n \t \r \0), so a file named
+// a"b.s round-trips.
+std::string quoted(std::string_view s) {
+    std::string out = "\"";
+    for (char c : s) {
+        switch (c) {
+        case '\\': out += "\\\\"; break;
+        case '"': out += "\\\""; break;
+        case '\n': out += "\\n"; break;
+        case '\t': out += "\\t"; break;
+        case '\r': out += "\\r"; break;
+        case '\0': out += "\\0"; break;
+        default: out += c;
+        }
+    }
+    return out + '"';
+}
+
 void print_data(std::string& out, const isa::DataSection& d, const std::multimap<uint32_t, std::string>& labels,
                 bool include_end) {
     out += fmt::format("\n.data 0x{:08x}\n", d.address);
@@ -87,7 +105,7 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
             const isa::LineEntry& l = obj.lines[b];
             if (l.file != file && l.file < obj.files.size()) {
                 file = l.file;
-                out += fmt::format(".file \"{}\"\n", obj.files[file]);
+                out += fmt::format(".file {}\n", quoted(obj.files[file]));
             }
             out += fmt::format(".loc {}\n", l.line);
         }

@@ -1,13 +1,15 @@
 // The line lexer (see lexer.hpp).
 #include "lexer.hpp"
 
+#include "isa/identifier.hpp"
+
 #include <cctype>
 
 namespace nesshi::assembler {
 
 namespace {
-bool ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '$'; }
-bool ident_char(char c) { return ident_start(c) || std::isdigit(static_cast<unsigned char>(c)); }
+using isa::ident_char;
+using isa::ident_start;
 bool digit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
 
 int digit_value(char c) {

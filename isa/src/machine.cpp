@@ -2,6 +2,7 @@
 #include "isa/machine.hpp"
 
 #include "isa/encoding.hpp"
+#include "isa/identifier.hpp"
 #include "machine_presets.hpp" // generated: kPresets[] from isa/machines/*.toml
 
 #include "base/error.hpp"
@@ -125,6 +126,10 @@ void parse_slots(const Ctx& ctx, const toml::table& root, Machine& m, bool inher
         SlotDesc s;
         s.name = get_string(ctx, t, "name", true, t.source());
         if (s.name.empty()) ctx.fail(t.source(), "slot name is empty");
+        if (!is_slot_name(s.name)) // it prefixes pinned ops (`iu0: add ...`) in sources and disassembly
+            ctx.fail(t.get("name")->source(),
+                     fmt::format("slot name '{}' is not an identifier (a letter or '_', then letters, digits or '_')",
+                                 s.name));
         if (m.slot_index(s.name) >= 0)
             ctx.fail(t.get("name")->source(), fmt::format("duplicate slot name '{}'", s.name));
         const toml::node* acc = t.get("accepts");

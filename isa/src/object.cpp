@@ -3,17 +3,29 @@
 
 #include "base/error.hpp"
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
+#include "isa/identifier.hpp"
 
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <array>
-#include <fstream>
 #include <iterator>
 
 namespace nesshi::isa {
 
 namespace {
+
+// `s` with every byte outside printable ASCII as \xNN, for a message about a bad name.
+std::string printable(std::string_view s) {
+    std::string out;
+    for (char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u >= 0x20 && u < 0x7f) out += c;
+        else out += fmt::format("\\x{:02x}", u);
+    }
+    return out;
+}
 
 constexpr char kMagic[8] = {'N', 'E', 'S', 'S', 'H', 'I', 'O', '\0'};
 enum SectionType : uint32_t { kCode = 1, kData = 2, kSymbols = 3, kFiles = 4, kLines = 5 };
@@ -209,6 +221,9 @@ ObjectFile read_object(const std::vector<uint8_t>& bytes, std::string_view name)
                 sym.global = global != 0;
                 sym.value = s.u32();
                 if (sym.name.empty()) s.fail("empty symbol name");
+                if (!is_identifier(sym.name)) // printed by dis and in --stats-json: it must be a name
+                    s.fail(fmt::format("symbol name '{}' is not an identifier ([A-Za-z_.$][A-Za-z0-9_.$]*)",
+                                       printable(sym.name)));
                 obj.symbols.push_back(std::move(sym));
             }
             break;
@@ -255,11 +270,8 @@ ObjectFile read_object_file(const std::string& path) {
 }
 
 void write_object_file(const ObjectFile& obj, const std::string& path) {
-    auto bytes = write_object(obj);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw ObjectError(base::SourceLoc(path), "cannot write");
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out) throw ObjectError(base::SourceLoc(path), "write failed");
+    const auto bytes = write_object(obj);
+    base::write_file(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::vector<std::vector<Instr>> decode_bundles(const ObjectFile& obj) {

@@ -215,6 +215,14 @@ std::shared_ptr<const Program> load_program_file(const std::string& path, const 
     }
     std::string name = machine_override.empty() ? obj.machine : machine_override;
     if (name.empty()) throw LoadError(base::SourceLoc(path), "object names no machine; pass --machine");
+    // A machine given by file when the object was assembled is known here by its name only (a
+    // path recorded in the object would break when either moves): the user names the file again,
+    // and the fingerprint checks that it is the same description.
+    if (machine_override.empty() && !isa::is_preset(name))
+        throw LoadError(base::SourceLoc(path),
+                        fmt::format("assembled for machine '{}', which is not a preset: name its description with "
+                                    "-m FILE (the object's fingerprint checks that it is the same machine)",
+                                    name));
     isa::Machine m;
     try {
         m = isa::load_machine(name);

@@ -77,8 +77,7 @@ void ChromeTracer::finish() {
     if (finished_) return;
     finished_ = true;
     if (!started_) fmt::print(out_, "{{\"displayTimeUnit\": \"ns\", \"traceEvents\": [");
-    fmt::print(out_, "\n]}}\n");
-    std::fflush(out_);
+    fmt::print(out_, "\n]}}\n"); // the owner of out_ flushes and checks it (base::OutputFile::close)
 }
 
 } // namespace nesshi::iss

@@ -2,13 +2,13 @@
 // the sampled activity trace.
 #include "pe.hpp"
 #include "base/error.hpp"
+#include "base/write_file.hpp"
 
 #include "machine/memory_report.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <stdexcept>
 
 namespace nesshi::machine {
@@ -180,9 +180,7 @@ void write_trace_json(const std::string& path, const std::vector<PeResult>& pes)
     nlohmann::json doc = {{"traceEvents", events},
                           {"displayTimeUnit", "ns"},
                           {"otherData", {{"time_unit", "1 trace microsecond = 1 machine cycle"}}}};
-    std::ofstream f(path);
-    f << doc.dump() << "\n";
-    if (!f) throw base::Error(base::SourceLoc(path), "cannot write");
+    base::write_file(path, doc.dump() + "\n");
 }
 
 } // namespace nesshi::machine

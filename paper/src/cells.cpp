@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 
 namespace nesshi::paper {
 
@@ -116,19 +115,6 @@ std::vector<std::string> stale_reasons(const std::string& json_text, const machi
                                                 "(delete it to run the cell again)");
     }
     return machine::provenance_differences(stored, expected);
-}
-
-void write_file_atomically(const std::string& file, const std::string& text) {
-    const std::string tmp = file + ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        f << text;
-        f.close();
-        if (!f) throw PaperError(base::SourceLoc(tmp), "cannot write");
-    }
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) throw PaperError(base::SourceLoc(tmp), fmt::format("cannot rename to {}: {}", file, ec.message()));
 }
 
 const CellRecord* PaperData::find(const std::string& scene, int grid, machine::Model m) const {

@@ -1,6 +1,7 @@
 // The resumable matrix: cells already on disk are loaded, the others run concurrently, each written
 // as soon as it finishes so an interrupted run loses only the cells in flight.
 #include "paper/paper.hpp"
+#include "base/write_file.hpp"
 
 #include "paper/published.hpp"
 
@@ -96,7 +97,7 @@ struct MatrixRun {
             const std::string text = stamp_cell(runner(key, progress), provenance[i]);
             CellRecord r = parse_cell(key, text, file.string()); // checked before it can be loaded later
             r.wall_seconds = seconds_since(t0);
-            write_file_atomically(file.string(), text);
+            base::replace_file(file.string(), text); // a killed run never leaves half a cell
             std::lock_guard lock(mutex);
             records[i] = std::move(r);
             partial[position] = 1;

@@ -1,5 +1,6 @@
 // Writes every report of a paper run into the output folder.
 #include "paper/paper.hpp"
+#include "base/write_file.hpp"
 
 #include <fmt/format.h>
 
@@ -14,7 +15,7 @@ std::vector<std::string> write_reports(const PaperData& d, const std::string& ou
     if (ec) throw PaperError(base::SourceLoc(out_dir), fmt::format("cannot create: {}", ec.message()));
     std::vector<std::string> names;
     auto write = [&](const std::string& name, const std::string& text) {
-        write_file_atomically((fs::path(out_dir) / name).string(), text);
+        base::replace_file((fs::path(out_dir) / name).string(), text);
         names.push_back(name);
     };
     const std::pair<const char*, Table> tables[] = {

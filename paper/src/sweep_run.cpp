@@ -3,6 +3,7 @@
 #include "paper/sweep.hpp"
 
 #include "base/read_file.hpp"
+#include "base/write_file.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -102,7 +103,7 @@ SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
             std::string text, failure;
             try {
                 text = stamp_cell(simulate(inputs[i]), prov[i]);
-                write_file_atomically(file.string(), text);
+                base::replace_file(file.string(), text);
             } catch (const std::exception& e) {
                 failure = fmt::format("{}: {}", describe(s, cells[i]), e.what());
             }
@@ -133,11 +134,11 @@ SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
     r.rows_jsonl = sweep_jsonl(s, cells, json);
     std::string jsonl;
     for (const std::string& row : r.rows_jsonl) jsonl += row + "\n";
-    write_file_atomically((fs::path(o.out_dir) / "results.csv").string(), csv);
-    write_file_atomically((fs::path(o.out_dir) / "results.jsonl").string(), jsonl);
+    base::replace_file((fs::path(o.out_dir) / "results.csv").string(), csv);
+    base::replace_file((fs::path(o.out_dir) / "results.jsonl").string(), jsonl);
     r.files = {"results.csv", "results.jsonl"};
     if (const std::string svg = sweep_chart_svg(s, cells, json); !svg.empty()) {
-        write_file_atomically((fs::path(o.out_dir) / "chart.svg").string(), svg);
+        base::replace_file((fs::path(o.out_dir) / "chart.svg").string(), svg);
         r.files.push_back("chart.svg");
     }
     if (!r.failures.empty())

@@ -1,11 +1,13 @@
 // PNG writer (libpng) and the raw little-endian ID / t buffers.
 #include "rt/image.hpp"
 #include "base/error.hpp"
+#include "base/write_file.hpp"
 
 #include <fmt/format.h>
 #include <png.h>
 
 #include <bit>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -14,34 +16,23 @@
 namespace nesshi::rt {
 
 namespace {
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
-File open_write(const std::string& path) {
-    File f(std::fopen(path.c_str(), "wb"));
-    if (!f) throw base::Error(base::SourceLoc(path), fmt::format("cannot open for writing: {}", std::strerror(errno)));
-    return f;
-}
-
 void write_words(const std::string& path, const std::uint32_t* words, std::size_t n) {
-    File f = open_write(path);
-    std::vector<unsigned char> bytes(n * 4);
+    std::string bytes(n * 4, '\0');
     for (std::size_t i = 0; i < n; ++i)
-        for (int b = 0; b < 4; ++b) bytes[i * 4 + static_cast<std::size_t>(b)] = static_cast<unsigned char>(words[i] >> (8 * b));
-    if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size())
-        throw base::Error(base::SourceLoc(path), "write failed");
+        for (int b = 0; b < 4; ++b) bytes[i * 4 + static_cast<std::size_t>(b)] = static_cast<char>(words[i] >> (8 * b));
+    base::write_file(path, bytes);
 }
 } // namespace
 
 void write_png(const std::string& path, const Image& img) {
-    File f = open_write(path);
+    base::OutputFile f(path);
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     if (!png) throw std::runtime_error("libpng: cannot create write struct");
     png_infop info = png_create_info_struct(png);
     if (!info || setjmp(png_jmpbuf(png))) {
+        const int err = std::ferror(f.get()) ? errno : 0; // libpng's "Write Error": the file's own error
         png_destroy_write_struct(&png, &info);
+        if (err) throw base::WriteError(path, err);
         throw base::Error(base::SourceLoc(path), "PNG write failed");
     }
     png_init_io(png, f.get());
@@ -52,6 +43,7 @@ void write_png(const std::string& path, const Image& img) {
         png_write_row(png, img.rgb.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) * 3);
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
+    f.close(); // the last rows are written here, so a full disk shows here
 }
 
 void write_id_buffer(const std::string& path, const std::vector<std::int32_t>& ids) {

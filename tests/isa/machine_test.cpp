@@ -123,6 +123,17 @@ TEST_CASE("malformed descriptions are rejected with file:line:col") {
     CHECK(error_of(replace(kGood, "mul = 1\n", "")) == "t.toml:10:1: error: missing key 'mul'");
 }
 
+// A slot name prefixes pinned ops in sources and disassembly: "iu 0" made disassembly that could
+// not be assembled again.
+TEST_CASE("slot names are identifiers, with their location") {
+    for (const char* bad : {"iu 0", "iu:0", "0iu", "iu.0", "$iu", "iu-0"}) {
+        INFO(bad);
+        CHECK(error_of(replace(kGood, "name = \"u0\"", fmt::format("name = \"{}\"", bad)))
+                  .rfind(fmt::format("t.toml:22:8: error: slot name '{}' is not an identifier", bad), 0) == 0);
+    }
+    CHECK(error_of(replace(kGood, "name = \"u0\"", "name = \"_u_0\"")) == "no error");
+}
+
 TEST_CASE("an unknown preset or missing file names the presets") {
     try {
         load_machine("no-such-machine");

@@ -63,6 +63,22 @@ TEST_CASE("foreign files and bad versions are named as such") {
     CHECK(load_error(bytes) == "x.o: error: object format version 9 (this tool reads 1)");
 }
 
+// A symbol name is printed by dis and written into --stats-json: a name that is not an identifier
+// (a byte 0xff broke the JSON after the whole run) is refused when the object is read.
+TEST_CASE("symbol names must be identifiers") {
+    for (const std::string& bad : {std::string("a\xff"), std::string("two words"), std::string("9lives"), std::string("a\"b")}) {
+        ObjectFile o = sample();
+        o.symbols[0].name = bad;
+        INFO(bad);
+        CHECK(load_error(write_object(o)).find("is not an identifier") != std::string::npos);
+    }
+    ObjectFile o = sample();
+    o.symbols[0].name = "a\xff";
+    CHECK(load_error(write_object(o)).find("symbol name 'a\\xff' is not an identifier") != std::string::npos);
+    o.symbols[0].name = "_.x$9";
+    CHECK(load_error(write_object(o)).empty());
+}
+
 TEST_CASE("random corruption never crashes and is always reported") {
     auto good = write_object(sample());
     std::mt19937 rng(7);

@@ -111,7 +111,9 @@ class Program {
 };
 
 std::shared_ptr<const Program> load_program(const isa::ObjectFile& obj, const isa::Machine& m);
-// Reads the object and the machine it names (or `machine_override` when not empty).
+// Reads the object and the machine it names (or `machine_override` when not empty). An object for
+// a machine that is not a preset (assembled with -m FILE) needs the override; with or without
+// it, the object's fingerprint must match the machine's (LoadError).
 std::shared_ptr<const Program> load_program_file(const std::string& path,
                                                  const std::string& machine_override = {});
 

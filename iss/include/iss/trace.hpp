@@ -32,7 +32,12 @@ class TextTracer : public Tracer {
 class ChromeTracer : public Tracer {
   public:
     explicit ChromeTracer(std::FILE* out) : out_(out) {}
-    ~ChromeTracer() override { finish(); }
+    ~ChromeTracer() override { // call finish() first to see its errors: a destructor cannot throw
+        try {
+            finish();
+        } catch (...) {
+        }
+    }
     void on_cycle(const Program& prog, const CycleEvent& ev) override;
     void finish(); // closes the JSON document (idempotent)
 

@@ -66,8 +66,6 @@ std::string stamp_cell(const std::string& json_text, const machine::Provenance& 
 // the file when its results do not match its digest (edited by hand) or it is not JSON.
 std::vector<std::string> stale_reasons(const std::string& json_text, const machine::Provenance& expected,
                                        const std::string& file);
-// Writes FILE.tmp then renames it over FILE, so a killed run never leaves half a cell behind.
-void write_file_atomically(const std::string& file, const std::string& text);
 
 struct PaperProgress {
     const CellRecord* finished = nullptr; // the cell just finished; nullptr: start or a periodic update
