@@ -7,6 +7,7 @@
 
 #include "isa/bundle_check.hpp"
 #include "isa/printer.hpp"
+#include "lexer.hpp"
 
 #include <fmt/format.h>
 
@@ -65,7 +66,16 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
         auto v = isa::check_bundle(m, bundles[b]);
         if (!v.empty())
             throw isa::ObjectError(fmt::format("bundle {} is not valid on {}: {}", b, m.name, v.front().message));
+        for (const isa::Instr& in : bundles[b]) // as the assembler requires: a target names a bundle
+            for (int k = 0; k < in.info().num_operands; ++k)
+                if (in.info().operands[size_t(k)].kind == isa::OperandKind::Target && in.imm >= bundles.size())
+                    throw isa::ObjectError(fmt::format("bundle {}: branch target {} is outside the code (bundles 0..{})",
+                                                       b, in.imm, int64_t(bundles.size()) - 1));
     }
+    for (const auto& s : obj.symbols)
+        if (!is_identifier(s.name))
+            throw isa::ObjectError(fmt::format("symbol at {} {} has a name that is not an identifier",
+                                               s.kind == isa::SymbolKind::Code ? "bundle" : "address", s.value));
     std::multimap<uint32_t, std::string> code_labels, data_labels;
     std::map<uint32_t, std::string> target_names;
     std::string out = fmt::format("# disassembly of an object for machine {}\n", obj.machine);
@@ -87,7 +97,7 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
             const isa::LineEntry& l = obj.lines[b];
             if (l.file != file && l.file < obj.files.size()) {
                 file = l.file;
-                out += fmt::format(".file \"{}\"\n", obj.files[file]);
+                out += fmt::format(".file {}\n", quote(obj.files[file]));
             }
             out += fmt::format(".loc {}\n", l.line);
         }

@@ -88,6 +88,29 @@ bool read_char(std::string_view s, size_t& i, char& out) {
 }
 } // namespace
 
+bool is_identifier(std::string_view name) {
+    if (name.empty() || !ident_start(name[0])) return false;
+    for (char c : name)
+        if (!ident_char(c)) return false;
+    return true;
+}
+
+std::string quote(std::string_view text) {
+    std::string out = "\"";
+    for (char c : text) {
+        switch (c) {
+        case '\n': out += "\\n"; break;
+        case '\t': out += "\\t"; break;
+        case '\r': out += "\\r"; break;
+        case '\0': out += "\\0"; break;
+        case '\\': out += "\\\\"; break;
+        case '"': out += "\\\""; break;
+        default: out += c;
+        }
+    }
+    return out + '"';
+}
+
 std::vector<Token> lex_line(std::string_view s) {
     std::vector<Token> out;
     size_t i = 0;

@@ -27,4 +27,10 @@ struct Token {
 
 std::vector<Token> lex_line(std::string_view line);
 
+// Whether `name` lexes as one identifier (a label the assembler can define).
+bool is_identifier(std::string_view name);
+// A string literal that lex_line reads back as exactly `text` (quotes, backslashes and
+// newlines escaped).
+std::string quote(std::string_view text);
+
 } // namespace nesshi::assembler
