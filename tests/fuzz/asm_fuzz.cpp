@@ -41,6 +41,8 @@ void assemble_on(std::string_view text, const isa::Machine& m) {
     fuzz::check(isa::write_object(again.object) == isa::write_object(r.object),
                 "the disassembly re-assembles byte-identically", dis);
     if (r.object.code.empty()) return; // an ISS program needs code (abi.inc alone has none)
+    for (const isa::DataSection& d : r.object.data) // the assembler places data anywhere; the loader
+        if (!d.bytes.empty() && !m.memory_at(d.address, uint32_t(d.bytes.size()))) return; // wants a region
     try {
         (void)iss::load_program(r.object, m);
     } catch (const base::Error& e) {

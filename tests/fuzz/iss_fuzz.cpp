@@ -28,7 +28,7 @@ using namespace nesshi;
 
 namespace {
 
-constexpr std::uint64_t kCycleLimit = 5'000;
+constexpr std::uint64_t kCycleLimit = 2'000;
 constexpr int kBufferBytes = 512;
 
 // The input as a stream of choices; zeros once it runs out.
