@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <set>
 
 namespace nesshi::assembler {
 
@@ -72,10 +73,13 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
                     throw isa::ObjectError(fmt::format("bundle {}: branch target {} is outside the code (bundles 0..{})",
                                                        b, in.imm, int64_t(bundles.size()) - 1));
     }
-    for (const auto& s : obj.symbols)
+    std::set<std::string_view> names;
+    for (const auto& s : obj.symbols) {
         if (!is_identifier(s.name))
             throw isa::ObjectError(fmt::format("symbol at {} {} has a name that is not an identifier",
                                                s.kind == isa::SymbolKind::Code ? "bundle" : "address", s.value));
+        if (!names.insert(s.name).second) throw isa::ObjectError(fmt::format("symbol '{}' is defined twice", s.name));
+    }
     std::multimap<uint32_t, std::string> code_labels, data_labels;
     std::map<uint32_t, std::string> target_names;
     std::string out = fmt::format("# disassembly of an object for machine {}\n", obj.machine);

@@ -64,6 +64,9 @@ TEST_CASE("symbol names that are not identifiers are rejected, file names are qu
         bad.symbols[0].name = name;
         CHECK_THROWS_WITH(assembler::disassemble(bad, m), Catch::Contains("not an identifier"));
     }
+    isa::ObjectFile twice = a.object; // found later by the same target
+    twice.symbols.push_back(twice.symbols[0]);
+    CHECK_THROWS_WITH(assembler::disassemble(twice, m), Catch::Contains("symbol 'start' is defined twice"));
     isa::ObjectFile odd = a.object;
     odd.files = {"we\"ird\\dir\n\tname.s"};
     odd.lines = {{0, 3}};
