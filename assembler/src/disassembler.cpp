@@ -78,6 +78,8 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
         if (!is_identifier(s.name))
             throw isa::ObjectError(fmt::format("symbol at {} {} has a name that is not an identifier",
                                                s.kind == isa::SymbolKind::Code ? "bundle" : "address", s.value));
+        if (is_register_name(s.name) || m.slot_index(s.name) >= 0) // the parser's rule for a label
+            throw isa::ObjectError(fmt::format("symbol '{}' has the name of a register or issue slot", s.name));
         if (!names.insert(s.name).second) throw isa::ObjectError(fmt::format("symbol '{}' is defined twice", s.name));
     }
     std::multimap<uint32_t, std::string> code_labels, data_labels;

@@ -95,6 +95,11 @@ bool is_identifier(std::string_view name) {
     return true;
 }
 
+bool is_register_name(std::string_view name) {
+    return name.size() > 1 && (name[0] == 'r' || name[0] == 'f') &&
+           name.find_first_not_of("0123456789", 1) == std::string_view::npos;
+}
+
 std::string quote(std::string_view text) {
     std::string out = "\"";
     for (char c : text) {

@@ -64,6 +64,11 @@ TEST_CASE("symbol names that are not identifiers are rejected, file names are qu
         bad.symbols[0].name = name;
         CHECK_THROWS_WITH(assembler::disassemble(bad, m), Catch::Contains("not an identifier"));
     }
+    for (const char* name : {"fpu1", "r7", "f0"}) { // read as a slot prefix or refused as a label
+        isa::ObjectFile bad = a.object;
+        bad.symbols[0].name = name;
+        CHECK_THROWS_WITH(assembler::disassemble(bad, m), Catch::Contains("name of a register or issue slot"));
+    }
     isa::ObjectFile twice = a.object; // found later by the same target
     twice.symbols.push_back(twice.symbols[0]);
     CHECK_THROWS_WITH(assembler::disassemble(twice, m), Catch::Contains("symbol 'start' is defined twice"));
