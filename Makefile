@@ -3,8 +3,9 @@
 PRESET ?= release
 BUILD  := build
 JOBS   ?= $(shell nproc)
+FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build demo test test-asan bench clean
+.PHONY: all deps configure build demo test test-asan fuzz bench clean
 
 all: build
 
@@ -38,6 +39,13 @@ test-asan: deps
 	@cmake --build build-asan -j $(JOBS)
 	@ctest --test-dir build-asan --output-on-failure -j $(JOBS) -L unit
 
+# libFuzzer harnesses (tests/fuzz/), each for FUZZ_SECONDS (default 60); needs clang, unlike `make test`.
+fuzz:
+	@scripts/install-deps.sh fuzz
+	@cmake --preset fuzz >/dev/null
+	@nice cmake --build --preset fuzz -j $(JOBS)
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh
+
 # Benchmarks print figures measured in one run; long (minutes), never part of `make test`.
 bench: build
 	@$(BUILD)/bench_iss
@@ -46,4 +54,4 @@ bench: build
 	@$(BUILD)/bench_sched
 
 clean:
-	rm -rf build build-asan
+	rm -rf build build-asan build-fuzz

@@ -3,6 +3,8 @@
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libfmt-dev libcli11-dev catch2
       libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev python3)
+# `install-deps.sh fuzz` (make fuzz): clang and libFuzzer too; `make test` never needs them.
+[ "${1:-}" = fuzz ] && pkgs+=(clang libclang-rt-14-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

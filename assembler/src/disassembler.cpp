@@ -7,32 +7,16 @@
 
 #include "isa/bundle_check.hpp"
 #include "isa/printer.hpp"
+#include "lexer.hpp"
 
 #include <fmt/format.h>
 
 #include <map>
+#include <set>
 
 namespace nesshi::assembler {
 
 namespace {
-
-// A string literal the lexer reads back as `s` (its escapes: \\ \" \n \t \r \0), so a file named
-// a"b.s round-trips.
-std::string quoted(std::string_view s) {
-    std::string out = "\"";
-    for (char c : s) {
-        switch (c) {
-        case '\\': out += "\\\\"; break;
-        case '"': out += "\\\""; break;
-        case '\n': out += "\\n"; break;
-        case '\t': out += "\\t"; break;
-        case '\r': out += "\\r"; break;
-        case '\0': out += "\\0"; break;
-        default: out += c;
-        }
-    }
-    return out + '"';
-}
 
 void print_data(std::string& out, const isa::DataSection& d, const std::multimap<uint32_t, std::string>& labels,
                 bool include_end) {
@@ -83,6 +67,20 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
         auto v = isa::check_bundle(m, bundles[b]);
         if (!v.empty())
             throw isa::ObjectError(fmt::format("bundle {} is not valid on {}: {}", b, m.name, v.front().message));
+        for (const isa::Instr& in : bundles[b]) // as the assembler requires: a target names a bundle
+            for (int k = 0; k < in.info().num_operands; ++k)
+                if (in.info().operands[size_t(k)].kind == isa::OperandKind::Target && in.imm >= bundles.size())
+                    throw isa::ObjectError(fmt::format("bundle {}: branch target {} is outside the code (bundles 0..{})",
+                                                       b, in.imm, int64_t(bundles.size()) - 1));
+    }
+    std::set<std::string_view> names;
+    for (const auto& s : obj.symbols) {
+        if (!is_identifier(s.name))
+            throw isa::ObjectError(fmt::format("symbol at {} {} has a name that is not an identifier",
+                                               s.kind == isa::SymbolKind::Code ? "bundle" : "address", s.value));
+        if (is_register_name(s.name) || m.slot_index(s.name) >= 0) // the parser's rule for a label
+            throw isa::ObjectError(fmt::format("symbol '{}' has the name of a register or issue slot", s.name));
+        if (!names.insert(s.name).second) throw isa::ObjectError(fmt::format("symbol '{}' is defined twice", s.name));
     }
     std::multimap<uint32_t, std::string> code_labels, data_labels;
     std::map<uint32_t, std::string> target_names;
@@ -105,7 +103,7 @@ std::string disassemble(const isa::ObjectFile& obj, const isa::Machine& m, const
             const isa::LineEntry& l = obj.lines[b];
             if (l.file != file && l.file < obj.files.size()) {
                 file = l.file;
-                out += fmt::format(".file {}\n", quoted(obj.files[file]));
+                out += fmt::format(".file {}\n", quote(obj.files[file]));
             }
             out += fmt::format(".loc {}\n", l.line);
         }

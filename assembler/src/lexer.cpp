@@ -90,6 +90,29 @@ bool read_char(std::string_view s, size_t& i, char& out) {
 }
 } // namespace
 
+bool is_identifier(std::string_view name) { return isa::is_identifier(name); }
+
+bool is_register_name(std::string_view name) {
+    return name.size() > 1 && (name[0] == 'r' || name[0] == 'f') &&
+           name.find_first_not_of("0123456789", 1) == std::string_view::npos;
+}
+
+std::string quote(std::string_view text) {
+    std::string out = "\"";
+    for (char c : text) {
+        switch (c) {
+        case '\n': out += "\\n"; break;
+        case '\t': out += "\\t"; break;
+        case '\r': out += "\\r"; break;
+        case '\0': out += "\\0"; break;
+        case '\\': out += "\\\\"; break;
+        case '"': out += "\\\""; break;
+        default: out += c;
+        }
+    }
+    return out + '"';
+}
+
 std::vector<Token> lex_line(std::string_view s) {
     std::vector<Token> out;
     size_t i = 0;

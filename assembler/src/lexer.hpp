@@ -27,4 +27,12 @@ struct Token {
 
 std::vector<Token> lex_line(std::string_view line);
 
+// Whether `name` lexes as one identifier (a label, unless a register or slot name).
+bool is_identifier(std::string_view name);
+// r or f followed by digits only ("r7", "f200"): never a label.
+bool is_register_name(std::string_view name);
+// A string literal that lex_line reads back as exactly `text` (quotes, backslashes and
+// newlines escaped).
+std::string quote(std::string_view text);
+
 } // namespace nesshi::assembler

@@ -111,10 +111,7 @@ void Parser::parse_line(int file, int line, int depth) {
         }
         bool next_colon = i + 1 < toks.size() && toks[i + 1].is(":");
         if (t.kind == Tok::Ident && next_colon && m_.slot_index(t.text) < 0) {
-            char c0 = t.text[0];
-            bool reg = (c0 == 'r' || c0 == 'f') && t.text.size() > 1 &&
-                       t.text.find_first_not_of("0123456789", 1) == std::string::npos;
-            if (reg) diags_.error(loc, fmt::format("'{}' is a register name and cannot be a label", t.text));
+            if (is_register_name(t.text)) diags_.error(loc, fmt::format("'{}' is a register name and cannot be a label", t.text));
             else if (t.text[0] == '.' && known_directive(t.text))
                 diags_.error(loc, fmt::format("'{}' is a directive name and cannot be a label", t.text));
             else items.push_back({Item::Kind::Label, {loc, t.text}, {}, {}});

@@ -52,3 +52,46 @@ TEST_CASE("objects for another machine are rejected", "[dis]") {
     bad.code[0] = 0x7f00000000000000ull | isa::kEndOfBundle; // opcode 127 does not exist
     CHECK_THROWS_AS(assembler::disassemble(bad, isa::load_machine("os")), isa::ObjectError);
 }
+
+// Found by fuzz target `object`: a symbol name with a byte no label can hold was printed as is,
+// and the text did not re-assemble; a file name with a quote broke its `.file` line.
+TEST_CASE("symbol names that are not identifiers are rejected, file names are quoted", "[dis]") {
+    const isa::Machine m = isa::load_machine("os");
+    auto a = test::assemble("start: halt\n", "os");
+    REQUIRE(a.ok);
+    for (const char* name : {"resu\xb1t", "2x", "a b", "x\n"}) {
+        isa::ObjectFile bad = a.object;
+        bad.symbols[0].name = name;
+        CHECK_THROWS_WITH(assembler::disassemble(bad, m), Catch::Contains("not an identifier"));
+    }
+    for (const char* name : {"fpu1", "r7", "f0"}) { // read as a slot prefix or refused as a label
+        isa::ObjectFile bad = a.object;
+        bad.symbols[0].name = name;
+        CHECK_THROWS_WITH(assembler::disassemble(bad, m), Catch::Contains("name of a register or issue slot"));
+    }
+    isa::ObjectFile twice = a.object; // found later by the same target
+    twice.symbols.push_back(twice.symbols[0]);
+    CHECK_THROWS_WITH(assembler::disassemble(twice, m), Catch::Contains("symbol 'start' is defined twice"));
+    isa::ObjectFile odd = a.object;
+    odd.files = {"we\"ird\\dir\n\tname.s"};
+    odd.lines = {{0, 3}};
+    const std::string dis = assembler::disassemble(odd, m);
+    auto b = assembler::assemble_string(dis, "d.s", m, {});
+    INFO(dis << b.diagnostics);
+    REQUIRE(b.ok);
+    CHECK(b.object.files == odd.files);
+}
+
+// Found by fuzz target `object`: a branch to a bundle past the code disassembled into a source the
+// assembler rejects ("branch target ... is outside the code").
+TEST_CASE("a branch target outside the code is rejected", "[dis]") {
+    auto a = test::assemble("top: jmp top\nhalt\n", "os");
+    REQUIRE(a.ok);
+    isa::ObjectFile bad = a.object;
+    auto bundles = isa::decode_bundles(bad);
+    isa::Instr jmp = bundles[0][0];
+    jmp.imm = 2; // two bundles: 0..1
+    bad.code[0] = isa::encode(jmp, true);
+    CHECK_THROWS_WITH(assembler::disassemble(bad, isa::load_machine("os")),
+                      Catch::Contains("branch target 2 is outside the code (bundles 0..1)"));
+}

@@ -1,0 +1,3 @@
+# machine: os
+top:    add r1, r2, r3
+bottom: halt

@@ -1,0 +1,3 @@
+# machine: os
+        li r1, 1
+        { addi r1, r1, 1 ; halt }

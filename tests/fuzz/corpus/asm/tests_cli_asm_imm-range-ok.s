@@ -1,0 +1,6 @@
+# machine: os
+        li r1, 0xffffffff
+        li r2, -0x80000000
+        halt
+        .data 0x100
+        .byte 255, -128

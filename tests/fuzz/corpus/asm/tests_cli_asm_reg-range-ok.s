@@ -1,0 +1,3 @@
+# machine: os
+        addi r127, r1, 1
+        halt

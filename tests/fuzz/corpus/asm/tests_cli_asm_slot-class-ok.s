@@ -1,0 +1,3 @@
+# machine: os
+        iu1: add r1, r2, r3
+        halt

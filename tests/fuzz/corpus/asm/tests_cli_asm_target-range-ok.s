@@ -1,0 +1,3 @@
+# machine: os
+        jmp 1
+        halt

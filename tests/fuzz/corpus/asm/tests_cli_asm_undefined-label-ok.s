@@ -1,0 +1,3 @@
+# machine: os
+        beqz r1, done
+done:   halt

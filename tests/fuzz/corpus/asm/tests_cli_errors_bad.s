@@ -1,0 +1,2 @@
+# machine: os
+add r1, r2
