@@ -19,4 +19,5 @@ void add_pipeline(CLI::App& app);
 void add_loop(CLI::App& app);
 void add_schedule(CLI::App& app);
 void add_sweep(CLI::App& app);
+void add_compare(CLI::App& app);
 } // namespace nesshi::cli
