@@ -44,6 +44,8 @@ std::string simulate(const SweepRunInputs& in) {
 } // namespace
 
 SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
+    if (o.shards < 1 || o.shard < 1 || o.shard > o.shards)
+        throw PaperError(fmt::format("bad shard {}/{} (1/N to N/N)", o.shard, o.shards));
     const std::vector<SweepCell> cells = sweep_cells(s);
     const fs::path dir = fs::path(o.out_dir) / "cells";
     std::error_code ec;
@@ -60,14 +62,15 @@ SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
         inputs.push_back(sweep_inputs(s, cells[i]));
         prov.push_back(provenance_of(inputs.back()));
         const fs::path file = dir / (cells[i].id + ".json");
+        const bool mine = i % static_cast<std::size_t>(o.shards) == static_cast<std::size_t>(o.shard - 1);
         if (!fs::exists(file)) {
-            todo.push_back(i);
+            if (mine) todo.push_back(i);
             continue;
         }
         std::string text = base::read_file(file.string());
         if (const auto why = stale_reasons(text, prov[i], file.string()); !why.empty()) {
             stale.push_back(fmt::format("{}: {}", describe(s, cells[i]), fmt::join(why, "; ")));
-            todo.push_back(i);
+            if (mine) todo.push_back(i);
             continue;
         }
         json[i] = std::move(text);

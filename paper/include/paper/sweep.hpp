@@ -82,6 +82,11 @@ struct SweepProgress {
 struct SweepOptions {
     std::string out_dir = "sweep-out";
     int threads = 0; // cells at once (0 = all cores)
+    // Run only shard `shard` of `shards` (1-based): the cells whose index in sweep_cells is
+    // shard - 1 modulo shards; the others are loaded when stored, else left out of the results.
+    // Batch schedulers without MPI run one shard per job; merging the jobs' cells/ folders and
+    // running the sweep once more writes the whole results without running anything.
+    int shard = 1, shards = 1;
     std::function<void(const SweepProgress&)> progress;
 };
 
