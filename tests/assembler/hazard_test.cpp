@@ -6,7 +6,7 @@
 using namespace nesshi;
 using test::assemble;
 
-TEST_CASE("latency-1 results are readable by the next bundle; reads in a bundle see old values", "[hazard]") {
+TEST_CASE("latency-1 results are readable by the next bundle, reads in a bundle see old values", "[hazard]") {
     CHECK(assemble("li r1, 1\naddi r2, r1, 1\nhalt\n").ok);
     CHECK(assemble("{ mov r0, r1 ; mov r1, r0 }\nhalt\n").ok);
     CHECK(assemble("{ add r1, r1, r1 ; fadd f1, f1, f1 }\n{ add r1, r1, r1 ; fadd f1, f1, f1 }\nhalt\n").ok);

@@ -110,7 +110,7 @@ TEST_CASE("step -1 is an error and step 0 does nothing") {
     std::fclose(out);
 }
 
-TEST_CASE("run restarts with the breakpoints kept; the host refills its inputs") {
+TEST_CASE("run restarts with the breakpoints kept, the host refills its inputs") {
     auto p = make_proc("os", {{op("nop")}, {op("nop")}, {op("nop")}, {op("halt")}});
     std::FILE* out = std::tmpfile();
     REQUIRE(out);

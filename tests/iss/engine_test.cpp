@@ -6,7 +6,7 @@
 using namespace nesshi::iss;
 using namespace nesshi::iss::test;
 
-TEST_CASE("mov r0, r1 ; mov r1, r0 in one bundle swaps") {
+TEST_CASE("mov r0, r1 then mov r1, r0 in one bundle swaps") {
     for (Engine e : {Engine::Fast, Engine::Checked}) {
         auto p = make_proc("os", {{op("li", 0, 0, 0, 7), op("li", 1, 0, 0, 9)},
                                   {op("mov", 0, 1), op("mov", 1, 0)},
@@ -18,7 +18,7 @@ TEST_CASE("mov r0, r1 ; mov r1, r0 in one bundle swaps") {
     }
 }
 
-TEST_CASE("a result lands latency cycles after issue; earlier reads see the old value") {
+TEST_CASE("a result lands latency cycles after issue, earlier reads see the old value") {
     // os: fdiv latency 4. The fast engine lets a program read f1 early (old value);
     // the checked engine reports that read.
     std::vector<Bundle> prog = {

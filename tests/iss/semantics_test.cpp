@@ -204,7 +204,7 @@ TEST_CASE("branches: each condition, taken and not taken") {
     }
 }
 
-TEST_CASE("jmp, jal and jr; a taken branch costs the machine's branch penalty") {
+TEST_CASE("jmp, jal and jr, a taken branch costs the machine's branch penalty") {
     auto prog = std::vector<Bundle>{{op("jal", 5, 0, 0, 3)}, {op("halt")}, {op("halt")},
                                     {op("addi", 6, 5, 0, 10)}, {op("jr", 0, 6)}, {op("halt")},
                                     {op("halt")}, {op("halt")}, {op("halt")}, {op("halt")}, {op("halt")},

@@ -98,7 +98,7 @@ TEST_CASE("Model S equals the sum of model M's stage loads (derived S is exact)"
     }
 }
 
-TEST_CASE("The same cycles for any host thread count; PEs split the work", "[unit][machine]") {
+TEST_CASE("The same cycles for any host thread count, PEs split the work", "[unit][machine]") {
     const PreparedScene prep = prepare(load_scene("balls:1"), 6);
     const RenderOptions opt = small(12);
     const RenderResult native = render_native(prep, opt);

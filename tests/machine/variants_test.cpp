@@ -17,7 +17,7 @@ namespace {
 const std::string kData = NESSHI_TEST_DATA;
 } // namespace
 
-TEST_CASE("Variants render what the native renderer renders; a second IU speeds the IC up, latencies slow it", "[unit][machine]") {
+TEST_CASE("Variants render what the native renderer renders, a second IU speeds the IC up, latencies slow it", "[unit][machine]") {
     const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 6);
     const rt::RenderOptions opt = small(16);
     const rt::RenderResult native = rt::render_native(prep, opt);
@@ -58,7 +58,7 @@ TEST_CASE("The -real presets run the whole machine: results identical to native,
     }
 }
 
-TEST_CASE("A variant's kernel is scheduled from its .pk source; the preset's is the committed one", "[unit][machine]") {
+TEST_CASE("A variant's kernel is scheduled from its .pk source, the preset's is the committed one", "[unit][machine]") {
     const kernels::SourceSet src = kernels::embedded();
     const auto preset = machine::assemble_kernel(src, "ic/intersect.s", "ic");
     const auto variant = machine::assemble_kernel(src, "ic/intersect.s", kData + "/ic-2iu.toml");

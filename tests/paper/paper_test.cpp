@@ -201,7 +201,7 @@ TEST_CASE("Cell files: names, parsing, clear errors naming the file", "[paper]")
     CHECK_THAT(error_of(good, {"tetra", 20, machine::Model::M, 512}), Catch::Contains("holds size 64, expected 512"));
 }
 
-TEST_CASE("Matrix: V and M per scene x grid; S alone still runs M", "[paper]") {
+TEST_CASE("Matrix: V and M per scene x grid, S alone still runs M", "[paper]") {
     PaperOptions o;
     o.scenes = {"tetra"};
     o.grids = {50, 20, 50};
@@ -278,7 +278,7 @@ TEST_CASE("Runner: a malformed cell file is an error naming it, before anything 
     CHECK(runner.calls == 0);
 }
 
-TEST_CASE("Runner: a failing cell is reported; the others are kept", "[paper]") {
+TEST_CASE("Runner: a failing cell is reported, the others are kept", "[paper]") {
     TempDir dir;
     PaperOptions o = small_options(dir.str());
     FakeRunner runner;
