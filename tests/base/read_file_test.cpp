@@ -2,6 +2,8 @@
 #include "base/error.hpp"
 #include "base/read_file.hpp"
 
+#include "temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -12,23 +14,10 @@
 #include <unistd.h>
 
 using namespace nesshi::base;
+using nesshi::base::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-// A fresh directory under the system's temporary folder, removed at the end of the test.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("nesshi-read-file-" + std::to_string(::getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string file(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name, std::ios::binary) << text;
-        return (path / name).string();
-    }
-};
 
 std::string refusal(const std::string& path, std::size_t cap = kMaxInputFileBytes) {
     try {
@@ -41,14 +30,14 @@ std::string refusal(const std::string& path, std::size_t cap = kMaxInputFileByte
 } // namespace
 
 TEST_CASE("read_file returns a regular file's bytes unchanged", "[unit][base]") {
-    TempDir t;
+    TempDir t("nesshi-read-file");
     const std::string text("a\r\nb\0c\xff", 7);
     CHECK(read_file(t.file("x.s", text)) == text);
     CHECK(read_file(t.file("empty.s", "")).empty());
 }
 
 TEST_CASE("read_file refuses directories, devices but /dev/null, and pipes without reading them", "[unit][base]") {
-    TempDir t;
+    TempDir t("nesshi-read-file");
     const std::string dir = t.path.string();
     CHECK(refusal(dir) == dir + ": error: is a directory");
     CHECK(refusal("/dev/zero") == "/dev/zero: error: not a regular file");
@@ -61,7 +50,7 @@ TEST_CASE("read_file refuses directories, devices but /dev/null, and pipes witho
 }
 
 TEST_CASE("read_file refuses a file above the cap and a file that does not exist", "[unit][base]") {
-    TempDir t;
+    TempDir t("nesshi-read-file");
     const std::string big = t.file("big.toml", std::string(1025, 'x'));
     CHECK(refusal(big, 1024) == big + ": error: file too large (1025 bytes; the limit is 1024)");
     CHECK(read_file(big, 1025).size() == 1025);

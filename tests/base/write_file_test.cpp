@@ -3,6 +3,8 @@
 #include "base/read_file.hpp"
 #include "base/write_file.hpp"
 
+#include "temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cerrno>
@@ -14,18 +16,10 @@
 #include <unistd.h>
 
 using namespace nesshi::base;
+using nesshi::base::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("nesshi-write-file-" + std::to_string(::getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-};
 
 int write_errno(const std::string& path, const std::string& bytes) {
     try {
@@ -38,7 +32,7 @@ int write_errno(const std::string& path, const std::string& bytes) {
 } // namespace
 
 TEST_CASE("write_file writes the bytes, replace_file replaces them") {
-    TempDir d;
+    TempDir d("nesshi-write-file");
     const std::string p = (d.path / "a.txt").string();
     write_file(p, std::string("one\0two", 7));
     CHECK(read_file(p) == std::string("one\0two", 7));
@@ -69,7 +63,7 @@ TEST_CASE("a missing folder is an error naming the path") {
 }
 
 TEST_CASE("replace_file writes into a pipe instead of renaming a file over it") {
-    TempDir d;
+    TempDir d("nesshi-write-file");
     const std::string p = (d.path / "pipe").string();
     REQUIRE(::mkfifo(p.c_str(), 0600) == 0);
     // A reader must be there for the open for writing to succeed.

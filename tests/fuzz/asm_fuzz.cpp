@@ -53,11 +53,7 @@ void assemble_on(std::string_view text, const isa::Machine& m) {
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    static const std::vector<isa::Machine> presets = [] {
-        std::vector<isa::Machine> v;
-        for (std::string_view n : isa::preset_names()) v.push_back(isa::load_machine(n));
-        return v;
-    }();
+    const std::vector<isa::Machine>& presets = fuzz::presets();
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     const std::string header = assembler::header_machine(text);
     const bool named = isa::is_preset(header);

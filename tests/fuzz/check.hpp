@@ -2,9 +2,12 @@
 // and the replay test both report as a crash.
 #pragma once
 
+#include "isa/machine.hpp"
+
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace nesshi::fuzz {
 
@@ -15,6 +18,16 @@ namespace nesshi::fuzz {
 
 inline void check(bool ok, const std::string& what, const std::string& detail = {}) {
     if (!ok) fail(what, detail);
+}
+
+// Every preset machine, loaded once.
+inline const std::vector<isa::Machine>& presets() {
+    static const std::vector<isa::Machine> all = [] {
+        std::vector<isa::Machine> v;
+        for (std::string_view n : isa::preset_names()) v.push_back(isa::load_machine(n));
+        return v;
+    }();
+    return all;
 }
 
 } // namespace nesshi::fuzz

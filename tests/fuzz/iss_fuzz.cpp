@@ -130,11 +130,7 @@ struct Channels {
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    static const std::vector<isa::Machine> presets = [] {
-        std::vector<isa::Machine> v;
-        for (std::string_view n : isa::preset_names()) v.push_back(isa::load_machine(n));
-        return v;
-    }();
+    const std::vector<isa::Machine>& presets = fuzz::presets();
     static const bool verbose = std::getenv("NESSHI_FUZZ_VERBOSE") != nullptr; // print each program and its end
     Bytes in(data, size);
     const isa::Machine& m = presets[in.next() % presets.size()];
