@@ -2,7 +2,7 @@
 #include "base/error.hpp"
 #include "base/read_file.hpp"
 
-#include "temp_dir.hpp"
+#include "common/temp_dir.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 using namespace nesshi::base;
-using nesshi::base::test::TempDir;
+using nesshi::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {

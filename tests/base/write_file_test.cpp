@@ -3,7 +3,7 @@
 #include "base/read_file.hpp"
 #include "base/write_file.hpp"
 
-#include "temp_dir.hpp"
+#include "common/temp_dir.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -16,7 +16,7 @@
 #include <unistd.h>
 
 using namespace nesshi::base;
-using nesshi::base::test::TempDir;
+using nesshi::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {

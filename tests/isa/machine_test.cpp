@@ -3,6 +3,8 @@
 #include "isa/machine.hpp"
 #include "isa/object.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -50,6 +52,8 @@ TEST_CASE("fingerprints are stable and sensitive") {
     CHECK(load_machine("os").fingerprint() == load_machine("os").fingerprint());
     CHECK(load_machine("os").fingerprint() != load_machine("ic").fingerprint());
 }
+
+using nesshi::test::TempDir;
 
 namespace {
 const char* kGood = R"(name = "tiny"
@@ -359,26 +363,6 @@ TEST_CASE("preset fingerprints are those committed objects carry") {
 }
 
 namespace {
-// A fresh directory for description files that name each other (one per test process).
-struct TempDir {
-    std::filesystem::path path;
-    explicit TempDir(std::string_view tag)
-        : path(std::filesystem::temp_directory_path() /
-               fmt::format("nesshi-isa-{}-{}", tag, getpid())) {
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-    std::string write(const std::string& rel, const std::string& text) const {
-        auto p = path / rel;
-        std::filesystem::create_directories(p.parent_path());
-        std::ofstream(p) << text;
-        return p.string();
-    }
-};
 
 std::string load_error(const std::string& name_or_path) {
     try {
@@ -470,10 +454,10 @@ TEST_CASE("an unknown parent is an error at the inherits line", "[inherits]") {
 }
 
 TEST_CASE("a parent file is found relative to the inheriting file", "[inherits]") {
-    TempDir dir("relative");
+    TempDir dir("nesshi-isa-relative");
     const std::string d = dir.path.string();
-    dir.write("base/mid.toml", "inherits = \"os\"\nname = \"mid\"\n[latency]\nfadd = 2\n");
-    const std::string child = dir.write(
+    dir.file("base/mid.toml", "inherits = \"os\"\nname = \"mid\"\n[latency]\nfadd = 2\n");
+    const std::string child = dir.file(
         "variants/child.toml",
         "inherits = \"../base/mid.toml\"\nname = \"child\"\n[latency]\nfmul = 2\n");
     const Machine m = load_machine(child); // the working directory is not the file's
@@ -486,23 +470,23 @@ TEST_CASE("a parent file is found relative to the inheriting file", "[inherits]"
     CHECK(m.slots == os.slots);
     CHECK(m.memories == os.memories);
     // An absolute path is taken as it is.
-    const std::string abs = dir.write(
+    const std::string abs = dir.file(
         "elsewhere/abs.toml", fmt::format("inherits = \"{}/base/mid.toml\"\nname = \"abs\"\n", d));
     CHECK(load_machine(abs).latency[int(OpClass::FAdd)] == 2);
     // A preset name wins over a file of that name beside the child; ./os names the file.
-    dir.write("variants/os", "not toml at all = =\n");
-    dir.write("variants/preset.toml", "inherits = \"os\"\nname = \"p\"\n");
+    dir.file("variants/os", "not toml at all = =\n");
+    dir.file("variants/preset.toml", "inherits = \"os\"\nname = \"p\"\n");
     CHECK(load_machine(d + "/variants/preset.toml").slots == os.slots);
-    dir.write("variants/file.toml", "inherits = \"./os\"\nname = \"f\"\n");
+    dir.file("variants/file.toml", "inherits = \"./os\"\nname = \"f\"\n");
     CHECK(load_error(d + "/variants/file.toml").rfind(d + "/variants/os:1:", 0) == 0);
     // An error inside a parent is reported in the parent's file.
-    dir.write("base/bad.toml", "inherits = \"os\"\nname = \"bad\"\nwidth = 4\n");
-    dir.write("variants/of_bad.toml", "inherits = \"../base/bad.toml\"\nname = \"c\"\n");
+    dir.file("base/bad.toml", "inherits = \"os\"\nname = \"bad\"\nwidth = 4\n");
+    dir.file("variants/of_bad.toml", "inherits = \"../base/bad.toml\"\nname = \"c\"\n");
     CHECK(load_error(d + "/variants/of_bad.toml") ==
           d + "/base/bad.toml:3:9: error: unknown key 'width' in the top level");
     CHECK(load_error(d + "/variants/orphan.toml").find("no such machine preset or file") !=
           std::string::npos);
-    dir.write("variants/orphan.toml", "inherits = \"gone.toml\"\nname = \"o\"\n");
+    dir.file("variants/orphan.toml", "inherits = \"gone.toml\"\nname = \"o\"\n");
     CHECK(load_error(d + "/variants/orphan.toml") ==
           fmt::format("{0}/variants/orphan.toml:1:12: error: unknown parent machine 'gone.toml': "
                       "no such preset or file {0}/variants/gone.toml ({1})",
@@ -510,22 +494,22 @@ TEST_CASE("a parent file is found relative to the inheriting file", "[inherits]"
 }
 
 TEST_CASE("inheritance cycles and chains deeper than the limit are errors", "[inherits]") {
-    TempDir dir("cycle");
+    TempDir dir("nesshi-isa-cycle");
     const std::string d = dir.path.string();
-    dir.write("a.toml", "inherits = \"b.toml\"\nname = \"a\"\n");
-    dir.write("b.toml", "name = \"b\"\ninherits = \"a.toml\"\n");
+    dir.file("a.toml", "inherits = \"b.toml\"\nname = \"a\"\n");
+    dir.file("b.toml", "name = \"b\"\ninherits = \"a.toml\"\n");
     CHECK(load_error(d + "/a.toml") ==
           fmt::format("{0}/b.toml:2:12: error: machine inheritance cycle: {0}/a.toml -> "
                       "{0}/b.toml -> {0}/a.toml",
                       d));
-    dir.write("self.toml", "inherits = \"self.toml\"\nname = \"s\"\n");
+    dir.file("self.toml", "inherits = \"self.toml\"\nname = \"s\"\n");
     CHECK(load_error(d + "/self.toml") ==
           fmt::format("{0}/self.toml:1:12: error: machine inheritance cycle: {0}/self.toml -> "
                       "{0}/self.toml",
                       d));
     // l0 -> l1 -> ... -> l9 -> os: l(i) has 10 - i ancestors.
     for (int i = 0; i < 10; ++i)
-        dir.write(fmt::format("l{}.toml", i),
+        dir.file(fmt::format("l{}.toml", i),
                   fmt::format("inherits = \"{}\"\nname = \"l{}\"\n",
                               i == 9 ? std::string("os") : fmt::format("l{}.toml", i + 1), i));
     static_assert(kMaxInheritDepth == 8);
@@ -553,11 +537,11 @@ TEST_CASE("implausibly deep or large descriptions are refused before parsing", "
     CHECK(error_of(std::string((1 << 20) + 1, '#')) ==
           "t.toml:1:1: error: description too large (1048577 bytes; the limit is 1048576)");
 
-    TempDir dir("plausible");
-    const std::string big = dir.write("big.toml", std::string((1 << 20) + 1, '#'));
+    TempDir dir("nesshi-isa-plausible");
+    const std::string big = dir.file("big.toml", std::string((1 << 20) + 1, '#'));
     CHECK(load_error(big) == big + ": error: file too large (1048577 bytes; the limit is 1048576)");
     CHECK(load_error("/dev/zero") == "/dev/zero: error: not a regular file");
     CHECK(load_error(dir.path.string()) == dir.path.string() + ": error: is a directory");
-    const std::string child = dir.write("child.toml", "inherits = \"/dev/zero\"\nname = \"c\"\n");
+    const std::string child = dir.file("child.toml", "inherits = \"/dev/zero\"\nname = \"c\"\n");
     CHECK(load_error(child) == "/dev/zero: error: not a regular file");
 }

@@ -3,6 +3,8 @@
 #include "paper/paper.hpp"
 #include "paper/published.hpp"
 
+#include "common/temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -18,6 +20,7 @@ using namespace nesshi;
 using namespace nesshi::rt;
 using namespace nesshi::paper;
 namespace fs = std::filesystem;
+using nesshi::test::TempDir;
 
 namespace {
 
@@ -47,20 +50,6 @@ std::string cell_json(machine::Model m, int size, std::uint64_t total, Stage os,
     return j.dump(2);
 }
 
-// A fresh folder under the system's temporary directory, removed at the end of the test.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::random_device rd;
-        path = fs::temp_directory_path() / fmt::format("nesshi-paper-test-{:x}", (std::uint64_t{rd()} << 32) | rd());
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string str() const { return path.string(); }
-};
 
 // Synthetic but paper-like cells: the V time falls with the grid until OS outgrows IC at `best`.
 CellRecord synthetic(const std::string& scene, int grid, machine::Model m, int size, int best) {
