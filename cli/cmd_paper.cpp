@@ -2,6 +2,7 @@
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "shards.hpp"
 #include "stage_machines.hpp"
 #include "outputs.hpp"
 #include "ranges.hpp"
@@ -15,6 +16,7 @@
 #include <charconv>
 #include <cmath>
 #include <memory>
+#include <tuple>
 #include <unistd.h>
 
 namespace nesshi::cli {
@@ -29,6 +31,7 @@ struct PaperArgs {
     std::string models = "S,M,V";
     std::string out = "paper-out";
     int threads = 0;
+    std::string shard; // "I/N"
     bool quiet = false;
     machine::Options machine; // the stages' machines and kernels
 };
@@ -69,15 +72,16 @@ std::vector<machine::Model> parse_models(const std::string& s) {
 // summary); on a terminal also a bar with the time left, redrawn in place.
 class ProgressPrinter {
   public:
-    ProgressPrinter(const paper::PaperOptions& o, bool tty) : out_(o.out_dir), tty_(tty) {}
+    ProgressPrinter(const paper::PaperOptions& o, bool tty)
+        : out_(o.out_dir), shard_note_(o.shards > 1 ? fmt::format(" (shard {}/{})", o.shard, o.shards) : ""), tty_(tty) {}
 
     void operator()(const paper::PaperProgress& p) {
         if (p.size != size_) { // a new phase: the matrix, then the grid pre-pass
             size_ = p.size;
             clear_status();
-            fmt::print(stderr, "{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run, {} at a time\n",
+            fmt::print(stderr, "{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run{}, {}\n",
                        phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
-                       p.cells_to_run, p.threads);
+                       p.cells_to_run, shard_note_, at_a_time(p.threads, p.processes));
         }
         if (p.stale && !p.stale->empty()) {
             clear_status();
@@ -114,7 +118,7 @@ class ProgressPrinter {
         status_shown_ = true;
     }
 
-    std::string out_;
+    std::string out_, shard_note_;
     int size_ = 0, phases_ = 0;
     bool tty_, status_shown_ = false;
 };
@@ -128,6 +132,7 @@ void run_paper_command(const PaperArgs& a) {
     refuse_stdout("--out", a.out, "it is a folder (the cells, tables and charts)");
     o.out_dir = a.out;
     o.threads = a.threads;
+    if (!a.shard.empty()) std::tie(o.shard, o.shards) = parse_shard(a.shard);
     o.machine = a.machine;
     try {
         paper::validate(o); // before any output
@@ -139,8 +144,13 @@ void run_paper_command(const PaperArgs& a) {
     try {
         paper::PaperRun r = paper::run_paper(o);
         printer->clear_status();
-        if (!a.quiet)
-            fmt::print("cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
+        if (r.worker || a.quiet) return; // under mpirun, rank 0 reports
+        fmt::print("cells: {} loaded, {} run\n", r.loaded, r.run);
+        if (r.files.empty()) // a shard that did not complete the matrix
+            fmt::print("shard {}: the reports wait for every cell: merge the shards' {}/cells folders and run "
+                       "`nesshi paper` once more\n", a.shard, a.out);
+        else
+            fmt::print("wrote {}/: {}\n", a.out, fmt::join(r.files, " "));
     } catch (...) {
         printer->clear_status();
         throw;
@@ -159,6 +169,7 @@ void add_paper(CLI::App& app) {
     cmd->add_option("--models", a->models, "models, comma-separated (default S,M,V; S comes from the M run)");
     cmd->add_option("--out", a->out, "output folder (default paper-out); cells kept in OUT/cells");
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(between(0, 1024));
+    cmd->add_option("--shard", a->shard, kShardHelp);
     cmd->add_option("--kernels", a->machine.kernels_dir, "kernel source folder (default: built in)");
     add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");

@@ -2,6 +2,7 @@
 // stderr; the results go to files in --out.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "shards.hpp"
 
 #include "base/progress.hpp"
 #include "paper/sweep.hpp"
@@ -9,7 +10,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <cstdio>
 #include <memory>
 #include <tuple>
 
@@ -23,15 +23,6 @@ struct SweepArgs {
     std::string shard; // "I/N"
     bool quiet = false;
 };
-
-// "I/N" with 1 <= I <= N.
-std::pair<int, int> parse_shard(const std::string& s) {
-    int i = 0, n = 0;
-    char slash = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%d%c%d%c", &i, &slash, &n, &extra) != 3 || slash != '/' || n < 1 || i < 1 || i > n)
-        throw UsageError(fmt::format("--shard must be I/N with 1 <= I <= N (got '{}')", s));
-    return {i, n};
-}
 
 std::string axis_help() {
     std::string o = "Run a design-space sweep: the product of the spec's axes, one machine run per cell\n\n"
@@ -50,8 +41,8 @@ void run_sweep_command(const SweepArgs& a) {
     if (!a.quiet)
         o.progress = [shard_note = a.shard.empty() ? std::string() : " (shard " + a.shard + ")"](const paper::SweepProgress& p) {
             if (p.stale) {
-                fmt::print(stderr, "sweep: {} cells: {} loaded, {} to run{}, {} at a time\n", p.cells_total, p.cells_loaded,
-                           p.cells_to_run, shard_note, p.threads);
+                fmt::print(stderr, "sweep: {} cells: {} loaded, {} to run{}, {}\n", p.cells_total, p.cells_loaded,
+                           p.cells_to_run, shard_note, at_a_time(p.threads, p.processes));
                 if (!p.stale->empty()) {
                     fmt::print(stderr, "  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
                     for (const std::string& s : *p.stale) fmt::print(stderr, "    {}\n", s);
@@ -67,6 +58,7 @@ void run_sweep_command(const SweepArgs& a) {
                        base::format_duration(p.elapsed_seconds), left);
         };
     const paper::SweepRun r = paper::run_sweep(spec, o);
+    if (r.worker) return; // rank 0 of the MPI run reports
     if (!a.quiet)
         fmt::print(stderr, "cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
 }
@@ -80,8 +72,7 @@ void add_sweep(CLI::App& app) {
     cmd->add_option("spec", a->spec, "the sweep spec (TOML)")->required();
     cmd->add_option("--out", a->out, "output folder (default sweep-out): cells/, results.csv, results.jsonl, chart.svg");
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--shard", a->shard, "I/N: run only every N-th cell from the I-th (batch jobs without MPI); "
-                                         "merge the jobs' OUT/cells folders and run once more for the whole results");
+    cmd->add_option("--shard", a->shard, kShardHelp);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress");
     cmd->callback([a] { run_sweep_command(*a); });
 }

@@ -32,6 +32,8 @@ void validate(const PaperOptions& o) {
         if (g < 1 || g > 512) throw PaperError(fmt::format("bad grid {} (1 to 512 voxels per side)", g));
     if (o.models.empty()) throw PaperError("no model");
     if (o.threads < 0) throw PaperError(fmt::format("bad thread count {}", o.threads));
+    if (o.shards < 1 || o.shard < 1 || o.shard > o.shards)
+        throw PaperError(fmt::format("bad shard {}/{} (1/N to N/N)", o.shard, o.shards));
 }
 
 bool wants(const PaperOptions& o, machine::Model m) {

@@ -37,13 +37,15 @@ PaperRun run_paper(const PaperOptions& o) {
     };
     const CellProvenanceFn provenance = [&o](const CellKey& k) { return cell_provenance(k, o.machine); };
     MatrixResult m = run_matrix(o, run, provenance);
-    PaperRun r{make_data(o, std::move(m.cells)), {}, m.loaded, m.run};
+    PaperRun r{make_data(o, m.cells), {}, m.loaded, m.run};
 
     // The paper's suggestion: time a low-resolution render at each grid, keep the fastest.
     PaperOptions pre = o;
     pre.size = prepass_size(o.size);
     pre.models = {machine::Model::V};
     MatrixResult p = run_matrix(pre, run, provenance);
+    r.worker = m.worker;
+    if (m.worker) return r; // rank 0 of the MPI run has the cells and writes the reports
     r.data.prepass_size = pre.size;
     for (const std::string& scene : o.scenes) {
         auto v_time = [&](int g) {
@@ -65,7 +67,9 @@ PaperRun run_paper(const PaperOptions& o) {
     }
     const std::size_t matrix_failures = m.failures.size(), prepass_failures = p.failures.size();
     m.failures.insert(m.failures.end(), p.failures.begin(), p.failures.end());
-    r.files = write_reports(r.data, o.out_dir);
+    // A shard writes its cells only, until the merged cells/ folders hold the whole matrix.
+    const bool complete = m.cells.size() == matrix_cells(o).size() && p.cells.size() == matrix_cells(pre).size();
+    if (o.shards == 1 || complete) r.files = write_reports(r.data, o.out_dir);
     if (!m.failures.empty())
         throw PaperError(fmt::format("{} cell(s) failed: {} of the matrix, {} of the grid pre-pass at {}x{} (the reports "
                                      "show the others):\n  {}",

@@ -16,6 +16,7 @@
 #include "base/error.hpp"
 #include "machine/machine.hpp"
 #include "machine/provenance.hpp"
+#include "paper/cell_engine.hpp"
 
 #include <array>
 #include <cstdint>
@@ -74,7 +75,8 @@ struct PaperProgress {
     int size = 0;        // image size of these cells (the grid pre-pass follows the matrix, smaller)
     double fraction = 0; // of the cells to run, counting the partial progress of running ones
     double elapsed_seconds = 0;
-    int threads = 1;
+    int threads = 1;   // cells at once in this process
+    int processes = 1; // of an MPI run
     // At the start of a phase: "cell: what changed" for each stored cell that runs again because
     // its provenance is not the current run's.
     const std::vector<std::string>* stale = nullptr;
@@ -87,6 +89,9 @@ struct PaperOptions {
     std::vector<machine::Model> models = {machine::Model::S, machine::Model::M, machine::Model::V};
     std::string out_dir = "paper-out";
     int threads = 0; // cells run at once (one host thread per cell, each a 1-PE run); 0 = all cores
+    // Run only shard `shard` of `shards` (1-based) of each phase's cells (batch jobs without MPI):
+    // the others are loaded when stored; the reports are written only when every cell is there.
+    int shard = 1, shards = 1;
     // What every cell runs on: the stages' machine descriptions (os_machine, ic_machine,
     // seq_machine) and kernels_dir; a cell sets the model, one PE and one host thread itself.
     machine::Options machine;
@@ -100,7 +105,6 @@ bool wants(const PaperOptions& o, machine::Model m);
 std::vector<CellKey> matrix_cells(const PaperOptions& o);
 
 // Runs one cell and returns its stats JSON text; `progress` (may be empty) gets (done, total).
-using CellProgressFn = std::function<void(std::uint64_t, std::uint64_t)>;
 using CellRunner = std::function<std::string(const CellKey&, const CellProgressFn&)>;
 // What a cell's result depends on (stored with it, compared when it is loaded again).
 using CellProvenanceFn = std::function<machine::Provenance(const CellKey&)>;
@@ -114,6 +118,7 @@ struct MatrixResult {
     std::vector<std::string> failures; // "cell: message" for cells whose run threw
     std::vector<std::string> stale;    // "cell: what changed" for stored cells run again
     std::size_t loaded = 0, run = 0;
+    bool worker = false; // this process ran cells for rank 0 of an MPI run and has none
 };
 // Loads the cells whose files exist and are the current run's (by `provenance`; empty: every cell's
 // is empty), runs the others, o.threads at a time, longest first, and stores each with its
@@ -170,6 +175,7 @@ struct PaperRun {
     PaperData data;
     std::vector<std::string> files;  // written into out_dir
     std::size_t loaded = 0, run = 0; // cells
+    bool worker = false;             // this process ran cells for rank 0 of an MPI run, which reports
 };
 // The pre-pass image size: 100 x 100 for the paper's 512 x 512 (about 4% of the pixels).
 int prepass_size(int size);

@@ -76,7 +76,8 @@ struct SweepProgress {
     const std::vector<std::string>* stale = nullptr; // at the start: cells run again, and why
     std::string finished;                            // the cell just finished ("" otherwise): its axes
     double seconds = 0, elapsed_seconds = 0;         // of that cell; of the run so far
-    int threads = 1;
+    int threads = 1;                                 // cells at once in this process
+    int processes = 1;                               // of an MPI run
 };
 
 struct SweepOptions {
@@ -95,6 +96,7 @@ struct SweepRun {
     std::vector<std::string> files;       // written into out_dir
     std::vector<std::string> failures;    // "cell axes: message"
     std::size_t loaded = 0, run = 0;
+    bool worker = false; // this process ran cells for rank 0 of an MPI run, which writes the outputs
 };
 // Runs (or loads) every cell, then writes results.csv, results.jsonl and chart.svg. Throws PaperError naming failed cells after writing the rest.
 SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o);
