@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
-"""The README's tour stays true: each ``` block whose first line is `$ build/nesshi ...` is run
+"""The README's tour stays true: each ``` block whose first line is `$ build/nesshi ...` (or
+`$ mpirun ... build/nesshi ...`, when mpirun is installed) is run
 (in a scratch folder that links the checkout's examples/, tests/, kernels/ and the nesshi under
 test as build/nesshi) and what it prints (stdout and stderr) must match the block's other lines.
 A line `...` in the block stands for any number of lines; wall times (`0.42 s`, `87.2 M
 bundles/s`, `1:05`) are masked, and /tmp/ paths are the scratch folder's. Usage: readme_tour.py README NESSHI ROOT"""
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -13,6 +15,13 @@ import tempfile
 TIMES = [re.compile(p) for p in (r'\d+(\.\d+)? ?(s|ms)\b', r'\d+(\.\d+)? M bundles/s', r'\b\d+:\d\d\b', r'\(\d+ threads?\)',
                                   r'\[\d+/')]  # the order in which parallel cells finish
 SKIP = ('nesshi debug',)  # interactive: its session is a golden test (tests/cli/iss)
+HAVE_MPIRUN = shutil.which('mpirun') is not None
+# OpenMPI refuses root (CI containers) unless told, and more ranks than cores unless told.
+MPI_ENV = {'OMPI_ALLOW_RUN_AS_ROOT': '1', 'OMPI_ALLOW_RUN_AS_ROOT_CONFIRM': '1', 'OMPI_MCA_rmaps_base_oversubscribe': '1'}
+
+
+def tour_block(first):
+    return first.startswith('$ build/nesshi ') or (HAVE_MPIRUN and re.match(r'\$ mpirun .* build/nesshi ', first))
 
 
 def mask(line):
@@ -35,7 +44,7 @@ def commands(text):
     lines = text.split('\n')
     i = 0
     while i < len(lines):
-        if lines[i].startswith('```') and i + 1 < len(lines) and lines[i + 1].startswith('$ build/nesshi '):
+        if lines[i].startswith('```') and i + 1 < len(lines) and tour_block(lines[i + 1]):
             j = i + 1
             while not lines[j].startswith('```'):
                 k = j + 1
@@ -60,7 +69,8 @@ def main():
                 continue
             # /tmp/ paths in the tour go to the scratch folder: a rerun starts from nothing
             run = cmd.replace('/tmp/', work + '/')
-            r = subprocess.run(['bash', '-c', run + ' 2>&1'], cwd=work, capture_output=True, text=True, timeout=600)
+            r = subprocess.run(['bash', '-c', run + ' 2>&1'], cwd=work, capture_output=True, text=True, timeout=600,
+                               env={**os.environ, **MPI_ENV})
             out = r.stdout.rstrip('\n').replace(work + '/', '/tmp/')
             got = out.split('\n') if out else []  # a command that prints nothing
             if matches(want, got):
