@@ -12,6 +12,7 @@
 
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
+#include "machine/kernel_report.hpp"
 #include "machine/machine.hpp"
 #include "machine/memory_report.hpp"
 #include "rt/render.hpp"
@@ -116,6 +117,7 @@ void run_machine_demo(const DemoArgs& a) {
     if (isatty(STDERR_FILENO)) {
         mo.progress = base::ProgressBar(stderr);
     }
+    fmt::print(stderr, "{}", machine::schedules_used(mo));
     const machine::Result mr = machine::render(prep, opt, mo);
     rt::write_png(a.out, mr.render.image);
     const std::string rays = rt::format_rays(mr.render.stats);

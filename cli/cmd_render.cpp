@@ -9,6 +9,7 @@
 #include "base/write_file.hpp"
 
 #include "machine/memory_report.hpp"
+#include "machine/kernel_report.hpp"
 #include "machine/machine.hpp"
 #include "iss/stats.hpp"
 #include "rt/render.hpp"
@@ -135,8 +136,12 @@ void run_render(const RenderArgs& a) {
     }
     rt::PreparedScene prep = rt::prepare(std::move(scene), grid);
     machine::Result mr;
-    if (native) mr.render = rt::render_native(prep, opt);
-    else mr = machine::render(prep, opt, mo);
+    if (native) {
+        mr.render = rt::render_native(prep, opt);
+    } else {
+        if (!a.quiet) fmt::print(stderr, "{}", machine::schedules_used(mo));
+        mr = machine::render(prep, opt, mo);
+    }
     const rt::RenderResult& r = mr.render;
 
     if (!a.out.empty()) rt::write_png(a.out, r.image);

@@ -5,7 +5,10 @@
 #include "sched/legalize.hpp"
 
 #include "base/error.hpp"
+#include "base/hash.hpp"
 
+#include <map>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 
@@ -17,6 +20,26 @@ namespace {
 bool scheduled_for(std::string_view text, const isa::Machine& m) {
     const std::string name = assembler::header_machine(text);
     return !name.empty() && isa::is_preset(name) && isa::load_machine(name).fingerprint() == m.fingerprint();
+}
+
+// Scheduling a kernel for another machine costs about 0.1 s, and a sweep or the paper asks for the
+// same one in every cell: the result is kept for the process, by a hash of every source file,
+// the kernel's path and the machine's fingerprint.
+struct Scheduled {
+    std::string text;
+    KernelBuild build;
+};
+
+std::string schedule_key(const kernels::SourceSet& sources, const std::string& path, const isa::Machine& m) {
+    base::Fnv1a h;
+    for (const kernels::SourceFile& f : sources.files) h.add(f.path).add(std::string_view("\0", 1)).add(f.text);
+    return base::hex64(h.value()) + "/" + path + "/" + base::hex64(m.fingerprint());
+}
+
+std::mutex schedule_mutex;
+std::map<std::string, Scheduled>& schedule_cache() {
+    static std::map<std::string, Scheduled> cache;
+    return cache;
 }
 
 } // namespace
@@ -43,27 +66,37 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     };
     if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its blocks for m
         name = kPrefix + pk;
-        // The hand-scheduled code between the blocks first gets the nops m's latencies need (with
-        // its blocks written sequentially), then the scheduled file once more (blocks may start
-        // earlier than written).
-        try {
-            const sched::Legalized hand = sched::legalize(sources.text(pk), name, [&](const std::string& t) -> std::optional<std::string> {
-                try {
-                    (void)sched::pack_source(t, name, m, opts);
-                    return std::nullopt;
-                } catch (const base::Error& e) {
-                    return std::string(e.what());
-                }
-            });
-            const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
-            const sched::Legalized packed = sched::legalize(pr.text, name, assembles);
-            text = packed.text;
-            b.scheduled = true;
-            b.blocks = static_cast<int>(pr.blocks.size());
-            b.nops = hand.nops + packed.nops;
-        } catch (const base::Error& e) {
-            throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
-                                     m.source + "):\n" + e.what());
+        const std::string key = schedule_key(sources, path, m);
+        std::unique_lock lock(schedule_mutex);
+        if (const auto hit = schedule_cache().find(key); hit != schedule_cache().end()) {
+            text = hit->second.text;
+            b = hit->second.build;
+        } else {
+            lock.unlock(); // cells schedule different kernels at once; a rare duplicate is harmless
+            // The hand-scheduled code between the blocks first gets the nops m's latencies need (with
+            // its blocks written sequentially), then the scheduled file once more (blocks may start
+            // earlier than written).
+            try {
+                const sched::Legalized hand = sched::legalize(sources.text(pk), name, [&](const std::string& t) -> std::optional<std::string> {
+                    try {
+                        (void)sched::pack_source(t, name, m, opts);
+                        return std::nullopt;
+                    } catch (const base::Error& e) {
+                        return std::string(e.what());
+                    }
+                });
+                const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
+                const sched::Legalized packed = sched::legalize(pr.text, name, assembles);
+                text = packed.text;
+                b.scheduled = true;
+                b.blocks = static_cast<int>(pr.blocks.size());
+                b.nops = hand.nops + packed.nops;
+            } catch (const base::Error& e) {
+                throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
+                                         m.source + "):\n" + e.what());
+            }
+            lock.lock();
+            schedule_cache().emplace(key, Scheduled{text, b});
         }
     }
     b.source = name;

@@ -80,3 +80,22 @@ TEST_CASE("A variant's kernel is scheduled from its .pk source, the preset's is 
     // flow), so it is scheduled for realistic latencies as a whole.
     CHECK(machine::assemble_kernel(src, "ic/intersect.s", "ic-real")->machine().name == "ic-real");
 }
+
+TEST_CASE("A kernel scheduled once for a machine is the same program when asked again", "[unit][machine]") {
+    const kernels::SourceSet src = kernels::embedded();
+    machine::KernelBuild first, again;
+    const auto a = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &first);
+    const auto b = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &again); // the cached schedule
+    CHECK(again.scheduled);
+    CHECK(again.source == first.source);
+    CHECK(again.blocks == first.blocks);
+    CHECK(again.nops == first.nops);
+    REQUIRE(a->size() == b->size());
+    for (std::size_t i = 0; i < a->size(); ++i) CHECK(a->format_bundle(i) == b->format_bundle(i));
+    // Another source set (one file changed, here broken) is scheduled afresh, not served from the cache.
+    kernels::SourceSet edited = src;
+    for (kernels::SourceFile& f : edited.files)
+        if (f.path == "os/dda.pk") f.text += "\n    nosuchop r1, r2, r3\n";
+    CHECK_THROWS_WITH(machine::assemble_kernel(edited, "os/dda.s", isa::load_machine("os-real")),
+                      Catch::Contains("nosuchop"));
+}

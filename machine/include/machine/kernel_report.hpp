@@ -14,6 +14,7 @@
 #pragma once
 
 #include "kernels/sources.hpp"
+#include "machine/machine.hpp"
 
 #include <map>
 #include <optional>
@@ -126,5 +127,10 @@ struct KernelMachines {
 };
 
 KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines = {});
+
+// What a run on `mo`'s machines will use, for stderr before it starts: per stage that runs on
+// another description than its preset, the kernel file, how it was scheduled for the machine and
+// its headline costs ("dda_step 15.05 (ResMII 5.00, RecMII 9.00)"); "" when every stage runs on its preset.
+std::string schedules_used(const Options& mo);
 
 } // namespace nesshi::machine

@@ -1,0 +1,64 @@
+// The lines a run prints before it starts when a stage runs on another description than its
+// preset: which kernel file was scheduled for it, and what that schedule costs per step and per
+// primitive (the headline rows of `nesshi kernels` on the same machines).
+#include "machine/kernel_report.hpp"
+#include "machine/runner.hpp"
+
+#include "isa/machine.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace nesshi::machine {
+
+namespace {
+
+struct Stage {
+    const char* role;   // "os", "ic", "seq"
+    bool intersect;     // which of the role's kernels
+    std::vector<std::string> metrics; // the rows shown
+};
+
+std::string row(const KernelReport& r, const std::string& metric, const std::string& role) {
+    const KernelRow* k = r.find(metric, role);
+    if (!k) return {};
+    std::string s = fmt::format("{} {:.2f}", metric, k->cycles);
+    if (metric == "dda_step" && k->res_mii > 0) // the loop: how far from its bounds
+        s += fmt::format(" (ResMII {:.2f}, RecMII {:.2f})", k->res_mii, k->rec_mii);
+    return s;
+}
+
+} // namespace
+
+std::string schedules_used(const Options& mo) {
+    const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
+    KernelMachines km;
+    if (!mo.os_machine.empty()) km.os = mo.os_machine;
+    if (!mo.ic_machine.empty()) km.ic = mo.ic_machine;
+    if (!mo.seq_machine.empty()) km.seq = mo.seq_machine;
+    std::vector<Stage> stages;
+    if (mo.model == Model::V) {
+        if (km.os != "os") stages.push_back({"os", false, {"dda_step", "dda_init"}});
+        if (km.ic != "ic") stages.push_back({"ic", true, {"triangle", "quadric_hit", "quadric2_hit", "cylinder_hit"}});
+    } else if (km.seq != "seq") {
+        stages.push_back({"seq", false, {"dda_step", "dda_init"}});
+        stages.push_back({"seq", true, {"triangle", "quadric_hit"}});
+    }
+    if (stages.empty()) return {};
+    const KernelReport report = kernel_report(src, km);
+    std::string out = "schedules, in cycles (`nesshi kernels` with the same --*-machine options has the whole table):\n";
+    for (const Stage& s : stages) {
+        KernelBuild b;
+        (void)assemble_kernel(src, kernels::kernel_path(s.role != std::string("seq"), s.intersect),
+                              isa::load_machine(km.of(s.role)), &b); // cached: the run builds it again for free
+        std::vector<std::string> rows;
+        for (const std::string& m : s.metrics)
+            if (std::string r = row(report, m, s.role); !r.empty()) rows.push_back(std::move(r));
+        std::string how = b.scheduled ? fmt::format(", {} blocks scheduled", b.blocks) : std::string(", as written");
+        if (b.nops) how += fmt::format(", {} nops inserted", b.nops);
+        out += fmt::format("  {} on {}: {}{}: {}\n", s.role, b.machine, b.source, how, fmt::join(rows, ", "));
+    }
+    return out;
+}
+
+} // namespace nesshi::machine
