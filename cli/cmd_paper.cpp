@@ -90,9 +90,9 @@ class ProgressPrinter {
             fmt::print(stderr, "  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
             for (const std::string& s : *p.stale) fmt::print(stderr, "    {}\n", s);
         }
-        if (p.finished) {
+        if (p.record) {
             clear_status();
-            const paper::CellRecord& c = *p.finished;
+            const paper::CellRecord& c = *p.record;
             fmt::print(stderr, "  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
                        machine::model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
                        c.wall_seconds, p.cells_run + p.cells_failed, p.cells_to_run, tty_ ? "" : "; " + timing(p));

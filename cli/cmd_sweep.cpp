@@ -49,12 +49,12 @@ void run_sweep_command(const SweepArgs& a) {
                 }
                 return;
             }
-            const std::size_t done = p.cells_done + p.cells_failed;
+            const std::size_t done = p.cells_run + p.cells_failed;
             std::string left;
             if (done > 0 && done < p.cells_to_run)
                 left = fmt::format(", ~{} left", base::format_duration(p.elapsed_seconds / static_cast<double>(done) *
                                                                         static_cast<double>(p.cells_to_run - done)));
-            fmt::print(stderr, "  {:<40} {:>7.1f} s   [{}/{}; {} elapsed{}]\n", p.finished, p.seconds, done, p.cells_to_run,
+            fmt::print(stderr, "  {:<40} {:>7.1f} s   [{}/{}; {} elapsed{}]\n", p.finished_cell, p.seconds, done, p.cells_to_run,
                        base::format_duration(p.elapsed_seconds), left);
         };
     const paper::SweepRun r = paper::run_sweep(spec, o);

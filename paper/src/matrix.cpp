@@ -37,28 +37,17 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner, const C
         cells.push_back(std::move(c));
     }
     CellEngineOptions eo;
-    eo.threads = o.threads;
-    eo.shard = o.shard;
-    eo.shards = o.shards;
+    static_cast<CellSpread&>(eo) = o;
     if (o.progress)
         eo.progress = [&](const CellEngineProgress& e) {
             PaperProgress p;
-            p.cells_total = e.cells_total;
+            static_cast<CellEngineProgress&>(p) = e;
             p.size = o.size;
-            p.cells_loaded = e.cells_loaded;
-            p.cells_run = e.cells_run;
-            p.cells_failed = e.cells_failed;
-            p.cells_to_run = e.cells_to_run;
-            p.fraction = e.fraction;
-            p.elapsed_seconds = e.elapsed_seconds;
-            p.threads = e.threads;
-            p.processes = e.processes;
-            p.stale = e.stale;
             CellRecord finished;
             if (e.finished_text && !e.finished_text->empty()) {
                 finished = parse_cell(keys[e.finished], *e.finished_text, cells[e.finished].file);
                 finished.wall_seconds = e.seconds;
-                p.finished = &finished;
+                p.record = &finished;
             }
             o.progress(p);
         };

@@ -2,8 +2,6 @@
 // resumed sweep asks for the same run; cells run concurrently, the largest images first.
 #include "paper/sweep.hpp"
 
-#include "paper/cell_engine.hpp"
-
 #include "base/write_file.hpp"
 
 #include <fmt/format.h>
@@ -51,24 +49,13 @@ SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
         jobs.push_back(std::move(job));
     }
     CellEngineOptions eo;
-    eo.threads = o.threads;
-    eo.shard = o.shard;
-    eo.shards = o.shards;
+    static_cast<CellSpread&>(eo) = o;
     if (o.progress)
         eo.progress = [&](const CellEngineProgress& e) {
             if (!e.stale && e.finished >= cells.size()) return; // a line per finished cell
             SweepProgress p;
-            p.cells_total = e.cells_total;
-            p.cells_loaded = e.cells_loaded;
-            p.cells_to_run = e.cells_to_run;
-            p.cells_done = e.cells_run;
-            p.cells_failed = e.cells_failed;
-            p.stale = e.stale;
-            if (e.finished < cells.size()) p.finished = jobs[e.finished].name;
-            p.seconds = e.seconds;
-            p.elapsed_seconds = e.elapsed_seconds;
-            p.threads = e.threads;
-            p.processes = e.processes;
+            static_cast<CellEngineProgress&>(p) = e;
+            if (e.finished < cells.size()) p.finished_cell = jobs[e.finished].name;
             o.progress(p);
         };
     CellEngineResult e = run_cells(jobs, eo);

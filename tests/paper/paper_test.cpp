@@ -224,7 +224,7 @@ TEST_CASE("Runner: cells are written, and a second run loads them instead of run
     FakeRunner first;
     std::size_t finished_events = 0;
     PaperOptions counted = o;
-    counted.progress = [&](const PaperProgress& p) { finished_events += p.finished != nullptr; };
+    counted.progress = [&](const PaperProgress& p) { finished_events += p.record != nullptr; };
     MatrixResult a = run_matrix(counted, first.fn());
     CHECK(first.calls == 8); // 2 scenes x 2 grids x (V, M)
     CHECK(a.run == 8);

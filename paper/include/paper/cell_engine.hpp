@@ -47,11 +47,15 @@ struct CellEngineProgress {
     double seconds = 0;
 };
 
-struct CellEngineOptions {
+// How a run spreads its cells (paper::PaperOptions and SweepOptions have the same).
+struct CellSpread {
     int threads = 0; // cells at once per process (0: the cores, shared among one host's processes)
     // Run only shard `shard` of `shards` (1-based): the cells whose index is shard - 1 modulo
     // shards; the others are loaded when stored, else have no result.
     int shard = 1, shards = 1;
+};
+
+struct CellEngineOptions : CellSpread {
     // From one thread at a time: at the start, after each cell, and a few times a second.
     std::function<void(const CellEngineProgress&)> progress;
 };

@@ -68,30 +68,21 @@ std::string stamp_cell(const std::string& json_text, const machine::Provenance& 
 std::vector<std::string> stale_reasons(const std::string& json_text, const machine::Provenance& expected,
                                        const std::string& file);
 
-struct PaperProgress {
-    const CellRecord* finished = nullptr; // the cell just finished; nullptr: start or a periodic update
-    std::size_t cells_total = 0, cells_loaded = 0, cells_run = 0, cells_failed = 0;
-    std::size_t cells_to_run = 0;
-    int size = 0;        // image size of these cells (the grid pre-pass follows the matrix, smaller)
-    double fraction = 0; // of the cells to run, counting the partial progress of running ones
-    double elapsed_seconds = 0;
-    int threads = 1;   // cells at once in this process
-    int processes = 1; // of an MPI run
-    // At the start of a phase: "cell: what changed" for each stored cell that runs again because
-    // its provenance is not the current run's.
-    const std::vector<std::string>* stale = nullptr;
+// The engine's progress, plus the record of the cell just finished (nullptr: the start, a failure
+// or a periodic update) and the image size of the phase (the grid pre-pass follows the matrix, smaller).
+struct PaperProgress : CellEngineProgress {
+    const CellRecord* record = nullptr;
+    int size = 0;
 };
 
-struct PaperOptions {
+// threads: cells run at once (one host thread per cell, each a 1-PE run; 0 = all cores); a shard
+// runs its share of each phase's cells, and the reports are written only when every cell is there.
+struct PaperOptions : CellSpread {
     int size = 512;
     std::vector<std::string> scenes = {"balls", "mount", "rings", "tetra", "tree"};
     std::vector<int> grids = {20, 50, 100};
     std::vector<machine::Model> models = {machine::Model::S, machine::Model::M, machine::Model::V};
     std::string out_dir = "paper-out";
-    int threads = 0; // cells run at once (one host thread per cell, each a 1-PE run); 0 = all cores
-    // Run only shard `shard` of `shards` (1-based) of each phase's cells (batch jobs without MPI):
-    // the others are loaded when stored; the reports are written only when every cell is there.
-    int shard = 1, shards = 1;
     // What every cell runs on: the stages' machine descriptions (os_machine, ic_machine,
     // seq_machine) and kernels_dir; a cell sets the model, one PE and one host thread itself.
     machine::Options machine;

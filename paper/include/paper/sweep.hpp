@@ -17,9 +17,11 @@
 //   y = "cycles.total"
 //
 //   paper::SweepSpec spec = paper::load_sweep_spec("sweep.toml");
-//   paper::SweepRun r = paper::run_sweep(spec, {.out_dir = "out"});
+//   paper::SweepOptions o;  o.out_dir = "out";
+//   paper::SweepRun r = paper::run_sweep(spec, o);
 #pragma once
 
+#include "paper/cell_engine.hpp"
 #include "paper/paper.hpp"
 
 #include <functional>
@@ -71,23 +73,16 @@ struct SweepRunInputs {
 };
 SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c); // throws PaperError on a bad value
 
-struct SweepProgress {
-    std::size_t cells_total = 0, cells_loaded = 0, cells_to_run = 0, cells_done = 0, cells_failed = 0;
-    const std::vector<std::string>* stale = nullptr; // at the start: cells run again, and why
-    std::string finished;                            // the cell just finished ("" otherwise): its axes
-    double seconds = 0, elapsed_seconds = 0;         // of that cell; of the run so far
-    int threads = 1;                                 // cells at once in this process
-    int processes = 1;                               // of an MPI run
+// The engine's progress, plus the axes of the cell just finished ("" otherwise).
+struct SweepProgress : CellEngineProgress {
+    std::string finished_cell;
 };
 
-struct SweepOptions {
+// threads and shards as the cell engine's: batch schedulers without MPI run one shard per job;
+// merging the jobs' cells/ folders and running the sweep once more writes the whole results
+// without running anything.
+struct SweepOptions : CellSpread {
     std::string out_dir = "sweep-out";
-    int threads = 0; // cells at once (0 = all cores)
-    // Run only shard `shard` of `shards` (1-based): the cells whose index in sweep_cells is
-    // shard - 1 modulo shards; the others are loaded when stored, else left out of the results.
-    // Batch schedulers without MPI run one shard per job; merging the jobs' cells/ folders and
-    // running the sweep once more writes the whole results without running anything.
-    int shard = 1, shards = 1;
     std::function<void(const SweepProgress&)> progress;
 };
 
