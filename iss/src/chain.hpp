@@ -1,0 +1,89 @@
+// Threaded code: what a fast-engine handler does after its operation (its Tail).
+//
+// Inside a straight run every op record holds a handler that ends in a tail call of the next
+// record's handler, and the last op of each bundle also does the end of the bundle, so a run
+// is one chain of jumps with no dispatch loop. The chain leaves the core exactly as the
+// general loop's turn per bundle would (see EngineLoop::run_plain): it stops with the
+// stopping bundle's ops executed and nothing else, and the loop finishes that bundle.
+//
+// GCC 12 has no musttail: every call here is in tail position with the handler's own
+// signature, and no handler may keep an addressable local, so -O2 emits jumps
+// (tests/iss/threaded_test.cpp runs a long run on a small stack to check it).
+#pragma once
+
+#include "core.hpp"
+
+#include <cstdint>
+
+namespace nesshi::iss::detail {
+
+// Tails: Return (the dispatch loop's handlers), Next (an op that is not its bundle's last),
+// Exit (last op of a run's last bundle), or End + flags (last op of any other bundle of a run).
+inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3;
+inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd
+inline constexpr int kNumTails = kEnd + 4;
+
+// The end of a bundle inside a run, then the next bundle's first op, when ring writes land in
+// the next cycle. Out of line, as few cycles of a run land them, and a tail call, so that
+// the handlers need no stack frame.
+[[gnu::noinline]] inline void land_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
+    RingSlot& s = c.ring[c.cycle & c.mask];
+    const uint32_t count = s.n;
+    if (count) {
+        uint32_t ring_float = 0;
+        for (uint32_t i = 0; i < count; ++i) {
+            const RingWrite w = s.w[i];
+            c.r[w.reg] = w.value;
+            ring_float += (w.reg >> 7) & 1;
+        }
+        c.pending -= count;
+        s.n = 0;
+        const uint32_t ring[2] = {count - ring_float, ring_float};
+        c.last_ring_cycle = c.cycle;
+        c.last_ring = {ring[0], ring[1]};
+        const auto& prev = c.bundles[prev_bundle].lat1_writes; // the bundle before is owed its credit
+        for (int f = 0; f < 2; ++f) {
+            if (!ring[f]) continue;
+            --c.write_adjust[f][prev[f]];
+            ++c.write_adjust[f][prev[f] + ring[f]];
+        }
+    }
+    return next.tfn(c, next);
+}
+
+template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedOp& d) {
+    if constexpr (T == kReturn) {
+        return;
+    } else if constexpr (T == kNext) {
+        const DecodedOp& n = (&d)[1];
+        return n.tfn(c, n);
+    } else if constexpr (T == kExit) {
+        c.pc = d.bundle;
+    } else {
+        constexpr bool commit = (T - kEnd) & kEndCommit; // the bundle queues latency-1 writes
+        constexpr bool events = (T - kEnd) & kEndEvents; // it has a load or store (fault, stall)
+        if constexpr (events) {
+            if (c.event) [[unlikely]] {
+                c.pc = d.bundle;
+                return;
+            }
+        }
+        if (c.left == 0) [[unlikely]] { // the budget, the cycle limit or the chain's cap
+            c.pc = d.bundle;
+            return;
+        }
+        if constexpr (commit) {
+            for (uint32_t i = 0, n = c.nwb; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
+            c.nwb = 0;
+        }
+        ++c.exec[d.bundle];
+        ++c.cycle;
+        --c.left;
+        const DecodedOp& n = (&d)[1]; // ops are stored in bundle order: the next bundle's first
+        if (c.pending) [[unlikely]]
+            return land_then(c, n, d.bundle);
+        return n.tfn(c, n);
+    }
+}
+
+} // namespace nesshi::iss::detail
