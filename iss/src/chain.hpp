@@ -18,10 +18,12 @@
 namespace nesshi::iss::detail {
 
 // Tails: Return (the dispatch loop's handlers), Next (an op that is not its bundle's last),
-// Exit (last op of a run's last bundle), or End + flags (last op of any other bundle of a run).
-inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3;
-inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd
-inline constexpr int kNumTails = kEnd + 4;
+// Exit (last op of a run's last bundle), End + flags (last op of any other bundle of a run),
+// Jump + flags (last op of a control bundle without halt when the branch penalty is 0: the
+// chain goes on at the next bundle or the branch's target, when no FIFO gate guards it).
+inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 7;
+inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd and kJump
+inline constexpr int kNumTails = kJump + 4;
 
 // The end of a bundle inside a run, then the next bundle's first op, when ring writes land in
 // the next cycle. Out of line, as few cycles of a run land them, and a tail call, so that
@@ -59,6 +61,35 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
         return n.tfn(c, n);
     } else if constexpr (T == kExit) {
         c.pc = d.bundle;
+    } else if constexpr (T >= kJump) {
+        constexpr bool commit = (T - kJump) & kEndCommit;
+        const uint32_t ev = c.event;
+        if ((ev & ~uint32_t{kTaken}) || c.left == 0) [[unlikely]] { // loop() handles them (and the limits)
+            c.pc = d.bundle;
+            return;
+        }
+        const uint32_t to = ev ? c.next_pc : d.bundle + 1;
+        if (to >= c.nb || c.bundles[to].slow) [[unlikely]] { // a bad pc, or a FIFO gate: loop() again
+            c.pc = d.bundle;
+            return;
+        }
+        if constexpr (commit) {
+            for (uint32_t i = 0, n = c.nwb; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
+            c.nwb = 0;
+        }
+        ++c.exec[d.bundle];
+        if (ev) {
+            ++c.taken[d.bundle];
+            c.event = 0;
+        }
+        c.jump_from = d.bundle; // the bundle before `to`, should the chain stop there
+        c.jump_to = to;
+        ++c.cycle;
+        --c.left;
+        const DecodedOp& n = c.ops[c.bundles[to].first];
+        if (c.pending) [[unlikely]]
+            return land_then(c, n, d.bundle);
+        return n.tfn(c, n);
     } else {
         constexpr bool commit = (T - kEnd) & kEndCommit; // the bundle queues latency-1 writes
         constexpr bool events = (T - kEnd) & kEndEvents; // it has a load or store (fault, stall)

@@ -63,8 +63,12 @@ struct Core {
     // what the end of a bundle updates (Counters::exec and write_adjust, set by EngineLoop::run).
     uint64_t left = 0;
     uint64_t* exec = nullptr;
+    uint64_t* taken = nullptr;
     std::array<uint64_t*, 2> write_adjust{};
     const DecodedBundle* bundles = nullptr;
+    const DecodedOp* ops = nullptr;
+    uint32_t nb = 0;
+    uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle
     // The first fault raised inside a bundle.
     const DecodedOp* fault_op = nullptr;
     MemError fault_mem = MemError::None;

@@ -133,13 +133,13 @@ inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers = kTable<true
 
 // The threaded handler of `opcode` with Tail `tail`.
 inline Handler threaded_handler(uint32_t opcode, bool direct, int tail) {
-    static_assert(kNumTails == 7);
+    static_assert(kNumTails == 11);
     static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kPlain = {
-        kTable<false, 0>, kTable<false, 1>, kTable<false, 2>, kTable<false, 3>,
-        kTable<false, 4>, kTable<false, 5>, kTable<false, 6>};
+        kTable<false, 0>, kTable<false, 1>, kTable<false, 2>, kTable<false, 3>, kTable<false, 4>, kTable<false, 5>,
+        kTable<false, 6>, kTable<false, 7>, kTable<false, 8>, kTable<false, 9>, kTable<false, 10>};
     static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kDirect = {
-        kTable<true, 0>, kTable<true, 1>, kTable<true, 2>, kTable<true, 3>,
-        kTable<true, 4>, kTable<true, 5>, kTable<true, 6>};
+        kTable<true, 0>, kTable<true, 1>, kTable<true, 2>, kTable<true, 3>, kTable<true, 4>, kTable<true, 5>,
+        kTable<true, 6>, kTable<true, 7>, kTable<true, 8>, kTable<true, 9>, kTable<true, 10>};
     return (direct ? kDirect : kPlain)[tail][opcode];
 }
 

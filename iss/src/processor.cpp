@@ -153,29 +153,29 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
-    // until the run's last bundle, or one whose handlers raised an event, has executed its
-    // operations; loop() then finishes that bundle as any other. Only an event ends a run
-    // early, so the cycle limit and the budget are checked once; inside it land_next always
-    // equals the cycle and the bundle before is owed its histogram credit, so landing reduces
-    // to the cycle's ring slot, and that state is written back once, at the end. The run is
-    // one chain of threaded handlers (chain.hpp), which leave c.pc at the bundle they stop in.
-    [[gnu::always_inline]] void run_plain(const DecodedBundle* bundles, const DecodedOp* ops, uint64_t limit,
-                                          uint64_t& budget) {
-        const uint32_t first = c.pc;
-        const uint64_t n = std::min<uint64_t>({bundles[first].run, budget, limit - c.cycle, kChainCap});
-        const uint32_t last = first + uint32_t(n) - 1;
-        c.next_pc = last + 1; // only the last bundle may transfer control
+    // and, without a branch penalty, the runs control goes to, until a run's last bundle, a
+    // bundle whose handlers raised an event other than a taken branch, or one whose successor
+    // needs the FIFO gate has executed its operations; loop() then finishes that bundle as any
+    // other. Only those stops end a chain early, so the cycle limit and the budget are checked
+    // once; inside it land_next always equals the cycle and the bundle before is owed its
+    // histogram credit, so landing reduces to the cycle's ring slot, and that state is written
+    // back once, at the end. The chain of threaded handlers (chain.hpp) leaves c.pc at the
+    // bundle it stops in, and c.left at the bundles it could still have finished.
+    [[gnu::always_inline]] void run_plain(const DecodedBundle* bundles, uint64_t limit, uint64_t& budget) {
+        const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
         c.left = n - 1;
-        const DecodedOp& head = ops[bundles[first].first];
+        c.jump_to = ~uint32_t{0};
+        const DecodedOp& head = c.ops[bundles[c.pc].first];
         head.tfn(c, head);
         const uint32_t pc = c.pc;
-        budget -= pc - first;
-        if (pc != last) c.next_pc = pc + 1;
+        const uint64_t done = n - 1 - c.left; // bundles finished: all but the one it stops in
+        budget -= done;
+        if (!(c.event & kTaken)) c.next_pc = pc + 1; // only a control bundle sets it
         c.land_next = c.cycle + 1;
         c.lat1_owed = false;
-        if (pc != first) { // this cycle landed the bundle before's writes (a fault here leaves it so)
+        if (done) { // this cycle landed the bundle before's writes (a fault here leaves it so)
             c.last_owed = true;
-            c.lat1_landed = bundles[pc - 1].lat1_writes;
+            c.lat1_landed = bundles[pc == c.jump_to ? c.jump_from : pc - 1].lat1_writes;
         }
     }
 
@@ -357,6 +357,9 @@ template <bool Checked, bool Traced> struct EngineLoop {
 
     Status run(uint64_t limit, uint64_t budget, bool wait_blocked) {
         c.exec = k.exec.data();
+        c.taken = k.taken.data();
+        c.ops = prog.ops().data();
+        c.nb = prog.size();
         c.write_adjust = {k.write_adjust[0].data(), k.write_adjust[1].data()};
         c.bundles = prog.bundles().data();
         Status st = loop(limit, budget, wait_blocked);
@@ -386,11 +389,9 @@ template <bool Checked, bool Traced> struct EngineLoop {
             c.next_pc = c.pc + 1;
             if constexpr (Checked || Traced) { // every write through the queue, so it can be inspected
                 for (const DecodedOp *o = ops + bp->first, *e = o + bp->count; o != e; ++o) o->fn_buffered(c, *o);
-            } else if (bp->run > 1) {
-                run_plain(bundles, ops, limit, budget);
-                bp = &bundles[c.pc];
             } else {
-                for (const DecodedOp *o = ops + bp->first, *e = o + bp->count; o != e; ++o) o->fn(c, *o);
+                run_plain(bundles, limit, budget);
+                bp = &bundles[c.pc];
             }
             const DecodedBundle& b = *bp;
             if (c.event) [[unlikely]] {
