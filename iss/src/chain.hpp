@@ -25,31 +25,35 @@ inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 7;
 inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd and kJump
 inline constexpr int kNumTails = kJump + 4;
 
-// The end of a bundle inside a run, then the next bundle's first op, when ring writes land in
-// the next cycle. Out of line, as few cycles of a run land them, and a tail call, so that
-// the handlers need no stack frame.
-[[gnu::noinline]] inline void land_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
+// The ring writes landing in this cycle, inside a run (the bundle before is owed its histogram
+// credit), then the next bundle's first op. Out of line and reached by tail calls, so that
+// the handlers need no stack frame, and land_then's test of an empty slot needs none either.
+[[gnu::noinline]] inline void land_ring_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
     RingSlot& s = c.ring[c.cycle & c.mask];
     const uint32_t count = s.n;
-    if (count) {
-        uint32_t ring_float = 0;
-        for (uint32_t i = 0; i < count; ++i) {
-            const RingWrite w = s.w[i];
-            c.r[w.reg] = w.value;
-            ring_float += (w.reg >> 7) & 1;
-        }
-        c.pending -= count;
-        s.n = 0;
-        const uint32_t ring[2] = {count - ring_float, ring_float};
-        c.last_ring_cycle = c.cycle;
-        c.last_ring = {ring[0], ring[1]};
-        const auto& prev = c.bundles[prev_bundle].lat1_writes; // the bundle before is owed its credit
-        for (int f = 0; f < 2; ++f) {
-            if (!ring[f]) continue;
-            --c.write_adjust[f][prev[f]];
-            ++c.write_adjust[f][prev[f] + ring[f]];
-        }
+    uint32_t ring_float = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        const RingWrite w = s.w[i];
+        c.r[w.reg] = w.value;
+        ring_float += (w.reg >> 7) & 1;
     }
+    c.pending -= count;
+    s.n = 0;
+    const uint32_t ring[2] = {count - ring_float, ring_float};
+    c.last_ring_cycle = c.cycle;
+    c.last_ring = {ring[0], ring[1]};
+    const auto& prev = c.bundles[prev_bundle].lat1_writes;
+    for (int f = 0; f < 2; ++f) {
+        if (!ring[f]) continue;
+        --c.write_adjust[f][prev[f]];
+        ++c.write_adjust[f][prev[f] + ring[f]];
+    }
+    return next.tfn(c, next);
+}
+
+// The end of a bundle inside a run with ring writes pending: most cycles land none of them.
+[[gnu::noinline]] inline void land_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
+    if (c.ring[c.cycle & c.mask].n) return land_ring_then(c, next, prev_bundle);
     return next.tfn(c, next);
 }
 
