@@ -109,3 +109,39 @@ TEST_CASE("a long straight run is a chain of jumps (runs on a small stack)") {
     CHECK(lr.p->reg(R(1)) == kBundles);
     CHECK(lr.p->cycle() == kBundles + 1);
 }
+
+// Chains stop before a bundle behind the FIFO gate and at a transfer outside the code; the
+// general loop then decides (waits, blocks, the bad-pc fault) as it would have.
+TEST_CASE("a threaded chain stops at a FIFO-gated target and at a bad pc as the general loop") {
+    // A loop whose branch target receives: blocks on the empty channel, then runs on.
+    auto fifo_loop = [] {
+        return std::vector<Bundle>{{op("li", 1, 0, 0, 3)},
+                                   {op("recv", 2, 0, 0, 0)},
+                                   {op("add", 3, 3, 2), op("addi", 1, 1, 0, -1)},
+                                   {op("fli", 1, 0, 0, 0x3f800000)},
+                                   {op("bnez", 0, 1, 0, 1)},
+                                   {op("jr", 0, 3)}}; // to pc 60 (10 + 20 + 30): outside the code
+    };
+    for (const char* machine : {"os", "os-real"}) {
+        INFO(machine);
+        auto fast = make_proc(machine, fifo_loop());
+        auto ref = make_proc(machine, fifo_loop());
+        NullTracer t;
+        ref->set_tracer(&t);
+        QueueChannel cf, cr;
+        fast->attach_channel(0, &cf);
+        ref->attach_channel(0, &cr);
+        for (uint32_t w : {10u, 20u, 30u}) {
+            REQUIRE(fast->run() == Status::Blocked);
+            REQUIRE(ref->run() == Status::Blocked);
+            require_same(*fast, *ref);
+            cf.feed(w, fast->cycle() + 2);
+            cr.feed(w, ref->cycle() + 2);
+        }
+        REQUIRE(fast->run() == Status::Faulted);
+        REQUIRE(ref->run() == Status::Faulted);
+        REQUIRE(fast->fault()->kind == FaultKind::BadPc);
+        REQUIRE(fast->fault_report() == ref->fault_report());
+        require_same(*fast, *ref);
+    }
+}
