@@ -5,8 +5,9 @@
 // because writes go to the pending ring), then handle the rare events a handler raised
 // (taken branch, halt, memory fault or stall). The checked engine adds the dynamic rules
 // around the handler calls; tracing adds observers. Both are template flags, so the fast
-// engine pays nothing for them. The fast engine issues straight runs of bundles in an inner
-// loop (run_plain) that leaves exactly the state of one turn of the loop per bundle.
+// engine pays nothing for them. The fast engine issues its bundles in chains of threaded
+// handlers (run_plain, chain.hpp) that leave exactly the state of one turn of the loop per
+// bundle.
 #include "iss/processor.hpp"
 
 #include "core.hpp"
