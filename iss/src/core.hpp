@@ -59,6 +59,16 @@ struct Core {
     Channel* const* channels = nullptr; // by DecodedOp::chan (one slot per channel the program uses)
     uint64_t* words_received = nullptr;
     uint64_t* words_sent = nullptr;
+    // Threaded runs (chain.hpp): bundles the chain may still finish after the current one, and
+    // what the end of a bundle updates (Counters::exec and write_adjust, set by EngineLoop::run).
+    uint64_t left = 0;
+    uint64_t* exec = nullptr;
+    uint64_t* taken = nullptr;
+    std::array<uint64_t*, 2> write_adjust{};
+    const DecodedBundle* bundles = nullptr;
+    const DecodedOp* ops = nullptr;
+    uint32_t nb = 0;
+    uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle
     // The first fault raised inside a bundle.
     const DecodedOp* fault_op = nullptr;
     MemError fault_mem = MemError::None;
@@ -92,22 +102,18 @@ struct Core {
         event |= kFault;
     }
 
-    // Memory access with range, alignment and stall accounting; false after a fault. An aligned
-    // access to a page in the TLB needs none of them (MemorySystem::tlb_hit), so it is inlined
-    // into the handler; everything else goes through the out-of-line checked path.
-    template <uint32_t Bytes> [[gnu::always_inline]] bool store(const DecodedOp& d, uint32_t addr, uint32_t value) {
-        if (mem->tlb_hit<Bytes>(addr)) [[likely]] {
-            std::memcpy(mem->tlb_data(addr), &value, Bytes); // little-endian host assumed, as in PagedMemory
-            return true;
-        }
-        return store_checked(d, addr, Bytes, value);
-    }
-    [[gnu::noinline]] bool load_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t& out) {
+    // Memory access with range, alignment and stall accounting, for the accesses the TLB does
+    // not serve (MemorySystem::tlb_hit; the handlers inline the hit path).
+    // The value loaded, or kLoadFailed (a fault was raised). A value, not an out-parameter: the
+    // threaded handler that calls it then tail-calls the next one, which an addressable local
+    // could prevent.
+    static constexpr uint64_t kLoadFailed = uint64_t{1} << 32;
+    [[gnu::noinline]] uint64_t load_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes) {
         MemRegion* reg = checked_region(d, addr, bytes);
-        if (!reg) return false;
-        out = reg->store->read(addr - reg->desc.base, bytes);
+        if (!reg) return kLoadFailed;
+        const uint32_t v = reg->store->read(addr - reg->desc.base, bytes);
         account(*reg, addr, bytes, false);
-        return true;
+        return v;
     }
     [[gnu::noinline]] bool store_checked(const DecodedOp& d, uint32_t addr, uint32_t bytes, uint32_t value) {
         MemRegion* reg = checked_region(d, addr, bytes);

@@ -5,6 +5,7 @@
 // hand-written per-opcode switch: adding a row to kOps adds its handler.
 #pragma once
 
+#include "chain.hpp"
 #include "core.hpp"
 
 #include "isa/ops.hpp"
@@ -52,14 +53,22 @@ template <size_t O> constexpr uint32_t extend(uint32_t v) {
     else return v;
 }
 
-// A load the TLB does not serve: the checked access (range, alignment, stalls). Out of line
-// and reached by a tail call, so that the hit path of the handler needs no stack frame.
-template <size_t O, bool Direct> [[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint32_t addr) {
-    uint32_t v;
-    if (c.load_checked(d, addr, isa::kOps[O].mem_bytes, v)) put<Direct>(c, d, extend<O>(v));
+// A load or store the TLB does not serve: the checked access (range, alignment, stalls). Out of
+// line and reached by a tail call, so that the hit path of the handler needs no stack frame;
+// it ends as the handler would (its Tail T, chain.hpp).
+template <size_t O, bool Direct, int T> [[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint32_t addr) {
+    const uint64_t v = c.load_checked(d, addr, isa::kOps[O].mem_bytes);
+    if (v != Core::kLoadFailed) put<Direct>(c, d, extend<O>(uint32_t(v)));
+    return then<T>(c, d);
+}
+template <size_t O, int T> [[gnu::noinline]] void store_miss(Core& c, const DecodedOp& d, uint32_t addr, uint32_t v) {
+    c.store_checked(d, addr, isa::kOps[O].mem_bytes, v);
+    return then<T>(c, d);
 }
 
-template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
+// Row O's semantics, then its Tail T: kReturn for the dispatch loop, the others for threaded
+// runs (chain.hpp).
+template <size_t O, bool Direct, int T> void exec(Core& c, const DecodedOp& d) {
     using isa::Field;
     using isa::Kind;
     constexpr const isa::OpInfo& info = isa::kOps[O];
@@ -73,12 +82,15 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
     } else if constexpr (info.kind == Kind::Load) {
         const uint32_t addr = eval(a, b, cc, d.imm);
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return load_miss<O, Direct>(c, d, addr);
+            return load_miss<O, Direct, T>(c, d, addr);
         uint32_t v = 0;
         std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes); // little-endian host assumed, as in PagedMemory
         put(extend<O>(v));
     } else if constexpr (info.kind == Kind::Store) {
-        c.store<info.mem_bytes>(d, eval(a, b, cc, d.imm), b);
+        const uint32_t addr = eval(a, b, cc, d.imm);
+        if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
+            return store_miss<O, T>(c, d, addr, b);
+        std::memcpy(c.mem->tlb_data(addr), &b, info.mem_bytes); // little-endian host assumed, as in PagedMemory
     } else if constexpr (info.kind == Kind::Branch) {
         if (eval(a, b, cc, d.imm)) {
             c.next_pc = d.imm;
@@ -106,16 +118,29 @@ template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
     } else {
         static_assert(info.kind == Kind::Nop);
     }
+    return then<T>(c, d);
 }
 
-template <bool Direct, size_t... I>
+template <bool Direct, int T, size_t... I>
 constexpr std::array<Handler, sizeof...(I)> make_table(std::index_sequence<I...>) {
-    return {&exec<I, Direct>...};
+    return {&exec<I, Direct, T>...};
 }
+template <bool Direct, int T>
+inline constexpr std::array<Handler, isa::kNumOps> kTable = make_table<Direct, T>(std::make_index_sequence<isa::kNumOps>{});
 
-inline constexpr std::array<Handler, isa::kNumOps> kHandlers =
-    make_table<false>(std::make_index_sequence<isa::kNumOps>{});
-inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers =
-    make_table<true>(std::make_index_sequence<isa::kNumOps>{});
+inline constexpr std::array<Handler, isa::kNumOps> kHandlers = kTable<false, kReturn>;
+inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers = kTable<true, kReturn>;
+
+// The threaded handler of `opcode` with Tail `tail`.
+inline Handler threaded_handler(uint32_t opcode, bool direct, int tail) {
+    static_assert(kNumTails == 11);
+    static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kPlain = {
+        kTable<false, 0>, kTable<false, 1>, kTable<false, 2>, kTable<false, 3>, kTable<false, 4>, kTable<false, 5>,
+        kTable<false, 6>, kTable<false, 7>, kTable<false, 8>, kTable<false, 9>, kTable<false, 10>};
+    static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kDirect = {
+        kTable<true, 0>, kTable<true, 1>, kTable<true, 2>, kTable<true, 3>, kTable<true, 4>, kTable<true, 5>,
+        kTable<true, 6>, kTable<true, 7>, kTable<true, 8>, kTable<true, 9>, kTable<true, 10>};
+    return (direct ? kDirect : kPlain)[tail][opcode];
+}
 
 } // namespace nesshi::iss::detail

@@ -5,8 +5,9 @@
 // because writes go to the pending ring), then handle the rare events a handler raised
 // (taken branch, halt, memory fault or stall). The checked engine adds the dynamic rules
 // around the handler calls; tracing adds observers. Both are template flags, so the fast
-// engine pays nothing for them. The fast engine issues straight runs of bundles in an inner
-// loop (run_plain) that leaves exactly the state of one turn of the loop per bundle.
+// engine pays nothing for them. The fast engine issues its bundles in chains of threaded
+// handlers (run_plain, chain.hpp) that leave exactly the state of one turn of the loop per
+// bundle.
 #include "iss/processor.hpp"
 
 #include "core.hpp"
@@ -35,6 +36,13 @@ std::string_view status_name(Status s) {
 namespace {
 
 constexpr uint64_t kNoLimit = std::numeric_limits<uint64_t>::max();
+// Bundles one threaded chain may issue. Without sibling-call optimisation (-O0, sanitizers)
+// every handler call takes a stack frame, so the chain is kept short there.
+#if defined(__OPTIMIZE__) && !defined(__SANITIZE_ADDRESS__)
+constexpr uint64_t kChainCap = uint64_t{1} << 20;
+#else
+constexpr uint64_t kChainCap = 16;
+#endif
 
 std::string op_note(const Program& prog, const DecodedOp& d, uint64_t issued) {
     std::string src = prog.source_of(d.bundle);
@@ -146,67 +154,29 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
-    // until the run's last bundle, or one whose handlers raised an event, has executed its
-    // operations; loop() then finishes that bundle as any other. Only an event ends a run
-    // early, so the cycle limit and the budget are checked once; inside it land_next always
-    // equals the cycle and the bundle before is owed its histogram credit, so landing reduces
-    // to the cycle's ring slot, and that state is written back once, at the end.
-    [[gnu::always_inline]] void run_plain(const DecodedBundle* bundles, const DecodedOp* ops, uint64_t* exec,
-                                          uint64_t limit, uint64_t& budget) {
-        Core& c = this->c; // a local: the handlers' calls would make GCC reload the member
-        const uint32_t first = c.pc;
-        const uint32_t last = first + uint32_t(std::min<uint64_t>({bundles[first].run, budget, limit - c.cycle})) - 1;
-        uint32_t pc = first;
-        c.next_pc = last + 1; // only the last bundle may transfer control
-        for (;;) {
-            const DecodedBundle& b = bundles[pc];
-            for (const DecodedOp *o = ops + b.first, *e = o + b.count; o != e; ++o) o->fn(c, *o);
-            if (pc == last) [[unlikely]]
-                break;
-            if (c.event) [[unlikely]]
-                break;
-            if (const uint32_t n = c.nwb) {
-                for (uint32_t i = 0; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
-                c.nwb = 0;
-            }
-            ++exec[pc];
-            ++c.cycle;
-            ++pc;
-            if (c.pending) [[unlikely]]
-                land_in_run(b.lat1_writes);
-        }
-        budget -= pc - first;
-        if (pc != last) c.next_pc = pc + 1;
-        c.pc = pc;
+    // and, without a branch penalty, the runs control goes to, until a run's last bundle, a
+    // bundle whose handlers raised an event other than a taken branch, or one whose successor
+    // needs the FIFO gate has executed its operations; loop() then finishes that bundle as any
+    // other. Only those stops end a chain early, so the cycle limit and the budget are checked
+    // once; inside it land_next always equals the cycle and the bundle before is owed its
+    // histogram credit, so landing reduces to the cycle's ring slot, and that state is written
+    // back once, at the end. The chain of threaded handlers (chain.hpp) leaves c.pc at the
+    // bundle it stops in, and c.left at the bundles it could still have finished.
+    [[gnu::always_inline]] void run_plain(const DecodedBundle* bundles, uint64_t limit, uint64_t& budget) {
+        const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
+        c.left = n - 1;
+        c.jump_to = ~uint32_t{0};
+        const DecodedOp& head = c.ops[bundles[c.pc].first];
+        head.tfn(c, head);
+        const uint32_t pc = c.pc;
+        const uint64_t done = n - 1 - c.left; // bundles finished: all but the one it stops in
+        budget -= done;
+        if (!(c.event & kTaken)) c.next_pc = pc + 1; // only a control bundle sets it
         c.land_next = c.cycle + 1;
         c.lat1_owed = false;
-        if (pc != first) { // this cycle landed the bundle before's writes (a fault here leaves it so)
+        if (done) { // this cycle landed the bundle before's writes (a fault here leaves it so)
             c.last_owed = true;
-            c.lat1_landed = bundles[pc - 1].lat1_writes;
-        }
-    }
-
-    // land_slow() for one cycle whose previous bundle is owed its credit (`prev`: its latency-1
-    // writes per file); out of line, as few cycles of a run land ring writes.
-    [[gnu::noinline]] void land_in_run(const std::array<uint32_t, isa::kNumRegFiles>& prev) {
-        RingSlot& s = c.ring[c.cycle & c.mask];
-        const uint32_t count = s.n;
-        if (!count) return;
-        uint32_t ring_float = 0;
-        for (uint32_t i = 0; i < count; ++i) {
-            const RingWrite w = s.w[i];
-            c.r[w.reg] = w.value;
-            ring_float += (w.reg >> 7) & 1;
-        }
-        c.pending -= count;
-        s.n = 0;
-        const uint32_t ring[2] = {count - ring_float, ring_float};
-        c.last_ring_cycle = c.cycle;
-        c.last_ring = {ring[0], ring[1]};
-        for (int f = 0; f < 2; ++f) {
-            if (!ring[f]) continue;
-            --k.write_adjust[f][prev[f]];
-            ++k.write_adjust[f][prev[f] + ring[f]];
+            c.lat1_landed = bundles[pc == c.jump_to ? c.jump_from : pc - 1].lat1_writes;
         }
     }
 
@@ -387,6 +357,12 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     Status run(uint64_t limit, uint64_t budget, bool wait_blocked) {
+        c.exec = k.exec.data();
+        c.taken = k.taken.data();
+        c.ops = prog.ops().data();
+        c.nb = prog.size();
+        c.write_adjust = {k.write_adjust[0].data(), k.write_adjust[1].data()};
+        c.bundles = prog.bundles().data();
         Status st = loop(limit, budget, wait_blocked);
         // Stop at a cycle boundary with that cycle's writes landed, so registers and inflight()
         // show the state the next bundle will read.
@@ -414,11 +390,9 @@ template <bool Checked, bool Traced> struct EngineLoop {
             c.next_pc = c.pc + 1;
             if constexpr (Checked || Traced) { // every write through the queue, so it can be inspected
                 for (const DecodedOp *o = ops + bp->first, *e = o + bp->count; o != e; ++o) o->fn_buffered(c, *o);
-            } else if (bp->run > 1) {
-                run_plain(bundles, ops, exec, limit, budget);
-                bp = &bundles[c.pc];
             } else {
-                for (const DecodedOp *o = ops + bp->first, *e = o + bp->count; o != e; ++o) o->fn(c, *o);
+                run_plain(bundles, limit, budget);
+                bp = &bundles[c.pc];
             }
             const DecodedBundle& b = *bp;
             if (c.event) [[unlikely]] {

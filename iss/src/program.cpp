@@ -124,6 +124,32 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         DecodedBundle& b = bundles_[pc];
         if (!b.control && pc + 1 < size() && !bundles_[pc + 1].slow) b.run = 1 + bundles_[pc + 1].run;
     }
+    // Threaded form: each op's handler goes on to the next op; a bundle's last op also ends the
+    // bundle (skipping the commit of queued latency-1 writes when it queues none, and the event
+    // test when it has no load or store, the only ops that raise one before a run's last bundle).
+    // Without a branch penalty, a control bundle (halt aside) goes on to the bundle it sends
+    // control to, so a loop is one chain.
+    const bool jumps = m.branch_penalty == 0;
+    for (const DecodedBundle& b : bundles_) {
+        int flags = 0;
+        bool halt = false;
+        for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+            const DecodedOp& d = ops_[i];
+            const isa::Kind k = d.instr.info().kind;
+            halt |= k == isa::Kind::Halt;
+            if (k == isa::Kind::Load || k == isa::Kind::Store) flags |= detail::kEndEvents;
+            if (d.dst != kNoReg && d.latency == 1 && d.fn != detail::kDirectHandlers[d.instr.opcode])
+                flags |= detail::kEndCommit;
+        }
+        for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+            DecodedOp& d = ops_[i];
+            const int tail = i + 1 < b.first + b.count  ? detail::kNext
+                             : b.control && !halt && jumps ? detail::kJump + flags
+                             : b.run == 1                  ? detail::kExit
+                                                           : detail::kEnd + flags;
+            d.tfn = detail::threaded_handler(d.instr.opcode, d.fn == detail::kDirectHandlers[d.instr.opcode], tail);
+        }
+    }
 
     // Channels: ids are 32-bit and sparse (a program may use channels 0 and 500000000), so each
     // send/recv gets the dense index of its id, and a processor keeps one slot per channel used.

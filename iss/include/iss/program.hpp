@@ -31,6 +31,7 @@ inline constexpr uint16_t kNoReg = kNumRegs;
 struct DecodedOp {
     Handler fn = nullptr;              // fast engine: may write a latency-1 result in place
     Handler fn_buffered = nullptr;     // checked/traced engines: every write goes through the queue
+    Handler tfn = nullptr;             // fast engine inside a run: fn, then the rest of the run (threaded)
     uint16_t dst = kNoReg;             // destination (flat index) or kNoReg
     uint16_t a = kNoReg, b = kNoReg, c = kNoReg; // sources by field Rs1, Rs2, Rs3
     uint32_t imm = 0;
