@@ -65,6 +65,10 @@ struct Region {
     std::vector<Virtual> virtuals;
     std::map<std::string, int> virtual_index;
     std::vector<std::pair<int, int>> noalias; // int register pairs
+    // `.pipeline while`: no trip count; the one exit test is the conditional branch to `exit`.
+    bool is_while = false;
+    int exit_op = -1;
+    std::set<int> speculate; // `.speculate rA`: loads based on rA may run ahead of the exit
 };
 
 Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
@@ -78,6 +82,12 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             found = true;
             r.begin = i;
             r.trip = trim(code.substr(9));
+            if (r.trip == "while") {
+                r.is_while = true;
+                r.trip.clear();
+                r.trip_reg = -1;
+                continue;
+            }
             isa::RegFile f;
             if (!parse_reg(r.trip, f, r.trip_reg) || f != isa::RegFile::Int)
                 fail(file, ln, fmt::format(".pipeline takes the integer register holding the trip count, not '{}'", r.trip));
@@ -100,6 +110,17 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             r.noalias.emplace_back(a, b);
             continue;
         }
+        if (code.rfind(".speculate", 0) == 0) {
+            if (!r.is_while) fail(file, ln, ".speculate belongs in a .pipeline while region");
+            for (const std::string& reg : split_operands(code.substr(10))) {
+                isa::RegFile f;
+                int b = 0;
+                if (!parse_reg(reg, f, b) || f != isa::RegFile::Int)
+                    fail(file, ln, ".speculate takes integer base registers: .speculate rA[, rB ...]");
+                r.speculate.insert(b);
+            }
+            continue;
+        }
         if (code.find('{') != std::string::npos || code.find('}') != std::string::npos)
             fail(file, ln, "a .pipeline region holds one operation per line, no bundles");
         if (code.find(':') != std::string::npos) fail(file, ln, "no labels or slot prefixes inside a .pipeline region");
@@ -112,14 +133,18 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
         if (!opc) fail(file, ln, fmt::format("unknown operation '{}'", op.mnemonic));
         op.opcode = *opc;
         const isa::OpInfo& info = isa::kOps[*opc];
-        switch (info.kind) {
+        const bool conditional = info.kind == isa::Kind::Branch && op.mnemonic != "jmp" && op.mnemonic != "jal";
+        if (r.is_while && conditional && !op.operands.empty() && op.operands.back() == "exit") {
+            if (r.exit_op >= 0) fail(file, ln, "a .pipeline while region has one exit test; this is a second");
+            r.exit_op = static_cast<int>(r.ops.size());
+        } else switch (info.kind) {
         case isa::Kind::Branch:
         case isa::Kind::Jump:
         case isa::Kind::JumpLink:
         case isa::Kind::JumpReg:
         case isa::Kind::Halt:
-            fail(file, ln, fmt::format("'{}': no control flow inside a .pipeline region (the tool makes the loop)",
-                                       op.mnemonic));
+            fail(file, ln, fmt::format("'{}': no control flow inside a .pipeline region (the tool makes the loop){}",
+                                       op.mnemonic, r.is_while ? "; the exit test is a conditional branch to 'exit'" : ""));
         default: break;
         }
         if (op.operands.size() != info.num_operands)
@@ -162,6 +187,9 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
     if (!found) fail(file, 0, "no .pipeline region");
     if (!closed) fail(file, static_cast<int>(r.begin + 1), ".pipeline without .endpipeline");
     if (r.ops.empty()) fail(file, static_cast<int>(r.begin + 1), "the .pipeline region is empty");
+    if (r.is_while && r.exit_op < 0)
+        fail(file, static_cast<int>(r.begin + 1), ".pipeline while needs an exit test: a conditional branch to 'exit' "
+                                                  "(e.g. beqz %go, exit)");
     return r;
 }
 
@@ -255,6 +283,31 @@ bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
     };
     const std::int64_t ax = addr(x, a, 0), ay = addr(y, b, d);
     return ax < ay + b.width && ay < ax + a.width;
+}
+
+// Whether op i of a while loop has an effect a discarded iteration must not have: a store, a
+// FIFO word, a load whose base is not declared `.speculate` (it could fault past the end), or a
+// write of a physical register other than an induction (the exit path corrects inductions).
+bool side_effect(const Graph& g, const Region& r, int i, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+    const Node& nd = g.nodes[static_cast<std::size_t>(i)];
+    const isa::Kind k = nd.instr.info().kind;
+    if (k == isa::Kind::Store || k == isa::Kind::Send || k == isa::Kind::Recv) return true;
+    if (k == isa::Kind::Load && !r.speculate.count(nd.base)) return true;
+    for (const isa::RegOperand& o : isa::register_operands(nd.instr))
+        if (o.write && !is_virtual(o.file, o.reg) && !(o.file == isa::RegFile::Int && g.induction_of(o.reg))) return true;
+    return false;
+}
+
+// Speculation that is safe by construction: no side effect issues before every earlier exit test
+// has been decided. Iteration i's exit test precedes the side effects of iteration i + 1 (and so
+// of every later one), and those of iteration i written after the test. One bundle later: the
+// ops in the bundle of a taken branch still execute.
+void add_exit_edges(Graph& g, const Region& r, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+    for (int i = 0; i < static_cast<int>(g.nodes.size()); ++i) {
+        if (i == r.exit_op || !side_effect(g, r, i, is_virtual)) continue;
+        g.edges.push_back({r.exit_op, i, 1, 1, "exit before a later side effect"});
+        if (i > r.exit_op) g.edges.push_back({r.exit_op, i, 1, 0, "exit before a side effect after it"});
+    }
 }
 
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
@@ -372,6 +425,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
             }
             g.edges.push_back({ops[k], ops[(k + 1) % ops.size()], 1, wrap ? 1 : 0, "fifo order"});
         }
+    if (r.is_while) add_exit_edges(g, r, is_virtual);
     return g;
 }
 
@@ -392,24 +446,28 @@ struct Schedule {
     std::vector<int> time;          // issue cycle of each node in the flat schedule (iteration 0)
     isa::Instr branch, counter;     // loop control in the kernel: counter decrement and branch
     int counter_row = 0;
+    bool loop_control = true;       // false for a while loop: its exit test, in the last row, is the branch
 };
 
 class ModuloScheduler {
   public:
     // attempt 0 orders ops by height alone; later attempts break ties (and near-ties) at random.
     ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
-                    int attempt = 0)
-        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt) {}
+                    int attempt = 0, int exit_node = -1)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt), exit_(exit_node) {}
 
     std::optional<Schedule> run() {
         const int n = static_cast<int>(g_.nodes.size());
         rows_.assign(static_cast<std::size_t>(ii_), {});
-        // Loop control first: the branch ends the kernel; the counter decrement anywhere.
-        if (!place_fixed(branch_, ii_ - 1)) return std::nullopt;
+        // Loop control first: the branch ends the kernel; the counter decrement anywhere. A while
+        // loop has neither: its exit test is pinned to the last row (fits).
         int counter_row = -1;
-        for (int row = 0; row < ii_ && counter_row < 0; ++row)
-            if (place_fixed(counter_, row)) counter_row = row;
-        if (counter_row < 0) return std::nullopt;
+        if (exit_ < 0) {
+            if (!place_fixed(branch_, ii_ - 1)) return std::nullopt;
+            for (int row = 0; row < ii_ && counter_row < 0; ++row)
+                if (place_fixed(counter_, row)) counter_row = row;
+            if (counter_row < 0) return std::nullopt;
+        }
         heights();
         if (attempt_ > 0) { // perturb: a random order among ops of similar height
             std::mt19937 rng(static_cast<unsigned>(attempt_));
@@ -435,6 +493,7 @@ class ModuloScheduler {
             if (chosen < 0) { // displace: take the first cycle it has not had yet, evict what conflicts
                 const int prev = last_time_[static_cast<std::size_t>(op)];
                 chosen = prev < estart ? estart : prev + 1;
+                if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_; // its row, not earlier
                 evict_for(op, chosen);
                 if (!fits(op, chosen)) return std::nullopt;
             }
@@ -459,6 +518,7 @@ class ModuloScheduler {
         s.branch = branch_;
         s.counter = counter_;
         s.counter_row = counter_row;
+        s.loop_control = exit_ < 0;
         return s;
     }
 
@@ -519,6 +579,7 @@ class ModuloScheduler {
 
     bool fits(int op, int t) const {
         const int row = ((t % ii_) + ii_) % ii_;
+        if (op == exit_ && row != ii_ - 1) return false;
         const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
         std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
         ops.push_back(in);
@@ -597,6 +658,7 @@ class ModuloScheduler {
     int ii_;
     isa::Instr branch_, counter_;
     int attempt_ = 0;
+    int exit_ = -1; // a while loop's exit test: only in the last row
     std::vector<Row> rows_;
     std::vector<int> time_, last_time_, height_;
 };
@@ -868,7 +930,7 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         a.scratch.push_back(reg_name(f, reg));
         return reg;
     };
-    a.counter = take(isa::RegFile::Int, "the kernel counter");
+    if (!r.is_while) a.counter = take(isa::RegFile::Int, "the kernel counter");
     // Lifetimes: from the def's issue to the last read (a new value may be issued in the cycle of
     // the last read of the old one, the exposed pipeline's rule).
     int need = 1;
@@ -1034,6 +1096,153 @@ class Emitter {
         return o;
     }
 
+    // ---- while loops: exits from the prologue and from every kernel copy ----
+
+    // The branch's stage, and the increments of induction `ind` the loop has issued by the time
+    // the exit of iteration e is taken, beyond the e + a of the sequential meaning (a: the step
+    // comes before the exit test in the source). Later iterations' steps run ahead of the exit.
+    int exit_stage() const { return s_.time[static_cast<std::size_t>(r_.exit_op)] / s_.ii; }
+    int ahead(const Induction& ind) const {
+        const int a = ind.op < r_.exit_op ? 1 : 0;
+        return std::max(0, exit_stage() - s_.time[static_cast<std::size_t>(ind.op)] / s_.ii + 1 - a);
+    }
+
+    // Offset change of memory op `op` of iteration i (absolute: i counts from the first
+    // iteration, else relative to the kernel); `exiting`: after the exit of that iteration, when
+    // no step beyond those already issued and the sequential ones is issued.
+    std::int64_t delta_while(int op, int i, bool absolute, std::optional<int> exiting) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        if (!nd.adjusted) return 0;
+        const Induction& ind = *g_.induction_of(nd.base);
+        const int after = op > ind.op ? 1 : 0;
+        const int ta = s_.time[static_cast<std::size_t>(ind.op)], la = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+        const int diff = s_.time[static_cast<std::size_t>(op)] - ta - la;
+        const int m = (diff >= 0 ? diff / s_.ii : -((-diff + s_.ii - 1) / s_.ii)) + 1; // floor + 1
+        std::int64_t seen = i + m;                                                         // increments landed
+        if (absolute) seen = std::max<std::int64_t>(seen, 0);
+        if (exiting) seen = std::min<std::int64_t>(seen, *exiting + (ind.op < r_.exit_op ? 1 : 0) + ahead(ind));
+        return ind.step * (after - (seen - i));
+    }
+
+    std::string instance_at(int op, int i, std::int64_t delta) const {
+        std::vector<std::string> vreg;
+        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
+            const int k = a_.copies[v];
+            vreg.push_back(a_.regs[v][static_cast<std::size_t>(((i % k) + k) % k)]);
+        }
+        return op_text(r_.ops[static_cast<std::size_t>(op)], r_, vreg, delta);
+    }
+
+    // The exit test of iteration i, branching to `label`; inverted, it is the kernel's back edge.
+    std::string exit_branch(int i, const std::string& label, bool invert) const {
+        static const std::map<std::string, std::string> inverse = {{"beqz", "bnez"}, {"bnez", "beqz"}, {"beq", "bne"},
+                                                                   {"bne", "beq"},   {"blt", "bge"},   {"bge", "blt"},
+                                                                   {"bltu", "bgeu"}, {"bgeu", "bltu"}};
+        SrcOp b = r_.ops[static_cast<std::size_t>(r_.exit_op)];
+        if (invert) b.mnemonic = inverse.at(b.mnemonic);
+        b.operands.back() = label;
+        std::vector<std::string> vreg;
+        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
+            const int k = a_.copies[v];
+            vreg.push_back(a_.regs[v][static_cast<std::size_t>(((i % k) + k) % k)]);
+        }
+        return op_text(b, r_, vreg, 0);
+    }
+
+    // What runs after the exit of iteration e is taken at the end of pass P: the older iterations
+    // complete, the exiting one runs what precedes its exit test in the source, younger ones are
+    // dropped (they have issued no side effect); then in-flight results land and inductions step
+    // back by what ran ahead.
+    std::string exit_path(int pass, int e, bool absolute) const {
+        const int ii = s_.ii;
+        std::string o;
+        for (int q = pass + 1; q <= e + stages_ - 1; ++q)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii, i = q - st;
+                    if (t % ii != row || static_cast<int>(op) == r_.exit_op || i > e || (absolute && i < 0)) continue;
+                    if (i == e && static_cast<int>(op) > r_.exit_op) continue;
+                    ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, absolute, e)));
+                }
+                o += bundle(ops);
+            }
+        while (o.size() >= 12 && o.compare(o.size() - 12, 12, "        nop\n") == 0) o.resize(o.size() - 12);
+        int drain = 0;
+        for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
+        for (int k = 0; k < drain; ++k) o += "        nop\n";
+        const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+        for (const Induction& ind : g_.inductions)
+            if (const int x = ahead(ind); x > 0) {
+                o += fmt::format("        addi {0}, {0}, {1}\n", reg_name(isa::RegFile::Int, ind.reg), -ind.step * x);
+                for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+            }
+        return o;
+    }
+
+    std::string while_code(const std::string& uid) const {
+        const int ii = s_.ii, p = stages_ - 1, u = a_.unroll, sb = exit_stage();
+        std::string o;
+        struct Exit {
+            std::string label;
+            int pass, e;
+            bool absolute;
+        };
+        std::vector<Exit> exits;
+        o += fmt::format("# prologue: {} pass{} of {} cycles (exit test from pass {})\n", p, p == 1 ? "" : "es", ii, sb);
+        for (int pass = 0; pass < p; ++pass)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii, i = pass - st;
+                    if (t % ii != row || st > pass) continue;
+                    if (static_cast<int>(op) == r_.exit_op) {
+                        exits.push_back({fmt::format("{}_exit_p{}", uid, pass), pass, i, true});
+                        ops.push_back(exit_branch(i, exits.back().label, false));
+                    } else {
+                        ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, true, std::nullopt)));
+                    }
+                }
+                o += bundle(ops);
+            }
+        o += fmt::format("# kernel: {} cop{} of II = {} cycles, {} stage{}; each copy ends in the exit test\n", u,
+                         u == 1 ? "y" : "ies", ii, stages_, stages_ == 1 ? "" : "s");
+        o += fmt::format("{}_kernel:\n", uid);
+        std::vector<Exit> kernel_exits;
+        for (int c = 0; c < u; ++c)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii, i = p + c - st;
+                    if (t % ii != row) continue;
+                    if (static_cast<int>(op) == r_.exit_op) {
+                        const bool last = c == u - 1;
+                        kernel_exits.push_back({fmt::format("{}_exit_k{}", uid, c), p + c, i, false});
+                        ops.push_back(exit_branch(i, last ? uid + "_kernel" : kernel_exits.back().label, last));
+                    } else {
+                        ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, false, std::nullopt)));
+                    }
+                }
+                o += bundle(ops);
+            }
+        // The last copy's exit falls through; the other exits branch to their own paths.
+        std::rotate(kernel_exits.begin(), kernel_exits.end() - 1, kernel_exits.end());
+        exits.insert(exits.begin(), kernel_exits.begin(), kernel_exits.end());
+        for (std::size_t k = 0; k < exits.size(); ++k) {
+            const Exit& x = exits[k];
+            if (x.absolute)
+                o += fmt::format("# exit of iteration {} at the end of prologue pass {}\n", x.e, x.pass);
+            else
+                o += fmt::format("# exit from kernel copy {}: its iteration in stage {} leaves, the {} older complete\n",
+                                 x.pass - p, sb, stages_ - 1 - sb);
+            if (k > 0) o += x.label + ":\n";
+            o += exit_path(x.pass, x.e, x.absolute);
+            if (k + 1 < exits.size()) o += fmt::format("        jmp {}_done\n", uid);
+        }
+        o += fmt::format("{}_done:\n", uid);
+        return o;
+    }
+
     // How many kernel passes the counter's decrement lands late for the branch that reads it.
     int lag_passes(int alu_lat) const {
         const int land = s_.counter_row + alu_lat; // cycle (from its pass's start) it lands
@@ -1073,8 +1282,29 @@ std::string linear_loop(const Region& r, const std::vector<std::string>& placeho
     return o;
 }
 
+// A while loop's sequential meaning: the body up to its exit test, the test branching out, the
+// rest; `count` counts the iterations that do not exit (verification reads it, never compares it).
+std::string linear_while_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
+                              const std::string& count) {
+    const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+    std::string o = fmt::format("        li {}, 0\n", count);
+    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+    o += "__sa_lin:\n";
+    for (std::size_t k = 0; k < r.ops.size(); ++k) {
+        SrcOp op = r.ops[k];
+        if (static_cast<int>(k) == r.exit_op) op.operands.back() = "__sa_lin_end";
+        o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
+        for (std::uint32_t j = 1; j < m.latency_of(isa::kOps[op.opcode]); ++j) o += "        nop\n";
+    }
+    o += fmt::format("        addi {0}, {0}, 1\n", count);
+    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+    o += "        jmp __sa_lin\n";
+    o += "__sa_lin_end:\n";
+    return o;
+}
+
 std::string force_trip_line(const Region& r, const PipelineOptions& opts, const isa::Machine& m) {
-    if (!opts.force_trip) return "";
+    if (!opts.force_trip || r.is_while) return "";
     std::string s = fmt::format("        li {}, {}\n", r.trip, *opts.force_trip);
     for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]; ++k) s += "        nop\n";
     return s;
@@ -1098,8 +1328,8 @@ std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const i
                 ops.push_back(g.nodes[k].instr);
                 names.push_back(fmt::format("{}[{}]", r.ops[k].mnemonic, s.time[k] / s.ii));
             }
-        if (row == s.counter_row) ops.push_back(s.counter), names.push_back("addi(counter)");
-        if (row == s.ii - 1) ops.push_back(s.branch), names.push_back("bnez(loop)");
+        if (s.loop_control && row == s.counter_row) ops.push_back(s.counter), names.push_back("addi(counter)");
+        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back("bnez(loop)");
         std::vector<int> pinned(ops.size(), -1);
         isa::assign_slots(m, ops, pinned);
         std::string cells;
@@ -1107,6 +1337,29 @@ std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const i
             cells += fmt::format(" {}:{}", m.slots[ops[k].slot].name, names[k]);
         o += fmt::format("#   {:>3} |{}\n", row, cells);
     }
+    return o;
+}
+
+// The report lines of a while loop: how far iterations run ahead of the exit test, what they may
+// do there, and the exit paths.
+std::string while_report(const Graph& g, const Region& r, const Schedule& s, const PipelineResult& res) {
+    const int tb = s.time[static_cast<std::size_t>(r.exit_op)];
+    std::string o = fmt::format("#   exit test in stage {}: {} later iteration{} start{} before it is decided, with no side effect "
+                                "(stores, FIFO words, loads not .speculate, physical registers but inductions wait for it)\n",
+                                res.exit_stage, res.exit_stage, res.exit_stage == 1 ? "" : "s", res.exit_stage == 1 ? "s" : "");
+    std::map<int, int> load_ahead; // base -> iterations past the exit its loads may run
+    for (std::size_t k = 0; k < g.nodes.size(); ++k)
+        if (g.nodes[k].instr.info().kind == isa::Kind::Load && r.speculate.count(g.nodes[k].base)) {
+            int ahead = tb >= s.time[k] ? (tb - s.time[k]) / s.ii : 0;
+            if (static_cast<int>(k) > r.exit_op) ahead += 1; // the exiting iteration's own load after its test
+            load_ahead[g.nodes[k].base] = std::max(load_ahead[g.nodes[k].base], ahead);
+        }
+    for (auto [base, n] : load_ahead)
+        o += fmt::format("#   speculative loads on r{}: up to {} iteration{} past the exit (those addresses must be mapped)\n",
+                         base, n, n == 1 ? "" : "s");
+    const int prologue_exits = std::max(0, res.stages - 1 - res.exit_stage);
+    o += fmt::format("#   exit paths: {} from the prologue, {} from the kernel (one per copy); no trip count, no "
+                     "sequential fallback\n", prologue_exits, res.unroll);
     return o;
 }
 
@@ -1134,7 +1387,16 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     }
     const std::string before = join_lines(lines, 0, r.begin), after = join_lines(lines, r.end + 1, lines.size());
     PipelineResult res;
-    res.linear = before + force_trip_line(r, opts, m) + linear_loop(r, placeholder_name, m) + after;
+    res.is_while = r.is_while;
+    if (r.is_while) { // the lowest register neither named nor a placeholder counts iterations
+        for (int reg = 1; reg < static_cast<int>(m.regs[0].count) && res.iteration_register.empty(); ++reg)
+            if (!named.count({0, reg}) && !placeholder.count({0, reg})) res.iteration_register = reg_name(isa::RegFile::Int, reg);
+        if (res.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
+    }
+    res.linear = before + force_trip_line(r, opts, m) +
+                 (r.is_while ? linear_while_loop(r, placeholder_name, m, res.iteration_register)
+                             : linear_loop(r, placeholder_name, m)) +
+                 after;
     const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region");
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
     std::uint32_t b0 = 0;
@@ -1153,7 +1415,8 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     counter.opcode = isa::opcode("addi");
     counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
     res.rec_mii = rec_mii(g);
-    const ResBound res_bound = res_mii(m, instrs, kLoopControl); // the loop control takes slots too
+    // The loop control takes slots too; a while loop's exit test is its loop control.
+    const ResBound res_bound = r.is_while ? res_mii(m, instrs) : res_mii(m, instrs, kLoopControl);
     res.res_mii = res_bound.ii();
     res.mii = std::max(res.rec_mii, res.res_mii);
     const int lo = opts.ii > 0 ? opts.ii : res.mii;
@@ -1171,9 +1434,17 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     auto accept = [&](const Schedule& s) {
         Allocation alloc = allocate(r, g, s, named, m, filename);
         const Emitter em(r, g, s, alloc, m);
-        std::string code = em.code(r.trip, "__sa");
-        const assembler::AsmResult check =
+        std::string code = r.is_while ? em.while_code("__sa") : em.code(r.trip, "__sa");
+        assembler::AsmResult check =
             assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, {});
+        // A while loop starts with its first pass (the counted loop with its trip test): results
+        // of the code before it may still be in flight. As many nops as the assembler's check asks.
+        std::uint32_t longest = 1;
+        for (std::uint32_t l : m.latency) longest = std::max(longest, l);
+        for (std::uint32_t lead = 1; r.is_while && (!check.ok || check.warnings > 0) && lead < longest; ++lead) {
+            code = "        nop\n" + code;
+            check = assembler::assemble_string(before + code + after, filename, m, {});
+        }
         if (!check.ok || check.warnings > 0) {
             why_not = fmt::format("II {}: {}", s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
             return false;
@@ -1187,7 +1458,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (!feasible_ii(g, ii)) return false;
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
-            std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt).run();
+            std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1).run();
             if (s && accept(*s)) return true;
         }
         return false;
@@ -1198,7 +1469,9 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     // was exhausted with no modulo schedule at all.
     std::string exact_note;
     if (sched && opts.exact_seconds > 0) {
-        if (sched->ii == res.mii) {
+        if (r.is_while && sched->ii > res.mii) {
+            exact_note = "--exact is not implemented for .pipeline while loops yet (heuristic schedule only)";
+        } else if (sched->ii == res.mii) {
             exact_note = "II proven optimal: it equals the lower bound max(ResMII, RecMII)";
         } else {
             const auto start = Clock::now();
@@ -1260,14 +1533,18 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     res.ii = sched->ii;
     res.stages = stages;
     res.unroll = alloc.unroll;
-    res.min_pipelined_trip = res.stages - 1 + res.unroll;
+    res.min_pipelined_trip = r.is_while ? 0 : res.stages - 1 + res.unroll;
     res.trip_register = r.trip;
+    if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
     rep += fmt::format("# SOFTWARE PIPELINE INFORMATION ({} on {}, lines {}-{})\n", filename, m.name, r.begin + 1, r.end + 1);
-    rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
+    if (r.is_while)
+        rep += fmt::format("#   operations per iteration   {} (a while loop: its exit test is the kernel's branch)\n", r.ops.size());
+    else
+        rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
     rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
     rep += fmt::format("#   recurrence bound (RecMII)  {}\n", res.rec_mii);
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
@@ -1278,8 +1555,11 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
         rep += fmt::format("#   taken-branch bubble {} cycle{} per kernel pass: {:.2f} cycles per iteration in the kernel\n",
                            m.branch_penalty, m.branch_penalty == 1 ? "" : "s",
                            static_cast<double>(res.unroll * res.ii + static_cast<int>(m.branch_penalty)) / res.unroll);
-    rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
-                       res.min_pipelined_trip);
+    if (r.is_while)
+        rep += while_report(g, r, *sched, res);
+    else
+        rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
+                           res.min_pipelined_trip);
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         std::string regs;
         for (const std::string& s : alloc.regs[v]) regs += (regs.empty() ? "" : " ") + s;
@@ -1312,6 +1592,38 @@ std::optional<std::string> verify(std::string_view text, std::string_view filena
         if (auto diff = run(lin, pip)) return fmt::format("trip count {}: {}", n, *diff);
     }
     return std::nullopt;
+}
+
+} // namespace nesshi::sched
+
+namespace nesshi::sched {
+
+std::string exit_path_name(const PipelineResult& r, std::uint32_t e) {
+    // The exit of iteration e is taken at the end of pass e + exit_stage: a prologue pass, or
+    // kernel copy (pass - prologue passes) mod unroll.
+    const std::uint32_t pass = e + static_cast<std::uint32_t>(r.exit_stage), p = static_cast<std::uint32_t>(r.stages - 1);
+    if (pass < p) return fmt::format("prologue pass {}", pass);
+    return fmt::format("kernel copy {}", (pass - p) % static_cast<std::uint32_t>(r.unroll));
+}
+
+WhileVerification verify_while(std::string_view text, std::string_view filename, const isa::Machine& m,
+                               const PipelineOptions& opts, int runs, const WhileRun& run) {
+    const PipelineResult r = pipeline_source(text, filename, m, opts);
+    if (!r.is_while) throw std::invalid_argument("verify_while needs a .pipeline while region");
+    const isa::ObjectFile lin = assemble_or_fail(r.linear, filename, m, "sequential meaning");
+    const isa::ObjectFile pip = assemble_or_fail(r.pipelined, filename, m, "pipelined loop");
+    WhileVerification v;
+    v.path_count = std::max(0, r.stages - 1 - r.exit_stage) + r.unroll;
+    for (int k = 0; k < runs && !v.failure; ++k) {
+        std::uint32_t e = 0;
+        const std::uint64_t seed = static_cast<std::uint64_t>(k) + 1;
+        if (auto diff = run(lin, pip, seed, e))
+            v.failure = fmt::format("data seed {} (the sequential loop exits after {} iterations, {}): {}", seed, e,
+                                    exit_path_name(r, e), *diff);
+        v.exits.insert(e);
+        v.paths.insert(exit_path_name(r, e));
+    }
+    return v;
 }
 
 } // namespace nesshi::sched
