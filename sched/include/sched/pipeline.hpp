@@ -21,9 +21,15 @@
 // small for the pipeline, and the remainder of the unrolled kernel, run a sequential copy of the
 // body first, so every trip count >= 0 is correct.
 //
+// `.pipeline while` instead has no trip count and one exit test, a conditional branch to `exit`
+// (`beqz %go, exit`); iterations start before earlier tests are decided, with no side effect
+// (stores, FIFO words, physical registers but inductions, loads unless `.speculate rA` names
+// their base) until those tests pass; each prologue pass and kernel copy has its own exit path.
+//
 // `.noalias rA, rB` inside the region declares that accesses based on rA and on rB never overlap.
 // Not yet: virtual registers carried from one iteration to the next (use a physical register,
-// as for an accumulator), branches inside the region, more than one region per file.
+// as for an accumulator), branches inside the region other than a while loop's exit test, more
+// than one region per file.
 //
 //   sched::PipelineResult r = sched::pipeline_source(text, "loop.sa", isa::load_machine("os"), {});
 //   fmt::print("{}", r.pipelined);          // assembles with `nesshi asm` with no diagnostic
