@@ -69,6 +69,15 @@ struct Region {
     bool is_while = false;
     int exit_op = -1;
     std::set<int> speculate; // `.speculate rA`: loads based on rA may run ahead of the exit
+    // `.carry %v, IN[, OUT[, OLD]]`: %v is carried from one iteration to the next (read before its
+    // write), starts as IN, ends in OUT (default IN) and, in OLD, the value the exiting iteration
+    // started with. `.liveout %v, REG`: the exiting iteration's %v ends in REG.
+    struct Carry {
+        std::string in, out, old;
+    };
+    std::map<std::string, Carry> carry;
+    std::map<std::string, std::string> liveout;
+    int line_of_directives = 0;
 };
 
 Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
@@ -119,6 +128,26 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
                     fail(file, ln, ".speculate takes integer base registers: .speculate rA[, rB ...]");
                 r.speculate.insert(b);
             }
+            continue;
+        }
+        if (code.rfind(".carry", 0) == 0 || code.rfind(".liveout", 0) == 0) {
+            const bool carry = code[1] == 'c';
+            if (!r.is_while)
+                fail(file, ln, fmt::format("{} belongs in a .pipeline while region (not yet in counted loops)",
+                                           carry ? ".carry" : ".liveout"));
+            const auto args = split_operands(code.substr(carry ? 6 : 8));
+            if (args.empty() || args[0].empty() || args[0][0] != '%' || args.size() < 2 || args.size() > (carry ? 4u : 2u))
+                fail(file, ln, carry ? ".carry takes a virtual register and its registers: .carry %v, IN[, OUT[, OLD]]"
+                                     : ".liveout takes a virtual register and where it ends: .liveout %v, REG");
+            for (std::size_t k = 1; k < args.size(); ++k) {
+                isa::RegFile f;
+                int reg = 0;
+                if (!parse_reg(args[k], f, reg)) fail(file, ln, fmt::format("'{}' is not a register", args[k]));
+            }
+            if (r.carry.count(args[0]) || r.liveout.count(args[0])) fail(file, ln, fmt::format("{} is declared twice", args[0]));
+            if (carry) r.carry[args[0]] = {args[1], args.size() > 2 ? args[2] : args[1], args.size() > 3 ? args[3] : ""};
+            else r.liveout[args[0]] = args[1];
+            r.line_of_directives = ln;
             continue;
         }
         if (code.find('{') != std::string::npos || code.find('}') != std::string::npos)
@@ -176,7 +205,7 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             if (desc.is_dest) {
                 if (v.def >= 0) fail(file, ln, fmt::format("{} is written twice in one iteration; name each value once", name));
                 v.def = index;
-            } else if (v.def < 0) {
+            } else if (v.def < 0 && !r.carry.count(name)) {
                 fail(file, ln, fmt::format("{} is read before it is written: a value carried from one iteration to the "
                                            "next must live in a physical register (e.g. an accumulator)",
                                            name));
@@ -190,6 +219,24 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
     if (r.is_while && r.exit_op < 0)
         fail(file, static_cast<int>(r.begin + 1), ".pipeline while needs an exit test: a conditional branch to 'exit' "
                                                   "(e.g. beqz %go, exit)");
+    auto declared = [&](const std::string& name, const std::vector<std::string>& regs) {
+        const auto it = r.virtual_index.find(name);
+        if (it == r.virtual_index.end() || r.virtuals[static_cast<std::size_t>(it->second)].def < 0)
+            fail(file, r.line_of_directives, fmt::format("{} is declared but never written in the region", name));
+        const Virtual& v = r.virtuals[static_cast<std::size_t>(it->second)];
+        for (const std::string& reg : regs) {
+            isa::RegFile f;
+            int n = 0;
+            if (!reg.empty() && parse_reg(reg, f, n) && f != v.file)
+                fail(file, r.line_of_directives, fmt::format("{} and {} are not in the same register file", name, reg));
+        }
+        return v;
+    };
+    for (const auto& [name, c] : r.carry) declared(name, {c.in, c.out, c.old});
+    for (const auto& [name, reg] : r.liveout)
+        if (declared(name, {reg}).def > r.exit_op)
+            fail(file, r.line_of_directives, fmt::format("{} is written after the exit test: the exiting iteration has no "
+                                                         "value of it", name));
     return r;
 }
 
@@ -210,7 +257,10 @@ std::set<std::pair<int, int>> named_registers(const std::vector<std::string>& li
 // ---- text of one operation --------------------------------------------------------------------
 
 // The op's source text with virtual registers replaced and the memory offset moved by `delta`.
-std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::string>& vreg, std::int64_t delta) {
+// `prev` (with the op's index): the registers of the previous iteration, which a read of a
+// carried virtual register before its write in the body sees.
+std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::string>& vreg, std::int64_t delta,
+                    const std::vector<std::string>* prev = nullptr, int index = -1) {
     std::string out = op.mnemonic;
     const isa::OpInfo& info = isa::kOps[op.opcode];
     for (std::size_t k = 0; k < op.operands.size(); ++k) {
@@ -218,7 +268,9 @@ std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::str
         for (std::size_t p; (p = o.find('%')) != std::string::npos;) {
             std::size_t e = p + 1;
             while (e < o.size() && (std::isalnum(static_cast<unsigned char>(o[e])) || o[e] == '_')) ++e;
-            o = o.substr(0, p) + vreg[static_cast<std::size_t>(r.virtual_index.at(o.substr(p, e - p)))] + o.substr(e);
+            const std::size_t v = static_cast<std::size_t>(r.virtual_index.at(o.substr(p, e - p)));
+            const bool old = prev && !info.operands[k].is_dest && r.virtuals[v].def >= index;
+            o = o.substr(0, p) + (old ? (*prev)[v] : vreg[v]) + o.substr(e);
         }
         if (info.operands[k].kind == isa::OperandKind::Mem && delta != 0) {
             const std::size_t paren = o.find('(');
@@ -308,6 +360,15 @@ void add_exit_edges(Graph& g, const Region& r, const std::function<bool(isa::Reg
         g.edges.push_back({r.exit_op, i, 1, 1, "exit before a later side effect"});
         if (i > r.exit_op) g.edges.push_back({r.exit_op, i, 1, 0, "exit before a side effect after it"});
     }
+    // A value the exit path hands out (.carry, .liveout) has landed when the exit is taken: the
+    // exiting iteration's when it is written before the test, else the previous iteration's.
+    auto landed = [&](const std::string& name) {
+        const int def = r.virtuals[static_cast<std::size_t>(r.virtual_index.at(name))].def;
+        g.edges.push_back({def, r.exit_op, g.nodes[static_cast<std::size_t>(def)].latency, def < r.exit_op ? 0 : 1,
+                           "live out " + name});
+    };
+    for (const auto& c : r.carry) landed(c.first);
+    for (const auto& l : r.liveout) landed(l.first);
 }
 
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
@@ -940,6 +1001,15 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         for (const Edge& e : g.edges)
             if (e.from == def && e.why.rfind("true ", 0) == 0 && e.why.substr(5) == r.virtuals[v].name)
                 last = std::max(last, s.time[static_cast<std::size_t>(e.to)] + e.distance * s.ii);
+        if (r.is_while) { // a value the exit path reads must outlive the exit test that may hand it out
+            const std::string& name = r.virtuals[v].name;
+            const auto c = r.carry.find(name);
+            const bool now = r.liveout.count(name) || (c != r.carry.end() && def < r.exit_op);
+            const bool next = c != r.carry.end() && (def > r.exit_op || !c->second.old.empty());
+            const int tb = s.time[static_cast<std::size_t>(r.exit_op)];
+            if (now) last = std::max(last, tb + 1);
+            if (next) last = std::max(last, tb + s.ii + 1);
+        }
         const int life = last - s.time[static_cast<std::size_t>(def)];
         a.lifetime.push_back(life);
         const int k = std::max(1, (life + s.ii - 1) / s.ii);
@@ -1124,13 +1194,49 @@ class Emitter {
         return ind.step * (after - (seen - i));
     }
 
-    std::string instance_at(int op, int i, std::int64_t delta) const {
+    // The registers of iteration i's virtuals (a carried one's copy rotates like any other).
+    std::vector<std::string> regs_of(int i) const {
         std::vector<std::string> vreg;
         for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
             const int k = a_.copies[v];
             vreg.push_back(a_.regs[v][static_cast<std::size_t>(((i % k) + k) % k)]);
         }
-        return op_text(r_.ops[static_cast<std::size_t>(op)], r_, vreg, delta);
+        return vreg;
+    }
+    std::string reg_of(const std::string& name, int i) const {
+        return regs_of(i)[static_cast<std::size_t>(r_.virtual_index.at(name))];
+    }
+
+    std::string instance_at(int op, int i, std::int64_t delta) const {
+        const std::vector<std::string> prev = regs_of(i - 1);
+        return op_text(r_.ops[static_cast<std::size_t>(op)], r_, regs_of(i), delta, &prev, op);
+    }
+
+    // A register copy in one op: `addi d, s, 0` or `fmov d, s`, and its latency.
+    std::pair<std::string, int> move(const std::string& to, const std::string& from) const {
+        const bool f = from[0] == 'f';
+        return {f ? fmt::format("fmov {}, {}", to, from) : fmt::format("addi {}, {}, 0", to, from),
+                static_cast<int>(m_.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)])};
+    }
+    // One move per bundle, then nops until they have landed.
+    static std::string moves_text(const std::vector<std::pair<std::string, int>>& ms) {
+        std::string o;
+        int lat = 1;
+        for (const auto& [text, l] : ms) o += "        " + text + "\n", lat = std::max(lat, l);
+        for (int k = 1; k < lat && !ms.empty(); ++k) o += "        nop\n";
+        return o;
+    }
+    // The exit path's first bundles: carried and live-out values of the exiting iteration e
+    // (landed, by the graph's edges) to their registers.
+    std::string exit_moves(int e) const {
+        std::vector<std::pair<std::string, int>> ms;
+        for (const auto& [name, c] : r_.carry) {
+            const int def = r_.virtuals[static_cast<std::size_t>(r_.virtual_index.at(name))].def;
+            ms.push_back(move(c.out, reg_of(name, def < r_.exit_op ? e : e - 1)));
+            if (!c.old.empty()) ms.push_back(move(c.old, reg_of(name, e - 1)));
+        }
+        for (const auto& [name, reg] : r_.liveout) ms.push_back(move(reg, reg_of(name, e)));
+        return moves_text(ms);
     }
 
     // The exit test of iteration i, branching to `label`; inverted, it is the kernel's back edge.
@@ -1141,12 +1247,8 @@ class Emitter {
         SrcOp b = r_.ops[static_cast<std::size_t>(r_.exit_op)];
         if (invert) b.mnemonic = inverse.at(b.mnemonic);
         b.operands.back() = label;
-        std::vector<std::string> vreg;
-        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
-            const int k = a_.copies[v];
-            vreg.push_back(a_.regs[v][static_cast<std::size_t>(((i % k) + k) % k)]);
-        }
-        return op_text(b, r_, vreg, 0);
+        const std::vector<std::string> prev = regs_of(i - 1);
+        return op_text(b, r_, regs_of(i), 0, &prev, r_.exit_op);
     }
 
     // What runs after the exit of iteration e is taken at the end of pass P: the older iterations
@@ -1155,7 +1257,7 @@ class Emitter {
     // back by what ran ahead.
     std::string exit_path(int pass, int e, bool absolute) const {
         const int ii = s_.ii;
-        std::string o;
+        std::string o = exit_moves(e);
         for (int q = pass + 1; q <= e + stages_ - 1; ++q)
             for (int row = 0; row < ii; ++row) {
                 std::vector<std::string> ops;
@@ -1170,6 +1272,9 @@ class Emitter {
         while (o.size() >= 12 && o.compare(o.size() - 12, 12, "        nop\n") == 0) o.resize(o.size() - 12);
         int drain = 0;
         for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
+        if (!r_.carry.empty() || !r_.liveout.empty()) // the exit moves
+            for (const isa::OpClass c : {isa::OpClass::Alu, isa::OpClass::FAdd})
+                drain = std::max(drain, static_cast<int>(m_.latency[static_cast<std::size_t>(c)]) - 1);
         for (int k = 0; k < drain; ++k) o += "        nop\n";
         const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
         for (const Induction& ind : g_.inductions)
@@ -1189,6 +1294,9 @@ class Emitter {
             bool absolute;
         };
         std::vector<Exit> exits;
+        std::vector<std::pair<std::string, int>> in; // carried values into the copy iteration 0 reads
+        for (const auto& [name, c] : r_.carry) in.push_back(move(reg_of(name, -1), c.in));
+        o += moves_text(in);
         o += fmt::format("# prologue: {} pass{} of {} cycles (exit test from pass {})\n", p, p == 1 ? "" : "es", ii, sb);
         for (int pass = 0; pass < p; ++pass)
             for (int row = 0; row < ii; ++row) {
@@ -1287,7 +1395,21 @@ std::string linear_loop(const Region& r, const std::vector<std::string>& placeho
 std::string linear_while_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
                               const std::string& count) {
     const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
-    std::string o = fmt::format("        li {}, 0\n", count);
+    auto mv = [&](const std::string& to, const std::string& from) { // one copy, landed before the next op
+        const bool f = from[0] == 'f';
+        std::string t = f ? fmt::format("        fmov {}, {}\n", to, from) : fmt::format("        addi {}, {}, 0\n", to, from);
+        for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)]; ++k)
+            t += "        nop\n";
+        return t;
+    };
+    auto placeholder_of = [&](const std::string& name) {
+        return placeholder_name[static_cast<std::size_t>(r.virtual_index.at(name))];
+    };
+    std::string o;
+    for (const auto& [name, c] : r.carry) o += mv(placeholder_of(name), c.in);
+    for (const auto& [name, c] : r.carry) // OLD: the value each iteration starts with
+        if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
+    o += fmt::format("        li {}, 0\n", count);
     for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
     o += "__sa_lin:\n";
     for (std::size_t k = 0; k < r.ops.size(); ++k) {
@@ -1298,8 +1420,12 @@ std::string linear_while_loop(const Region& r, const std::vector<std::string>& p
     }
     o += fmt::format("        addi {0}, {0}, 1\n", count);
     for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+    for (const auto& [name, c] : r.carry)
+        if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
     o += "        jmp __sa_lin\n";
     o += "__sa_lin_end:\n";
+    for (const auto& [name, c] : r.carry) o += mv(c.out, placeholder_of(name));
+    for (const auto& [name, reg] : r.liveout) o += mv(reg, placeholder_of(name));
     return o;
 }
 

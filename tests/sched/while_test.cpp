@@ -128,7 +128,7 @@ TEST_CASE("random while loops pipeline and verify on every preset", "[unit][sche
     std::mt19937_64 rng(2024);
     for (const char* name : {"os", "ic", "os-real", "ic-real"}) {
         const isa::Machine m = isa::load_machine(name);
-        int all_paths = 0, at_mii = 0;
+        int all_paths = 0, at_mii = 0, prologue_exits = 0;
         const int loops = 25;
         for (int k = 0; k < loops; ++k) {
             const std::string text = sched::random_while_loop(rng(), m, 3 + k % 20);
@@ -140,8 +140,42 @@ TEST_CASE("random while loops pipeline and verify on every preset", "[unit][sche
             CHECK(r.ii >= r.mii);
             all_paths += static_cast<int>(v.paths.size()) == v.path_count;
             at_mii += r.ii == r.mii;
+            for (const std::string& p : v.paths) prologue_exits += p.rfind("prologue", 0) == 0;
         }
-        INFO(name << ": " << at_mii << " of " << loops << " at the MII; every exit path taken in " << all_paths);
+        INFO(name << ": " << at_mii << " of " << loops << " at the MII; every exit path taken in " << all_paths
+                  << "; prologue exits taken " << prologue_exits);
         CHECK(all_paths * 2 >= loops); // most loops exit through every path the code has
+        CHECK(prologue_exits > 0);     // and some leave from the prologue
     }
+}
+
+TEST_CASE("the OS voxel step as a while loop: carried state, its exit values, II per machine", "[unit][sched][while]") {
+    // examples/linear/voxel_step.sa: the state P = (nx, ny, nz) and the address are carried in
+    // virtual registers (.carry), rotated over copies; every exit path moves the exiting
+    // iteration's copies (new and old nexts, kx, nkz, occ) to the registers the leave code reads.
+    const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/voxel_step.sa");
+    sched::PipelineResult os, real;
+    const sched::WhileVerification v = check_while(text, isa::load_machine("os"), 64, &os);
+    CHECK(v.failure == std::nullopt);
+    CHECK(static_cast<int>(v.paths.size()) == v.path_count);
+    CHECK(os.ii == 5); // the hand-scheduled kernel's II: FPU slots, 10 float operations on 2 FPUs
+    CHECK(os.ii == os.mii);
+    const sched::WhileVerification w = check_while(text, isa::load_machine("os-real"), 64, &real);
+    CHECK(w.failure == std::nullopt);
+    CHECK(real.ii == 9); // RecMII: the hand kernel, legalized for os-real, takes 15
+    CHECK(real.ii == real.rec_mii);
+}
+
+TEST_CASE("bad .carry and .liveout are clear errors", "[unit][sched][while]") {
+    const isa::Machine os = isa::load_machine("os");
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline r9\n.carry %a, f1\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains(".carry belongs in a .pipeline while region"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.carry %a, r1\nfadd %a, %a, f1\nbnez r2, exit\n.endpipeline\n",
+                                             "w.sa", os, {}),
+                      Catch::Contains("%a and r1 are not in the same register file"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.liveout %a, r1\nbnez r2, exit\naddi %a, r2, 1\n.endpipeline\n",
+                                             "w.sa", os, {}),
+                      Catch::Contains("%a is written after the exit test"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.carry %b, f1\nbnez r2, exit\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains("%b is declared but never written"));
 }
