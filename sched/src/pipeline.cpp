@@ -1218,14 +1218,40 @@ class Emitter {
         return {f ? fmt::format("fmov {}, {}", to, from) : fmt::format("addi {}, {}, 0", to, from),
                 static_cast<int>(m_.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)])};
     }
-    // One move per bundle, then nops until they have landed.
-    static std::string moves_text(const std::vector<std::pair<std::string, int>>& ms) {
+    // The moves packed into as few bundles as the machine takes (isa::assign_slots and
+    // isa::check_bundle decide), then nops until they have landed.
+    std::string moves_text(const std::vector<std::pair<std::string, int>>& ms) const {
         std::string o;
         int lat = 1;
-        for (const auto& [text, l] : ms) o += "        " + text + "\n", lat = std::max(lat, l);
+        std::vector<std::vector<isa::Instr>> ops; // per bundle: each move goes to the first that takes it
+        std::vector<std::vector<std::string>> texts;
+        for (const auto& [text, l] : ms) {
+            lat = std::max(lat, l);
+            const auto regs = split_operands(text.substr(text.find(' ')));
+            isa::RegFile f;
+            int d = 0, src = 0;
+            parse_reg(regs[0], f, d);
+            parse_reg(regs[1], f, src);
+            isa::Instr in;
+            in.opcode = f == isa::RegFile::Float ? isa::opcode("fmov") : isa::opcode("addi");
+            in.rd = static_cast<std::uint8_t>(d);
+            in.rs1 = static_cast<std::uint8_t>(src);
+            std::size_t b = 0;
+            for (; b < ops.size(); ++b) {
+                std::vector<isa::Instr> trial = ops[b];
+                trial.push_back(in);
+                std::vector<int> pinned(trial.size(), -1);
+                if (isa::assign_slots(m_, trial, pinned) && isa::check_bundle(m_, trial).empty()) break;
+            }
+            if (b == ops.size()) ops.emplace_back(), texts.emplace_back();
+            ops[b].push_back(in);
+            texts[b].push_back(text);
+        }
+        for (const auto& t : texts) o += bundle(t);
         for (int k = 1; k < lat && !ms.empty(); ++k) o += "        nop\n";
         return o;
     }
+
     // The exit path's first bundles: carried and live-out values of the exiting iteration e
     // (landed, by the graph's edges) to their registers.
     std::string exit_moves(int e) const {
@@ -1341,8 +1367,8 @@ class Emitter {
             if (x.absolute)
                 o += fmt::format("# exit of iteration {} at the end of prologue pass {}\n", x.e, x.pass);
             else
-                o += fmt::format("# exit from kernel copy {}: its iteration in stage {} leaves, the {} older complete\n",
-                                 x.pass - p, sb, stages_ - 1 - sb);
+                o += fmt::format("# exit from kernel copy {}: its iteration in stage {} leaves{}\n", x.pass - p, sb,
+                                 stages_ - 1 == sb ? "" : fmt::format(", the {} older complete", stages_ - 1 - sb));
             if (k > 0) o += x.label + ":\n";
             o += exit_path(x.pass, x.e, x.absolute);
             if (k + 1 < exits.size()) o += fmt::format("        jmp {}_done\n", uid);
