@@ -25,10 +25,13 @@
 // (`beqz %go, exit`); iterations start before earlier tests are decided, with no side effect
 // (stores, FIFO words, physical registers but inductions, loads unless `.speculate rA` names
 // their base) until those tests pass; each prologue pass and kernel copy has its own exit path.
+// There `.carry %v, IN[, OUT[, OLD]]` carries %v between iterations (read before its write; in
+// from IN, out to OUT, and to OLD the value the exiting iteration started with) and
+// `.liveout %v, REG` hands the exiting iteration's %v out.
 //
 // `.noalias rA, rB` inside the region declares that accesses based on rA and on rB never overlap.
-// Not yet: virtual registers carried from one iteration to the next (use a physical register,
-// as for an accumulator), branches inside the region other than a while loop's exit test, more
+// Not yet: virtual registers carried from one iteration to the next of a counted loop (use a
+// physical register, as for an accumulator), branches inside the region other than a while loop's exit test, more
 // than one region per file.
 //
 //   sched::PipelineResult r = sched::pipeline_source(text, "loop.sa", isa::load_machine("os"), {});
