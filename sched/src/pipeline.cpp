@@ -981,11 +981,12 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         if (p.empty())
             fail(file, static_cast<int>(r.begin + 1),
                  fmt::format("register pressure: no free {} register left for {} ({} has {} per file, the source names "
-                             "{}; the schedule needs {} more)",
+                             "{}, the tool has taken the other {} for the kernel's register copies)",
                              isa::kRegFileNames[static_cast<std::size_t>(f)], what, m.name,
                              m.regs[static_cast<std::size_t>(f)].count,
                              std::count_if(named.begin(), named.end(), [&](auto& x) { return x.first == static_cast<int>(f); }),
-                             what));
+                             std::count_if(a.scratch.begin(), a.scratch.end(),
+                                           [&](const std::string& x) { return x[0] == file_prefix(f); })));
         const int reg = p.back();
         p.pop_back();
         a.scratch.push_back(reg_name(f, reg));
