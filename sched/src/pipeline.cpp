@@ -26,6 +26,7 @@
 #include <regex>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 namespace nesshi::sched {
 
@@ -1610,6 +1611,20 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     };
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (!feasible_ii(g, ii)) return false;
+        if (r.is_while && !deadline) { // every attempt: the fewest stages, then the smallest unroll, is the
+            bool found = false;        // cheapest to enter and to leave (a while loop does both often)
+            for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
+                std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
+                if (!s) continue;
+                auto best = std::make_tuple(sched, emitted, stages, alloc_found);
+                if (!accept(*s)) continue;
+                const int best_stages = std::get<2>(best), best_unroll = found ? std::get<3>(best)->unroll : 0;
+                if (found && (best_stages < stages || (best_stages == stages && best_unroll <= alloc_found->unroll)))
+                    std::tie(sched, emitted, stages, alloc_found) = std::move(best);
+                found = true;
+            }
+            return found;
+        }
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1).run();
             if (s && accept(*s)) return true;
