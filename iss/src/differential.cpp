@@ -28,7 +28,7 @@ std::set<std::pair<std::uint32_t, std::uint32_t>> data_ranges(const isa::ObjectF
 } // namespace
 
 std::optional<std::string> run_differential(const isa::ObjectFile& a, const isa::ObjectFile& b, const isa::Machine& m,
-                                            const DiffOptions& opts) {
+                                            const DiffOptions& opts, std::vector<std::uint32_t>* observed) {
     const auto ranges = data_ranges(a, b);
     Processor pa(load_program(a, m)), pb(load_program(b, m));
     if (opts.randomize_data) {
@@ -47,6 +47,13 @@ std::optional<std::string> run_differential(const isa::ObjectFile& a, const isa:
         const Status s = ps[k]->run(opts.max_cycles);
         if (ps[k]->fault()) return fmt::format("the {} version faults:\n{}", names[k], ps[k]->fault_report());
         if (s != Status::Halted) return fmt::format("the {} version did not halt within {} cycles", names[k], opts.max_cycles);
+    }
+    if (observed) {
+        observed->clear();
+        for (const std::string& r : opts.observe) {
+            const auto f = r[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float;
+            observed->push_back(pa.reg(flat_reg(f, static_cast<std::uint32_t>(std::stoul(r.substr(1))))));
+        }
     }
     for (auto [lo, hi] : ranges)
         for (std::uint32_t addr = lo; addr < hi; addr += 4) {

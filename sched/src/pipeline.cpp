@@ -26,6 +26,7 @@
 #include <regex>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 namespace nesshi::sched {
 
@@ -65,6 +66,19 @@ struct Region {
     std::vector<Virtual> virtuals;
     std::map<std::string, int> virtual_index;
     std::vector<std::pair<int, int>> noalias; // int register pairs
+    // `.pipeline while`: no trip count; the one exit test is the conditional branch to `exit`.
+    bool is_while = false;
+    int exit_op = -1;
+    std::set<int> speculate; // `.speculate rA`: loads based on rA may run ahead of the exit
+    // `.carry %v, IN[, OUT[, OLD]]`: %v is carried from one iteration to the next (read before its
+    // write), starts as IN, ends in OUT (default IN) and, in OLD, the value the exiting iteration
+    // started with. `.liveout %v, REG`: the exiting iteration's %v ends in REG.
+    struct Carry {
+        std::string in, out, old;
+    };
+    std::map<std::string, Carry> carry;
+    std::map<std::string, std::string> liveout;
+    int line_of_directives = 0;
 };
 
 Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
@@ -78,6 +92,12 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             found = true;
             r.begin = i;
             r.trip = trim(code.substr(9));
+            if (r.trip == "while") {
+                r.is_while = true;
+                r.trip.clear();
+                r.trip_reg = -1;
+                continue;
+            }
             isa::RegFile f;
             if (!parse_reg(r.trip, f, r.trip_reg) || f != isa::RegFile::Int)
                 fail(file, ln, fmt::format(".pipeline takes the integer register holding the trip count, not '{}'", r.trip));
@@ -100,6 +120,37 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             r.noalias.emplace_back(a, b);
             continue;
         }
+        if (code.rfind(".speculate", 0) == 0) {
+            if (!r.is_while) fail(file, ln, ".speculate belongs in a .pipeline while region");
+            for (const std::string& reg : split_operands(code.substr(10))) {
+                isa::RegFile f;
+                int b = 0;
+                if (!parse_reg(reg, f, b) || f != isa::RegFile::Int)
+                    fail(file, ln, ".speculate takes integer base registers: .speculate rA[, rB ...]");
+                r.speculate.insert(b);
+            }
+            continue;
+        }
+        if (code.rfind(".carry", 0) == 0 || code.rfind(".liveout", 0) == 0) {
+            const bool carry = code[1] == 'c';
+            if (!r.is_while)
+                fail(file, ln, fmt::format("{} belongs in a .pipeline while region (not yet in counted loops)",
+                                           carry ? ".carry" : ".liveout"));
+            const auto args = split_operands(code.substr(carry ? 6 : 8));
+            if (args.empty() || args[0].empty() || args[0][0] != '%' || args.size() < 2 || args.size() > (carry ? 4u : 2u))
+                fail(file, ln, carry ? ".carry takes a virtual register and its registers: .carry %v, IN[, OUT[, OLD]]"
+                                     : ".liveout takes a virtual register and where it ends: .liveout %v, REG");
+            for (std::size_t k = 1; k < args.size(); ++k) {
+                isa::RegFile f;
+                int reg = 0;
+                if (!parse_reg(args[k], f, reg)) fail(file, ln, fmt::format("'{}' is not a register", args[k]));
+            }
+            if (r.carry.count(args[0]) || r.liveout.count(args[0])) fail(file, ln, fmt::format("{} is declared twice", args[0]));
+            if (carry) r.carry[args[0]] = {args[1], args.size() > 2 ? args[2] : args[1], args.size() > 3 ? args[3] : ""};
+            else r.liveout[args[0]] = args[1];
+            r.line_of_directives = ln;
+            continue;
+        }
         if (code.find('{') != std::string::npos || code.find('}') != std::string::npos)
             fail(file, ln, "a .pipeline region holds one operation per line, no bundles");
         if (code.find(':') != std::string::npos) fail(file, ln, "no labels or slot prefixes inside a .pipeline region");
@@ -112,14 +163,18 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
         if (!opc) fail(file, ln, fmt::format("unknown operation '{}'", op.mnemonic));
         op.opcode = *opc;
         const isa::OpInfo& info = isa::kOps[*opc];
-        switch (info.kind) {
+        const bool conditional = info.kind == isa::Kind::Branch && op.mnemonic != "jmp" && op.mnemonic != "jal";
+        if (r.is_while && conditional && !op.operands.empty() && op.operands.back() == "exit") {
+            if (r.exit_op >= 0) fail(file, ln, "a .pipeline while region has one exit test; this is a second");
+            r.exit_op = static_cast<int>(r.ops.size());
+        } else switch (info.kind) {
         case isa::Kind::Branch:
         case isa::Kind::Jump:
         case isa::Kind::JumpLink:
         case isa::Kind::JumpReg:
         case isa::Kind::Halt:
-            fail(file, ln, fmt::format("'{}': no control flow inside a .pipeline region (the tool makes the loop)",
-                                       op.mnemonic));
+            fail(file, ln, fmt::format("'{}': no control flow inside a .pipeline region (the tool makes the loop){}",
+                                       op.mnemonic, r.is_while ? "; the exit test is a conditional branch to 'exit'" : ""));
         default: break;
         }
         if (op.operands.size() != info.num_operands)
@@ -151,7 +206,7 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             if (desc.is_dest) {
                 if (v.def >= 0) fail(file, ln, fmt::format("{} is written twice in one iteration; name each value once", name));
                 v.def = index;
-            } else if (v.def < 0) {
+            } else if (v.def < 0 && !r.carry.count(name)) {
                 fail(file, ln, fmt::format("{} is read before it is written: a value carried from one iteration to the "
                                            "next must live in a physical register (e.g. an accumulator)",
                                            name));
@@ -162,6 +217,27 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
     if (!found) fail(file, 0, "no .pipeline region");
     if (!closed) fail(file, static_cast<int>(r.begin + 1), ".pipeline without .endpipeline");
     if (r.ops.empty()) fail(file, static_cast<int>(r.begin + 1), "the .pipeline region is empty");
+    if (r.is_while && r.exit_op < 0)
+        fail(file, static_cast<int>(r.begin + 1), ".pipeline while needs an exit test: a conditional branch to 'exit' "
+                                                  "(e.g. beqz %go, exit)");
+    auto declared = [&](const std::string& name, const std::vector<std::string>& regs) {
+        const auto it = r.virtual_index.find(name);
+        if (it == r.virtual_index.end() || r.virtuals[static_cast<std::size_t>(it->second)].def < 0)
+            fail(file, r.line_of_directives, fmt::format("{} is declared but never written in the region", name));
+        const Virtual& v = r.virtuals[static_cast<std::size_t>(it->second)];
+        for (const std::string& reg : regs) {
+            isa::RegFile f;
+            int n = 0;
+            if (!reg.empty() && parse_reg(reg, f, n) && f != v.file)
+                fail(file, r.line_of_directives, fmt::format("{} and {} are not in the same register file", name, reg));
+        }
+        return v;
+    };
+    for (const auto& [name, c] : r.carry) declared(name, {c.in, c.out, c.old});
+    for (const auto& [name, reg] : r.liveout)
+        if (declared(name, {reg}).def > r.exit_op)
+            fail(file, r.line_of_directives, fmt::format("{} is written after the exit test: the exiting iteration has no "
+                                                         "value of it", name));
     return r;
 }
 
@@ -182,7 +258,10 @@ std::set<std::pair<int, int>> named_registers(const std::vector<std::string>& li
 // ---- text of one operation --------------------------------------------------------------------
 
 // The op's source text with virtual registers replaced and the memory offset moved by `delta`.
-std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::string>& vreg, std::int64_t delta) {
+// `prev` (with the op's index): the registers of the previous iteration, which a read of a
+// carried virtual register before its write in the body sees.
+std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::string>& vreg, std::int64_t delta,
+                    const std::vector<std::string>* prev = nullptr, int index = -1) {
     std::string out = op.mnemonic;
     const isa::OpInfo& info = isa::kOps[op.opcode];
     for (std::size_t k = 0; k < op.operands.size(); ++k) {
@@ -190,7 +269,9 @@ std::string op_text(const SrcOp& op, const Region& r, const std::vector<std::str
         for (std::size_t p; (p = o.find('%')) != std::string::npos;) {
             std::size_t e = p + 1;
             while (e < o.size() && (std::isalnum(static_cast<unsigned char>(o[e])) || o[e] == '_')) ++e;
-            o = o.substr(0, p) + vreg[static_cast<std::size_t>(r.virtual_index.at(o.substr(p, e - p)))] + o.substr(e);
+            const std::size_t v = static_cast<std::size_t>(r.virtual_index.at(o.substr(p, e - p)));
+            const bool old = prev && !info.operands[k].is_dest && r.virtuals[v].def >= index;
+            o = o.substr(0, p) + (old ? (*prev)[v] : vreg[v]) + o.substr(e);
         }
         if (info.operands[k].kind == isa::OperandKind::Mem && delta != 0) {
             const std::size_t paren = o.find('(');
@@ -255,6 +336,40 @@ bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
     };
     const std::int64_t ax = addr(x, a, 0), ay = addr(y, b, d);
     return ax < ay + b.width && ay < ax + a.width;
+}
+
+// Whether op i of a while loop has an effect a discarded iteration must not have: a store, a
+// FIFO word, a load whose base is not declared `.speculate` (it could fault past the end), or a
+// write of a physical register other than an induction (the exit path corrects inductions).
+bool side_effect(const Graph& g, const Region& r, int i, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+    const Node& nd = g.nodes[static_cast<std::size_t>(i)];
+    const isa::Kind k = nd.instr.info().kind;
+    if (k == isa::Kind::Store || k == isa::Kind::Send || k == isa::Kind::Recv) return true;
+    if (k == isa::Kind::Load && !r.speculate.count(nd.base)) return true;
+    for (const isa::RegOperand& o : isa::register_operands(nd.instr))
+        if (o.write && !is_virtual(o.file, o.reg) && !(o.file == isa::RegFile::Int && g.induction_of(o.reg))) return true;
+    return false;
+}
+
+// Speculation that is safe by construction: no side effect issues before every earlier exit test
+// has been decided. Iteration i's exit test precedes the side effects of iteration i + 1 (and so
+// of every later one), and those of iteration i written after the test. One bundle later: the
+// ops in the bundle of a taken branch still execute.
+void add_exit_edges(Graph& g, const Region& r, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+    for (int i = 0; i < static_cast<int>(g.nodes.size()); ++i) {
+        if (i == r.exit_op || !side_effect(g, r, i, is_virtual)) continue;
+        g.edges.push_back({r.exit_op, i, 1, 1, "exit before a later side effect"});
+        if (i > r.exit_op) g.edges.push_back({r.exit_op, i, 1, 0, "exit before a side effect after it"});
+    }
+    // A value the exit path hands out (.carry, .liveout) has landed when the exit is taken: the
+    // exiting iteration's when it is written before the test, else the previous iteration's.
+    auto landed = [&](const std::string& name) {
+        const int def = r.virtuals[static_cast<std::size_t>(r.virtual_index.at(name))].def;
+        g.edges.push_back({def, r.exit_op, g.nodes[static_cast<std::size_t>(def)].latency, def < r.exit_op ? 0 : 1,
+                           "live out " + name});
+    };
+    for (const auto& c : r.carry) landed(c.first);
+    for (const auto& l : r.liveout) landed(l.first);
 }
 
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
@@ -372,6 +487,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
             }
             g.edges.push_back({ops[k], ops[(k + 1) % ops.size()], 1, wrap ? 1 : 0, "fifo order"});
         }
+    if (r.is_while) add_exit_edges(g, r, is_virtual);
     return g;
 }
 
@@ -392,24 +508,28 @@ struct Schedule {
     std::vector<int> time;          // issue cycle of each node in the flat schedule (iteration 0)
     isa::Instr branch, counter;     // loop control in the kernel: counter decrement and branch
     int counter_row = 0;
+    bool loop_control = true;       // false for a while loop: its exit test, in the last row, is the branch
 };
 
 class ModuloScheduler {
   public:
     // attempt 0 orders ops by height alone; later attempts break ties (and near-ties) at random.
     ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
-                    int attempt = 0)
-        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt) {}
+                    int attempt = 0, int exit_node = -1)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt), exit_(exit_node) {}
 
     std::optional<Schedule> run() {
         const int n = static_cast<int>(g_.nodes.size());
         rows_.assign(static_cast<std::size_t>(ii_), {});
-        // Loop control first: the branch ends the kernel; the counter decrement anywhere.
-        if (!place_fixed(branch_, ii_ - 1)) return std::nullopt;
+        // Loop control first: the branch ends the kernel; the counter decrement anywhere. A while
+        // loop has neither: its exit test is pinned to the last row (fits).
         int counter_row = -1;
-        for (int row = 0; row < ii_ && counter_row < 0; ++row)
-            if (place_fixed(counter_, row)) counter_row = row;
-        if (counter_row < 0) return std::nullopt;
+        if (exit_ < 0) {
+            if (!place_fixed(branch_, ii_ - 1)) return std::nullopt;
+            for (int row = 0; row < ii_ && counter_row < 0; ++row)
+                if (place_fixed(counter_, row)) counter_row = row;
+            if (counter_row < 0) return std::nullopt;
+        }
         heights();
         if (attempt_ > 0) { // perturb: a random order among ops of similar height
             std::mt19937 rng(static_cast<unsigned>(attempt_));
@@ -435,6 +555,7 @@ class ModuloScheduler {
             if (chosen < 0) { // displace: take the first cycle it has not had yet, evict what conflicts
                 const int prev = last_time_[static_cast<std::size_t>(op)];
                 chosen = prev < estart ? estart : prev + 1;
+                if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_; // its row, not earlier
                 evict_for(op, chosen);
                 if (!fits(op, chosen)) return std::nullopt;
             }
@@ -459,6 +580,7 @@ class ModuloScheduler {
         s.branch = branch_;
         s.counter = counter_;
         s.counter_row = counter_row;
+        s.loop_control = exit_ < 0;
         return s;
     }
 
@@ -519,6 +641,7 @@ class ModuloScheduler {
 
     bool fits(int op, int t) const {
         const int row = ((t % ii_) + ii_) % ii_;
+        if (op == exit_ && row != ii_ - 1) return false;
         const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
         std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
         ops.push_back(in);
@@ -597,6 +720,7 @@ class ModuloScheduler {
     int ii_;
     isa::Instr branch_, counter_;
     int attempt_ = 0;
+    int exit_ = -1; // a while loop's exit test: only in the last row
     std::vector<Row> rows_;
     std::vector<int> time_, last_time_, height_;
 };
@@ -858,17 +982,18 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         if (p.empty())
             fail(file, static_cast<int>(r.begin + 1),
                  fmt::format("register pressure: no free {} register left for {} ({} has {} per file, the source names "
-                             "{}; the schedule needs {} more)",
+                             "{}, the tool has taken the other {} for the kernel's register copies)",
                              isa::kRegFileNames[static_cast<std::size_t>(f)], what, m.name,
                              m.regs[static_cast<std::size_t>(f)].count,
                              std::count_if(named.begin(), named.end(), [&](auto& x) { return x.first == static_cast<int>(f); }),
-                             what));
+                             std::count_if(a.scratch.begin(), a.scratch.end(),
+                                           [&](const std::string& x) { return x[0] == file_prefix(f); })));
         const int reg = p.back();
         p.pop_back();
         a.scratch.push_back(reg_name(f, reg));
         return reg;
     };
-    a.counter = take(isa::RegFile::Int, "the kernel counter");
+    if (!r.is_while) a.counter = take(isa::RegFile::Int, "the kernel counter");
     // Lifetimes: from the def's issue to the last read (a new value may be issued in the cycle of
     // the last read of the old one, the exposed pipeline's rule).
     int need = 1;
@@ -878,6 +1003,15 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         for (const Edge& e : g.edges)
             if (e.from == def && e.why.rfind("true ", 0) == 0 && e.why.substr(5) == r.virtuals[v].name)
                 last = std::max(last, s.time[static_cast<std::size_t>(e.to)] + e.distance * s.ii);
+        if (r.is_while) { // a value the exit path reads must outlive the exit test that may hand it out
+            const std::string& name = r.virtuals[v].name;
+            const auto c = r.carry.find(name);
+            const bool now = r.liveout.count(name) || (c != r.carry.end() && def < r.exit_op);
+            const bool next = c != r.carry.end() && (def > r.exit_op || !c->second.old.empty());
+            const int tb = s.time[static_cast<std::size_t>(r.exit_op)];
+            if (now) last = std::max(last, tb + 1);
+            if (next) last = std::max(last, tb + s.ii + 1);
+        }
         const int life = last - s.time[static_cast<std::size_t>(def)];
         a.lifetime.push_back(life);
         const int k = std::max(1, (life + s.ii - 1) / s.ii);
@@ -1034,6 +1168,217 @@ class Emitter {
         return o;
     }
 
+    // ---- while loops: exits from the prologue and from every kernel copy ----
+
+    // The branch's stage, and the increments of induction `ind` the loop has issued by the time
+    // the exit of iteration e is taken, beyond the e + a of the sequential meaning (a: the step
+    // comes before the exit test in the source). Later iterations' steps run ahead of the exit.
+    int exit_stage() const { return s_.time[static_cast<std::size_t>(r_.exit_op)] / s_.ii; }
+    int ahead(const Induction& ind) const {
+        const int a = ind.op < r_.exit_op ? 1 : 0;
+        return std::max(0, exit_stage() - s_.time[static_cast<std::size_t>(ind.op)] / s_.ii + 1 - a);
+    }
+
+    // Offset change of memory op `op` of iteration i (absolute: i counts from the first
+    // iteration, else relative to the kernel); `exiting`: after the exit of that iteration, when
+    // no step beyond those already issued and the sequential ones is issued.
+    std::int64_t delta_while(int op, int i, bool absolute, std::optional<int> exiting) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        if (!nd.adjusted) return 0;
+        const Induction& ind = *g_.induction_of(nd.base);
+        const int after = op > ind.op ? 1 : 0;
+        const int ta = s_.time[static_cast<std::size_t>(ind.op)], la = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+        const int diff = s_.time[static_cast<std::size_t>(op)] - ta - la;
+        const int m = (diff >= 0 ? diff / s_.ii : -((-diff + s_.ii - 1) / s_.ii)) + 1; // floor + 1
+        std::int64_t seen = i + m;                                                         // increments landed
+        if (absolute) seen = std::max<std::int64_t>(seen, 0);
+        if (exiting) seen = std::min<std::int64_t>(seen, *exiting + (ind.op < r_.exit_op ? 1 : 0) + ahead(ind));
+        return ind.step * (after - (seen - i));
+    }
+
+    // The registers of iteration i's virtuals (a carried one's copy rotates like any other).
+    std::vector<std::string> regs_of(int i) const {
+        std::vector<std::string> vreg;
+        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
+            const int k = a_.copies[v];
+            vreg.push_back(a_.regs[v][static_cast<std::size_t>(((i % k) + k) % k)]);
+        }
+        return vreg;
+    }
+    std::string reg_of(const std::string& name, int i) const {
+        return regs_of(i)[static_cast<std::size_t>(r_.virtual_index.at(name))];
+    }
+
+    std::string instance_at(int op, int i, std::int64_t delta) const {
+        const std::vector<std::string> prev = regs_of(i - 1);
+        return op_text(r_.ops[static_cast<std::size_t>(op)], r_, regs_of(i), delta, &prev, op);
+    }
+
+    // A register copy in one op: `addi d, s, 0` or `fmov d, s`, and its latency.
+    std::pair<std::string, int> move(const std::string& to, const std::string& from) const {
+        const bool f = from[0] == 'f';
+        return {f ? fmt::format("fmov {}, {}", to, from) : fmt::format("addi {}, {}, 0", to, from),
+                static_cast<int>(m_.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)])};
+    }
+    // The moves packed into as few bundles as the machine takes (isa::assign_slots and
+    // isa::check_bundle decide), then nops until they have landed.
+    std::string moves_text(const std::vector<std::pair<std::string, int>>& ms) const {
+        std::string o;
+        int lat = 1;
+        std::vector<std::vector<isa::Instr>> ops; // per bundle: each move goes to the first that takes it
+        std::vector<std::vector<std::string>> texts;
+        for (const auto& [text, l] : ms) {
+            lat = std::max(lat, l);
+            const auto regs = split_operands(text.substr(text.find(' ')));
+            isa::RegFile f;
+            int d = 0, src = 0;
+            parse_reg(regs[0], f, d);
+            parse_reg(regs[1], f, src);
+            isa::Instr in;
+            in.opcode = f == isa::RegFile::Float ? isa::opcode("fmov") : isa::opcode("addi");
+            in.rd = static_cast<std::uint8_t>(d);
+            in.rs1 = static_cast<std::uint8_t>(src);
+            std::size_t b = 0;
+            for (; b < ops.size(); ++b) {
+                std::vector<isa::Instr> trial = ops[b];
+                trial.push_back(in);
+                std::vector<int> pinned(trial.size(), -1);
+                if (isa::assign_slots(m_, trial, pinned) && isa::check_bundle(m_, trial).empty()) break;
+            }
+            if (b == ops.size()) ops.emplace_back(), texts.emplace_back();
+            ops[b].push_back(in);
+            texts[b].push_back(text);
+        }
+        for (const auto& t : texts) o += bundle(t);
+        for (int k = 1; k < lat && !ms.empty(); ++k) o += "        nop\n";
+        return o;
+    }
+
+    // The exit path's first bundles: carried and live-out values of the exiting iteration e
+    // (landed, by the graph's edges) to their registers.
+    std::string exit_moves(int e) const {
+        std::vector<std::pair<std::string, int>> ms;
+        for (const auto& [name, c] : r_.carry) {
+            const int def = r_.virtuals[static_cast<std::size_t>(r_.virtual_index.at(name))].def;
+            ms.push_back(move(c.out, reg_of(name, def < r_.exit_op ? e : e - 1)));
+            if (!c.old.empty()) ms.push_back(move(c.old, reg_of(name, e - 1)));
+        }
+        for (const auto& [name, reg] : r_.liveout) ms.push_back(move(reg, reg_of(name, e)));
+        return moves_text(ms);
+    }
+
+    // The exit test of iteration i, branching to `label`; inverted, it is the kernel's back edge.
+    std::string exit_branch(int i, const std::string& label, bool invert) const {
+        static const std::map<std::string, std::string> inverse = {{"beqz", "bnez"}, {"bnez", "beqz"}, {"beq", "bne"},
+                                                                   {"bne", "beq"},   {"blt", "bge"},   {"bge", "blt"},
+                                                                   {"bltu", "bgeu"}, {"bgeu", "bltu"}};
+        SrcOp b = r_.ops[static_cast<std::size_t>(r_.exit_op)];
+        if (invert) b.mnemonic = inverse.at(b.mnemonic);
+        b.operands.back() = label;
+        const std::vector<std::string> prev = regs_of(i - 1);
+        return op_text(b, r_, regs_of(i), 0, &prev, r_.exit_op);
+    }
+
+    // What runs after the exit of iteration e is taken at the end of pass P: the older iterations
+    // complete, the exiting one runs what precedes its exit test in the source, younger ones are
+    // dropped (they have issued no side effect); then in-flight results land and inductions step
+    // back by what ran ahead.
+    std::string exit_path(int pass, int e, bool absolute) const {
+        const int ii = s_.ii;
+        std::string o = exit_moves(e);
+        for (int q = pass + 1; q <= e + stages_ - 1; ++q)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii, i = q - st;
+                    if (t % ii != row || static_cast<int>(op) == r_.exit_op || i > e || (absolute && i < 0)) continue;
+                    if (i == e && static_cast<int>(op) > r_.exit_op) continue;
+                    ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, absolute, e)));
+                }
+                o += bundle(ops);
+            }
+        while (o.size() >= 12 && o.compare(o.size() - 12, 12, "        nop\n") == 0) o.resize(o.size() - 12);
+        int drain = 0;
+        for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
+        if (!r_.carry.empty() || !r_.liveout.empty()) // the exit moves
+            for (const isa::OpClass c : {isa::OpClass::Alu, isa::OpClass::FAdd})
+                drain = std::max(drain, static_cast<int>(m_.latency[static_cast<std::size_t>(c)]) - 1);
+        for (int k = 0; k < drain; ++k) o += "        nop\n";
+        const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+        for (const Induction& ind : g_.inductions)
+            if (const int x = ahead(ind); x > 0) {
+                o += fmt::format("        addi {0}, {0}, {1}\n", reg_name(isa::RegFile::Int, ind.reg), -ind.step * x);
+                for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+            }
+        return o;
+    }
+
+    std::string while_code(const std::string& uid) const {
+        const int ii = s_.ii, p = stages_ - 1, u = a_.unroll, sb = exit_stage();
+        std::string o;
+        struct Exit {
+            std::string label;
+            int pass, e;
+            bool absolute;
+        };
+        std::vector<Exit> exits;
+        std::vector<std::pair<std::string, int>> in; // carried values into the copy iteration 0 reads
+        for (const auto& [name, c] : r_.carry) in.push_back(move(reg_of(name, -1), c.in));
+        o += moves_text(in);
+        o += fmt::format("# prologue: {} pass{} of {} cycles (exit test from pass {})\n", p, p == 1 ? "" : "es", ii, sb);
+        for (int pass = 0; pass < p; ++pass)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii, i = pass - st;
+                    if (t % ii != row || st > pass) continue;
+                    if (static_cast<int>(op) == r_.exit_op) {
+                        exits.push_back({fmt::format("{}_exit_p{}", uid, pass), pass, i, true});
+                        ops.push_back(exit_branch(i, exits.back().label, false));
+                    } else {
+                        ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, true, std::nullopt)));
+                    }
+                }
+                o += bundle(ops);
+            }
+        o += fmt::format("# kernel: {} cop{} of II = {} cycles, {} stage{}; each copy ends in the exit test\n", u,
+                         u == 1 ? "y" : "ies", ii, stages_, stages_ == 1 ? "" : "s");
+        o += fmt::format("{}_kernel:\n", uid);
+        std::vector<Exit> kernel_exits;
+        for (int c = 0; c < u; ++c)
+            for (int row = 0; row < ii; ++row) {
+                std::vector<std::string> ops;
+                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                    const int t = s_.time[op], st = t / ii, i = p + c - st;
+                    if (t % ii != row) continue;
+                    if (static_cast<int>(op) == r_.exit_op) {
+                        const bool last = c == u - 1;
+                        kernel_exits.push_back({fmt::format("{}_exit_k{}", uid, c), p + c, i, false});
+                        ops.push_back(exit_branch(i, last ? uid + "_kernel" : kernel_exits.back().label, last));
+                    } else {
+                        ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, false, std::nullopt)));
+                    }
+                }
+                o += bundle(ops);
+            }
+        // The last copy's exit falls through; the other exits branch to their own paths.
+        std::rotate(kernel_exits.begin(), kernel_exits.end() - 1, kernel_exits.end());
+        exits.insert(exits.begin(), kernel_exits.begin(), kernel_exits.end());
+        for (std::size_t k = 0; k < exits.size(); ++k) {
+            const Exit& x = exits[k];
+            if (x.absolute)
+                o += fmt::format("# exit of iteration {} at the end of prologue pass {}\n", x.e, x.pass);
+            else
+                o += fmt::format("# exit from kernel copy {}: its iteration in stage {} leaves{}\n", x.pass - p, sb,
+                                 stages_ - 1 == sb ? "" : fmt::format(", the {} older complete", stages_ - 1 - sb));
+            if (k > 0) o += x.label + ":\n";
+            o += exit_path(x.pass, x.e, x.absolute);
+            if (k + 1 < exits.size()) o += fmt::format("        jmp {}_done\n", uid);
+        }
+        o += fmt::format("{}_done:\n", uid);
+        return o;
+    }
+
     // How many kernel passes the counter's decrement lands late for the branch that reads it.
     int lag_passes(int alu_lat) const {
         const int land = s_.counter_row + alu_lat; // cycle (from its pass's start) it lands
@@ -1073,8 +1418,47 @@ std::string linear_loop(const Region& r, const std::vector<std::string>& placeho
     return o;
 }
 
+// A while loop's sequential meaning: the body up to its exit test, the test branching out, the
+// rest; `count` counts the iterations that do not exit (verification reads it, never compares it).
+std::string linear_while_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
+                              const std::string& count) {
+    const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+    auto mv = [&](const std::string& to, const std::string& from) { // one copy, landed before the next op
+        const bool f = from[0] == 'f';
+        std::string t = f ? fmt::format("        fmov {}, {}\n", to, from) : fmt::format("        addi {}, {}, 0\n", to, from);
+        for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)]; ++k)
+            t += "        nop\n";
+        return t;
+    };
+    auto placeholder_of = [&](const std::string& name) {
+        return placeholder_name[static_cast<std::size_t>(r.virtual_index.at(name))];
+    };
+    std::string o;
+    for (const auto& [name, c] : r.carry) o += mv(placeholder_of(name), c.in);
+    for (const auto& [name, c] : r.carry) // OLD: the value each iteration starts with
+        if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
+    o += fmt::format("        li {}, 0\n", count);
+    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+    o += "__sa_lin:\n";
+    for (std::size_t k = 0; k < r.ops.size(); ++k) {
+        SrcOp op = r.ops[k];
+        if (static_cast<int>(k) == r.exit_op) op.operands.back() = "__sa_lin_end";
+        o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
+        for (std::uint32_t j = 1; j < m.latency_of(isa::kOps[op.opcode]); ++j) o += "        nop\n";
+    }
+    o += fmt::format("        addi {0}, {0}, 1\n", count);
+    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+    for (const auto& [name, c] : r.carry)
+        if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
+    o += "        jmp __sa_lin\n";
+    o += "__sa_lin_end:\n";
+    for (const auto& [name, c] : r.carry) o += mv(c.out, placeholder_of(name));
+    for (const auto& [name, reg] : r.liveout) o += mv(reg, placeholder_of(name));
+    return o;
+}
+
 std::string force_trip_line(const Region& r, const PipelineOptions& opts, const isa::Machine& m) {
-    if (!opts.force_trip) return "";
+    if (!opts.force_trip || r.is_while) return "";
     std::string s = fmt::format("        li {}, {}\n", r.trip, *opts.force_trip);
     for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]; ++k) s += "        nop\n";
     return s;
@@ -1098,8 +1482,8 @@ std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const i
                 ops.push_back(g.nodes[k].instr);
                 names.push_back(fmt::format("{}[{}]", r.ops[k].mnemonic, s.time[k] / s.ii));
             }
-        if (row == s.counter_row) ops.push_back(s.counter), names.push_back("addi(counter)");
-        if (row == s.ii - 1) ops.push_back(s.branch), names.push_back("bnez(loop)");
+        if (s.loop_control && row == s.counter_row) ops.push_back(s.counter), names.push_back("addi(counter)");
+        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back("bnez(loop)");
         std::vector<int> pinned(ops.size(), -1);
         isa::assign_slots(m, ops, pinned);
         std::string cells;
@@ -1107,6 +1491,29 @@ std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const i
             cells += fmt::format(" {}:{}", m.slots[ops[k].slot].name, names[k]);
         o += fmt::format("#   {:>3} |{}\n", row, cells);
     }
+    return o;
+}
+
+// The report lines of a while loop: how far iterations run ahead of the exit test, what they may
+// do there, and the exit paths.
+std::string while_report(const Graph& g, const Region& r, const Schedule& s, const PipelineResult& res) {
+    const int tb = s.time[static_cast<std::size_t>(r.exit_op)];
+    std::string o = fmt::format("#   exit test in stage {}: {} later iteration{} start{} before it is decided, with no side effect "
+                                "(stores, FIFO words, loads not .speculate, physical registers but inductions wait for it)\n",
+                                res.exit_stage, res.exit_stage, res.exit_stage == 1 ? "" : "s", res.exit_stage == 1 ? "s" : "");
+    std::map<int, int> load_ahead; // base -> iterations past the exit its loads may run
+    for (std::size_t k = 0; k < g.nodes.size(); ++k)
+        if (g.nodes[k].instr.info().kind == isa::Kind::Load && r.speculate.count(g.nodes[k].base)) {
+            int ahead = tb >= s.time[k] ? (tb - s.time[k]) / s.ii : 0;
+            if (static_cast<int>(k) > r.exit_op) ahead += 1; // the exiting iteration's own load after its test
+            load_ahead[g.nodes[k].base] = std::max(load_ahead[g.nodes[k].base], ahead);
+        }
+    for (auto [base, n] : load_ahead)
+        o += fmt::format("#   speculative loads on r{}: up to {} iteration{} past the exit (those addresses must be mapped)\n",
+                         base, n, n == 1 ? "" : "s");
+    const int prologue_exits = std::max(0, res.stages - 1 - res.exit_stage);
+    o += fmt::format("#   exit paths: {} from the prologue, {} from the kernel (one per copy); no trip count, no "
+                     "sequential fallback\n", prologue_exits, res.unroll);
     return o;
 }
 
@@ -1134,7 +1541,16 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     }
     const std::string before = join_lines(lines, 0, r.begin), after = join_lines(lines, r.end + 1, lines.size());
     PipelineResult res;
-    res.linear = before + force_trip_line(r, opts, m) + linear_loop(r, placeholder_name, m) + after;
+    res.is_while = r.is_while;
+    if (r.is_while) { // the lowest register neither named nor a placeholder counts iterations
+        for (int reg = 1; reg < static_cast<int>(m.regs[0].count) && res.iteration_register.empty(); ++reg)
+            if (!named.count({0, reg}) && !placeholder.count({0, reg})) res.iteration_register = reg_name(isa::RegFile::Int, reg);
+        if (res.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
+    }
+    res.linear = before + force_trip_line(r, opts, m) +
+                 (r.is_while ? linear_while_loop(r, placeholder_name, m, res.iteration_register)
+                             : linear_loop(r, placeholder_name, m)) +
+                 after;
     const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region");
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
     std::uint32_t b0 = 0;
@@ -1153,7 +1569,8 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     counter.opcode = isa::opcode("addi");
     counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
     res.rec_mii = rec_mii(g);
-    const ResBound res_bound = res_mii(m, instrs, kLoopControl); // the loop control takes slots too
+    // The loop control takes slots too; a while loop's exit test is its loop control.
+    const ResBound res_bound = r.is_while ? res_mii(m, instrs) : res_mii(m, instrs, kLoopControl);
     res.res_mii = res_bound.ii();
     res.mii = std::max(res.rec_mii, res.res_mii);
     const int lo = opts.ii > 0 ? opts.ii : res.mii;
@@ -1171,9 +1588,17 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     auto accept = [&](const Schedule& s) {
         Allocation alloc = allocate(r, g, s, named, m, filename);
         const Emitter em(r, g, s, alloc, m);
-        std::string code = em.code(r.trip, "__sa");
-        const assembler::AsmResult check =
+        std::string code = r.is_while ? em.while_code("__sa") : em.code(r.trip, "__sa");
+        assembler::AsmResult check =
             assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, {});
+        // A while loop starts with its first pass (the counted loop with its trip test): results
+        // of the code before it may still be in flight. As many nops as the assembler's check asks.
+        std::uint32_t longest = 1;
+        for (std::uint32_t l : m.latency) longest = std::max(longest, l);
+        for (std::uint32_t lead = 1; r.is_while && (!check.ok || check.warnings > 0) && lead < longest; ++lead) {
+            code = "        nop\n" + code;
+            check = assembler::assemble_string(before + code + after, filename, m, {});
+        }
         if (!check.ok || check.warnings > 0) {
             why_not = fmt::format("II {}: {}", s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
             return false;
@@ -1186,8 +1611,22 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     };
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (!feasible_ii(g, ii)) return false;
+        if (r.is_while && !deadline) { // every attempt: the fewest stages, then the smallest unroll, is the
+            bool found = false;        // cheapest to enter and to leave (a while loop does both often)
+            for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
+                std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
+                if (!s) continue;
+                auto best = std::make_tuple(sched, emitted, stages, alloc_found);
+                if (!accept(*s)) continue;
+                const int best_stages = std::get<2>(best), best_unroll = found ? std::get<3>(best)->unroll : 0;
+                if (found && (best_stages < stages || (best_stages == stages && best_unroll <= alloc_found->unroll)))
+                    std::tie(sched, emitted, stages, alloc_found) = std::move(best);
+                found = true;
+            }
+            return found;
+        }
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
-            std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt).run();
+            std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1).run();
             if (s && accept(*s)) return true;
         }
         return false;
@@ -1198,7 +1637,9 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     // was exhausted with no modulo schedule at all.
     std::string exact_note;
     if (sched && opts.exact_seconds > 0) {
-        if (sched->ii == res.mii) {
+        if (r.is_while && sched->ii > res.mii) {
+            exact_note = "--exact is not implemented for .pipeline while loops yet (heuristic schedule only)";
+        } else if (sched->ii == res.mii) {
             exact_note = "II proven optimal: it equals the lower bound max(ResMII, RecMII)";
         } else {
             const auto start = Clock::now();
@@ -1260,14 +1701,18 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     res.ii = sched->ii;
     res.stages = stages;
     res.unroll = alloc.unroll;
-    res.min_pipelined_trip = res.stages - 1 + res.unroll;
+    res.min_pipelined_trip = r.is_while ? 0 : res.stages - 1 + res.unroll;
     res.trip_register = r.trip;
+    if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
     rep += fmt::format("# SOFTWARE PIPELINE INFORMATION ({} on {}, lines {}-{})\n", filename, m.name, r.begin + 1, r.end + 1);
-    rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
+    if (r.is_while)
+        rep += fmt::format("#   operations per iteration   {} (a while loop: its exit test is the kernel's branch)\n", r.ops.size());
+    else
+        rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
     rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
     rep += fmt::format("#   recurrence bound (RecMII)  {}\n", res.rec_mii);
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
@@ -1278,8 +1723,11 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
         rep += fmt::format("#   taken-branch bubble {} cycle{} per kernel pass: {:.2f} cycles per iteration in the kernel\n",
                            m.branch_penalty, m.branch_penalty == 1 ? "" : "s",
                            static_cast<double>(res.unroll * res.ii + static_cast<int>(m.branch_penalty)) / res.unroll);
-    rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
-                       res.min_pipelined_trip);
+    if (r.is_while)
+        rep += while_report(g, r, *sched, res);
+    else
+        rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
+                           res.min_pipelined_trip);
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         std::string regs;
         for (const std::string& s : alloc.regs[v]) regs += (regs.empty() ? "" : " ") + s;
@@ -1290,28 +1738,6 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
 
     res.pipelined = rep + before + force_trip_line(r, opts, m) + emitted + after;
     return res;
-}
-
-std::vector<std::uint32_t> verification_trips(const PipelineResult& r) {
-    std::set<std::uint32_t> t = {0, 1};
-    const int min = r.min_pipelined_trip;
-    if (min > 0) t.insert(static_cast<std::uint32_t>(min - 1));
-    for (int k = 0; k <= 2 * r.unroll + 1; ++k) t.insert(static_cast<std::uint32_t>(min + k));
-    return {t.begin(), t.end()};
-}
-
-std::optional<std::string> verify(std::string_view text, std::string_view filename, const isa::Machine& m,
-                                  const PipelineOptions& opts, const std::vector<std::uint32_t>& trip_counts,
-                                  const DifferentialRun& run) {
-    for (std::uint32_t n : trip_counts) {
-        PipelineOptions o = opts;
-        o.force_trip = n;
-        const PipelineResult r = pipeline_source(text, filename, m, o);
-        const isa::ObjectFile lin = assemble_or_fail(r.linear, filename, m, "sequential meaning");
-        const isa::ObjectFile pip = assemble_or_fail(r.pipelined, filename, m, "pipelined loop");
-        if (auto diff = run(lin, pip)) return fmt::format("trip count {}: {}", n, *diff);
-    }
-    return std::nullopt;
 }
 
 } // namespace nesshi::sched

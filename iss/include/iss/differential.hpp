@@ -21,11 +21,13 @@ struct DiffOptions {
     bool randomize_data = true;          // every word of the data sections: a random float in [-8, 8)
     std::vector<std::string> registers;  // compared after both halt ("r1", "f5")
     std::uint64_t max_cycles = 10'000'000;
+    std::vector<std::string> observe;    // registers of the first program read back, not compared
 };
 
 // Runs both to halt; returns the first difference ("mem[0x1024]: 3.5 (0x40600000) vs ...",
 // "r1: 4104 vs 4108", a fault or a cycle limit of one side), or nothing when they agree.
+// `observed` (when given) receives the values of opts.observe in the first program after it halts.
 std::optional<std::string> run_differential(const isa::ObjectFile& a, const isa::ObjectFile& b, const isa::Machine& m,
-                                            const DiffOptions& opts);
+                                            const DiffOptions& opts, std::vector<std::uint32_t>* observed = nullptr);
 
 } // namespace nesshi::iss

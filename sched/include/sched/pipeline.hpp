@@ -21,9 +21,18 @@
 // small for the pipeline, and the remainder of the unrolled kernel, run a sequential copy of the
 // body first, so every trip count >= 0 is correct.
 //
+// `.pipeline while` instead has no trip count and one exit test, a conditional branch to `exit`
+// (`beqz %go, exit`); iterations start before earlier tests are decided, with no side effect
+// (stores, FIFO words, physical registers but inductions, loads unless `.speculate rA` names
+// their base) until those tests pass; each prologue pass and kernel copy has its own exit path.
+// There `.carry %v, IN[, OUT[, OLD]]` carries %v between iterations (read before its write; in
+// from IN, out to OUT, and to OLD the value the exiting iteration started with) and
+// `.liveout %v, REG` hands the exiting iteration's %v out.
+//
 // `.noalias rA, rB` inside the region declares that accesses based on rA and on rB never overlap.
-// Not yet: virtual registers carried from one iteration to the next (use a physical register,
-// as for an accumulator), branches inside the region, more than one region per file.
+// Not yet: virtual registers carried from one iteration to the next of a counted loop (use a
+// physical register, as for an accumulator), branches inside the region other than a while loop's exit test, more
+// than one region per file.
 //
 //   sched::PipelineResult r = sched::pipeline_source(text, "loop.sa", isa::load_machine("os"), {});
 //   fmt::print("{}", r.pipelined);          // assembles with `nesshi asm` with no diagnostic
@@ -36,6 +45,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,6 +74,11 @@ struct PipelineResult {
     std::string trip_register;           // "r9"
     std::vector<std::string> scratch;    // physical registers the tool allocated (virtuals, counter)
     std::vector<std::string> source_registers; // registers the source names (live across the region)
+    // `.pipeline while`: the exit test's stage; the register where the sequential meaning counts
+    // the iterations that do not exit (not compared; verification reads it).
+    bool is_while = false;
+    int exit_stage = 0;
+    std::string iteration_register;
 };
 
 // Throws std::runtime_error "FILE:LINE: error: ..." on malformed input, or when no schedule is
@@ -82,5 +97,21 @@ std::optional<std::string> verify(std::string_view text, std::string_view filena
 // The trip counts that cover the sequential path, the shortest pipelined run and every unroll
 // remainder: 0, 1, min - 1, min, min + 1, ..., min + 2 * unroll.
 std::vector<std::uint32_t> verification_trips(const PipelineResult& r);
+
+// Verification of a while loop: the data decide where it exits, so each run draws new random data
+// (`seed`) and reports, in `exits`, the iterations the sequential meaning completed before its
+// exit (the value of PipelineResult::iteration_register).
+using WhileRun = std::function<std::optional<std::string>(const isa::ObjectFile& linear, const isa::ObjectFile& pipelined,
+                                                          std::uint64_t seed, std::uint32_t& exits)>;
+struct WhileVerification {
+    std::optional<std::string> failure;   // "seed N (exit after K iterations): ..."
+    std::set<std::uint32_t> exits;        // the exit iterations the runs covered
+    std::set<std::string> paths;          // the exit paths they took ("prologue pass 1", "kernel copy 0")
+    int path_count = 0;                   // exit paths the code has
+};
+WhileVerification verify_while(std::string_view text, std::string_view filename, const isa::Machine& m,
+                               const PipelineOptions& opts, int runs, const WhileRun& run);
+// The exit path that an exit after `e` completed iterations takes.
+std::string exit_path_name(const PipelineResult& r, std::uint32_t e);
 
 } // namespace nesshi::sched

@@ -14,4 +14,9 @@ namespace nesshi::sched {
 
 std::string random_linear_loop(std::uint64_t seed, const isa::Machine& m, int compute_ops);
 
+// The same as a `.pipeline while` loop: it leaves when x[k] exceeds a random threshold or after
+// 40 iterations; the exit test, the step, the accumulator and the stores sit at random places
+// around it, and the loads are `.speculate` or not at random.
+std::string random_while_loop(std::uint64_t seed, const isa::Machine& m, int compute_ops);
+
 } // namespace nesshi::sched

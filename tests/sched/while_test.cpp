@@ -1,0 +1,181 @@
+// `.pipeline while`: loops with a data-dependent exit, pipelined with speculation that issues no
+// side effect early, checked on the ISS on random data that makes them exit at different
+// iterations (in the prologue and in every kernel copy).
+#include "sched/pipeline.hpp"
+#include "sched/random_loop.hpp"
+
+#include "base/read_file.hpp"
+#include "isa/machine.hpp"
+#include "iss/differential.hpp"
+
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+
+#include <random>
+#include <string>
+
+using namespace nesshi;
+
+namespace {
+
+// The data at the start of the machine's first memory region.
+std::string at_memory(std::string text, const isa::Machine& m) {
+    const std::size_t at = text.find("0x1000");
+    if (at != std::string::npos) text.replace(at, 6, fmt::format("0x{:x}", m.memories.front().base + 0x100));
+    return text;
+}
+
+sched::WhileVerification check_while(const std::string& source, const isa::Machine& m, int runs,
+                                     sched::PipelineResult* out = nullptr) {
+    const std::string text = at_memory(source, m);
+    const sched::PipelineResult r = sched::pipeline_source(text, "w.sa", m, {});
+    if (out) *out = r;
+    iss::DiffOptions d;
+    d.registers = r.source_registers;
+    d.observe = {r.iteration_register};
+    return sched::verify_while(text, "w.sa", m, {}, runs,
+                               [&](const isa::ObjectFile& a, const isa::ObjectFile& b, std::uint64_t seed, std::uint32_t& e) {
+                                   iss::DiffOptions o = d;
+                                   o.seed = seed;
+                                   std::vector<std::uint32_t> seen;
+                                   auto diff = iss::run_differential(a, b, m, o, &seen);
+                                   e = seen.empty() ? 0 : seen[0];
+                                   return diff;
+                               });
+}
+
+// Find the first element above a threshold; its value is kept in f7, its offset in r1.
+const char* kSearch = R"(        .data 0x1000
+xs:     .space 1024
+        .text
+        li r1, 0
+        fli f0, 6.0
+        fli f7, 0.0
+        .pipeline while
+        .speculate r1
+        flw %x, xs(r1)
+        fmov f7, %x
+        flt %hit, f0, %x
+        slti %in, r1, 800
+        xori %out, %in, 1
+        or %stop, %hit, %out
+        bnez %stop, exit
+        addi r1, r1, 4
+        .endpipeline
+        halt
+)";
+
+} // namespace
+
+TEST_CASE("a search loop pipelines and exits right from the prologue and every kernel copy", "[unit][sched][while]") {
+    for (const char* name : {"os", "os-real", "ic", "ic-real"}) {
+        INFO(name);
+        const isa::Machine m = isa::load_machine(name);
+        sched::PipelineResult r;
+        const sched::WhileVerification v = check_while(kSearch, m, 64, &r);
+        CHECK(v.failure == std::nullopt);
+        CHECK(r.is_while);
+        CHECK(r.ii >= r.mii);
+        CHECK(v.exits.count(0) == 1); // the first element already stops it
+        CHECK(static_cast<int>(v.paths.size()) == v.path_count);
+        CHECK(r.report.find("speculative loads on r1") != std::string::npos);
+    }
+    // On os the loads of later iterations run ahead of the test: II 3, the issue slots' bound
+    // (load, slti, xori, or, step and the branch on the two integer units), with no fallback.
+    sched::PipelineResult r;
+    check_while(kSearch, isa::load_machine("os"), 1, &r);
+    CHECK(r.ii == 3);
+    CHECK(r.ii == r.res_mii);
+    CHECK(r.min_pipelined_trip == 0);
+}
+
+TEST_CASE("without .speculate the loads wait for the exit test", "[unit][sched][while]") {
+    std::string text = kSearch;
+    text.erase(text.find("        .speculate r1\n"), 22);
+    const isa::Machine m = isa::load_machine("os-real");
+    sched::PipelineResult r;
+    CHECK(check_while(text, m, 32, &r).failure == std::nullopt);
+    CHECK(r.report.find("speculative loads") == std::string::npos);
+    sched::PipelineResult spec;
+    check_while(kSearch, m, 1, &spec);
+    CHECK(r.rec_mii > spec.rec_mii); // the exit test -> next load -> compare -> exit test circuit
+}
+
+TEST_CASE("the shipped example copies until the threshold and verifies", "[unit][sched][while]") {
+    const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/copy_until.sa");
+    for (const char* name : {"os", "os-real"}) {
+        INFO(name);
+        const sched::WhileVerification v = check_while(text, isa::load_machine(name), 32);
+        CHECK(v.failure == std::nullopt);
+        CHECK(v.exits.size() > 10);
+    }
+}
+
+TEST_CASE("bad while loops are clear errors", "[unit][sched][while]") {
+    const isa::Machine os = isa::load_machine("os");
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\naddi r1, r1, 4\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains("needs an exit test"));
+    CHECK_THROWS_WITH(
+        sched::pipeline_source(".pipeline while\nbeqz r1, exit\nbnez r2, exit\n.endpipeline\n", "w.sa", os, {}),
+        Catch::Contains("one exit test"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\nbeqz r1, elsewhere\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains("a conditional branch to 'exit'"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline r9\n.speculate r1\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains(".speculate belongs in a .pipeline while region"));
+}
+
+TEST_CASE("random while loops pipeline and verify on every preset", "[unit][sched][while][property]") {
+    std::mt19937_64 rng(2024);
+    for (const char* name : {"os", "ic", "os-real", "ic-real"}) {
+        const isa::Machine m = isa::load_machine(name);
+        int all_paths = 0, at_mii = 0, prologue_exits = 0;
+        const int loops = 25;
+        for (int k = 0; k < loops; ++k) {
+            const std::string text = sched::random_while_loop(rng(), m, 3 + k % 20);
+            INFO(name << " loop " << k << ":\n" << text);
+            sched::PipelineResult r;
+            sched::WhileVerification v;
+            REQUIRE_NOTHROW(v = check_while(text, m, 24, &r));
+            CHECK(v.failure == std::nullopt);
+            CHECK(r.ii >= r.mii);
+            all_paths += static_cast<int>(v.paths.size()) == v.path_count;
+            at_mii += r.ii == r.mii;
+            for (const std::string& p : v.paths) prologue_exits += p.rfind("prologue", 0) == 0;
+        }
+        INFO(name << ": " << at_mii << " of " << loops << " at the MII; every exit path taken in " << all_paths
+                  << "; prologue exits taken " << prologue_exits);
+        CHECK(all_paths * 2 >= loops); // most loops exit through every path the code has
+        CHECK(prologue_exits > 0);     // and some leave from the prologue
+    }
+}
+
+TEST_CASE("the OS voxel step as a while loop: carried state, its exit values, II per machine", "[unit][sched][while]") {
+    // examples/linear/voxel_step.sa: the state P = (nx, ny, nz) and the address are carried in
+    // virtual registers (.carry), rotated over copies; every exit path moves the exiting
+    // iteration's copies (new and old nexts, kx, nkz, occ) to the registers the leave code reads.
+    const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/voxel_step.sa");
+    sched::PipelineResult os, real;
+    const sched::WhileVerification v = check_while(text, isa::load_machine("os"), 64, &os);
+    CHECK(v.failure == std::nullopt);
+    CHECK(static_cast<int>(v.paths.size()) == v.path_count);
+    CHECK(os.ii == 5); // the hand-scheduled kernel's II: FPU slots, 10 float operations on 2 FPUs
+    CHECK(os.ii == os.mii);
+    const sched::WhileVerification w = check_while(text, isa::load_machine("os-real"), 64, &real);
+    CHECK(w.failure == std::nullopt);
+    CHECK(real.ii == 9); // RecMII: the hand kernel, legalized for os-real, takes 15
+    CHECK(real.ii == real.rec_mii);
+}
+
+TEST_CASE("bad .carry and .liveout are clear errors", "[unit][sched][while]") {
+    const isa::Machine os = isa::load_machine("os");
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline r9\n.carry %a, f1\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains(".carry belongs in a .pipeline while region"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.carry %a, r1\nfadd %a, %a, f1\nbnez r2, exit\n.endpipeline\n",
+                                             "w.sa", os, {}),
+                      Catch::Contains("%a and r1 are not in the same register file"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.liveout %a, r1\nbnez r2, exit\naddi %a, r2, 1\n.endpipeline\n",
+                                             "w.sa", os, {}),
+                      Catch::Contains("%a is written after the exit test"));
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.carry %b, f1\nbnez r2, exit\n.endpipeline\n", "w.sa", os, {}),
+                      Catch::Contains("%b is declared but never written"));
+}
