@@ -12,7 +12,7 @@ namespace nesshi::paper {
 
 namespace {
 
-constexpr double kLeft = 150, kRight = 760, kTop = 70, kRow = 17, kWidth = 1000;
+constexpr double kLeft = 150, kRight = 760, kTop = 70, kRow = 17, kWidth = 1100;
 
 struct Axis {
     double lo = 7, hi = 11; // decades
@@ -44,8 +44,8 @@ std::string gaps_svg(std::span<const GapRow> rows) {
          "<text x=\"84\" y=\"40\">paper</text>"
          "<line x1=\"130\" y1=\"36\" x2=\"160\" y2=\"36\" stroke=\"#2a9d3a\" stroke-width=\"5\"/>"
          "<text x=\"166\" y=\"40\">explained: our kernels' speed x the adopted hypothesis</text>"
-         "<line x1=\"470\" y1=\"36\" x2=\"500\" y2=\"36\" stroke=\"#d62728\" stroke-width=\"5\"/>"
-         "<text x=\"506\" y=\"40\">unexplained</text>\n";
+         "<line x1=\"520\" y1=\"36\" x2=\"550\" y2=\"36\" stroke=\"#d62728\" stroke-width=\"5\"/>"
+         "<text x=\"556\" y=\"40\">unexplained (green above, red below the row: each may point either way)</text>\n";
     const double bottom = kTop + static_cast<double>(rows.size()) * 2 * kRow;
     for (double d = ax.lo; d <= ax.hi + 1e-9; d += 1) {
         const double x = ax.x(std::pow(10.0, d));
@@ -66,11 +66,11 @@ std::string gaps_svg(std::span<const GapRow> rows) {
             const double yc = y + kRow / 2;
             o += fmt::format("<text x=\"10\" y=\"{:.0f}\">{} {} {}</text>\n", yc + 4, r.scene, r.grid, s.name);
             o += fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#2a9d3a\" "
-                             "stroke-width=\"5\"/>\n",
-                             ax.x(s.ours), yc, ax.x(s.explained), yc);
+                             "stroke-width=\"4\"/>\n",
+                             ax.x(s.ours), yc - 2.5, ax.x(s.explained), yc - 2.5);
             o += fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#d62728\" "
-                             "stroke-width=\"5\"/>\n",
-                             ax.x(s.explained), yc, ax.x(s.paper), yc);
+                             "stroke-width=\"4\"/>\n",
+                             ax.x(s.explained), yc + 2.5, ax.x(s.paper), yc + 2.5);
             o += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"4\" fill=\"black\"/>\n", ax.x(s.ours), yc);
             o += fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"8\" height=\"8\" fill=\"none\" stroke=\"black\" "
                              "stroke-width=\"1.5\"/>\n",
