@@ -9,6 +9,8 @@
 
 #include "rt/scene.hpp"
 
+#include <algorithm>
+
 using namespace nesshi::paper;
 
 namespace {

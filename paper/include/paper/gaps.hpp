@@ -118,10 +118,6 @@ std::string gaps_json(std::span<const GapRow> rows);
 std::string gaps_csv(std::span<const GapRow> rows);
 std::string gaps_svg(std::span<const GapRow> rows); // log-scale bars: ours, explained, paper
 
-} // namespace nesshi::paper
-
-namespace nesshi::paper {
-
 // The workload hypotheses that need a render of their own: the scene changed, then rendered. A view
 // angle (tetra at 22.5 degrees, half the SPD's 45), or the floor (the polygon of largest extent)
 // scaled about the origin in x and y, which narrows the grid that the floor stretches.
