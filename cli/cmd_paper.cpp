@@ -183,7 +183,10 @@ void add_paper(CLI::App& app) {
     cmd->add_option("--kernels", a->machine.kernels_dir, "kernel source folder (default: built in)");
     add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
-    cmd->callback([a] {
+    add_paper_gaps(*cmd);
+    cmd->require_subcommand(0, 1);
+    cmd->callback([a, cmd] {
+        if (!cmd->get_subcommands().empty()) return; // `nesshi paper gaps` ran its own callback
         run_paper_command(*a);
     });
 }

@@ -51,7 +51,8 @@ std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, cons
                                                          {"voxel_steps", c.voxel_steps},
                                                          {"nonempty_voxels", c.nonempty_voxels},
                                                          {"triangle_tests", c.triangle_tests},
-                                                         {"quadric_tests", c.quadric_tests}};
+                                                         {"quadric_tests", c.quadric_tests},
+                                                         {"quadric_two_roots", c.quadric_two_roots}};
     }
     j["traversal"] = trav;
     j["host"] = {{"setup_seconds", r.stats.setup_seconds},
@@ -70,11 +71,11 @@ std::string format_rays(const RenderStats& st) {
     o += fmt::format("  refraction rays     {:>12}   total internal reflections {}\n", s.refraction_rays,
                      s.total_internal_reflections);
     o += fmt::format("  secondary rays hit  {:>12}\n", s.secondary_rays_hit);
-    o += "traversal      rays      voxel steps   non-empty      tri tests   quadric tests\n";
+    o += "traversal      rays      voxel steps   non-empty      tri tests   quadric tests   two roots\n";
     for (int k = 0; k < kRayKinds; ++k) {
         const TraceCounters& c = st.traversal[static_cast<std::size_t>(k)];
-        o += fmt::format("  {:<10} {:>10} {:>14} {:>11} {:>14} {:>15}\n", ray_kind_name(static_cast<RayKind>(k)), c.rays,
-                         c.voxel_steps, c.nonempty_voxels, c.triangle_tests, c.quadric_tests);
+        o += fmt::format("  {:<10} {:>10} {:>14} {:>11} {:>14} {:>15} {:>11}\n", ray_kind_name(static_cast<RayKind>(k)),
+                         c.rays, c.voxel_steps, c.nonempty_voxels, c.triangle_tests, c.quadric_tests, c.quadric_two_roots);
     }
     o += fmt::format("time: setup {:.3f} s, trace {:.3f} s ({} threads)\n", st.setup_seconds, st.trace_seconds,
                      st.threads);

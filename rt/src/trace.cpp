@@ -23,6 +23,7 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) {
     nonempty_voxels += o.nonempty_voxels;
     triangle_tests += o.triangle_tests;
     quadric_tests += o.quadric_tests;
+    quadric_two_roots += o.quadric_two_roots;
     return *this;
 }
 
@@ -39,6 +40,7 @@ Hit intersect_shape(const ShapeSet& set, std::size_t si, const Ray& ray) {
         }
     } else {
         kernels::twins::QuadricHit r = kernels::twins::intersect_quadric(s.w.data(), s.two_sided(), ray.o, ray.d, ray.tmin);
+        h.two_roots = r.two_roots;
         if (r.hit) {
             h.hit = true;
             h.t = r.t;
@@ -89,6 +91,7 @@ bool intersect_voxel_nearest(const Grid& grid, const ShapeSet& set, const Ray& r
     for (; p != e; ++p) {
         count_test(set, *p, c);
         Hit h = intersect_shape(set, *p, ray);
+        c.quadric_two_roots += h.two_roots;
         if (!h.hit || !(h.t <= span.t_out) || !(h.t < ray.tmax)) continue;
         if (h.t < best.t || (h.t == best.t && h.shape < best.shape)) best = h;
     }
@@ -102,6 +105,7 @@ bool intersect_voxel_any(const Grid& grid, const ShapeSet& set, const Ray& ray, 
     for (; p != e; ++p) {
         count_test(set, *p, c);
         Hit h = intersect_shape(set, *p, ray);
+        c.quadric_two_roots += h.two_roots;
         if (h.hit && h.t < ray.tmax) return true;
     }
     return false;
@@ -132,6 +136,7 @@ Hit nearest_hit_brute(const ShapeSet& set, const Ray& ray, TraceCounters& c) {
     for (std::size_t si = 0; si < set.shapes.size(); ++si) {
         count_test(set, si, c);
         Hit h = intersect_shape(set, si, ray);
+        c.quadric_two_roots += h.two_roots;
         if (!h.hit || !(h.t < ray.tmax)) continue;
         if (h.t < best.t) best = h; // ascending shape order: a tie keeps the lower index
     }
@@ -143,6 +148,7 @@ bool any_hit_brute(const ShapeSet& set, const Ray& ray, TraceCounters& c) {
     for (std::size_t si = 0; si < set.shapes.size(); ++si) {
         count_test(set, si, c);
         Hit h = intersect_shape(set, si, ray);
+        c.quadric_two_roots += h.two_roots;
         if (h.hit && h.t < ray.tmax) return true;
     }
     return false;

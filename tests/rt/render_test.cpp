@@ -15,7 +15,8 @@ bool same_traversal(const RenderStats& a, const RenderStats& b) {
     for (std::size_t k = 0; k < kRayKinds; ++k) {
         const TraceCounters &x = a.traversal[k], &y = b.traversal[k];
         if (x.rays != y.rays || x.voxel_steps != y.voxel_steps || x.nonempty_voxels != y.nonempty_voxels ||
-            x.triangle_tests != y.triangle_tests || x.quadric_tests != y.quadric_tests)
+            x.triangle_tests != y.triangle_tests || x.quadric_tests != y.quadric_tests ||
+            x.quadric_two_roots != y.quadric_two_roots)
             return false;
     }
     return true;

@@ -107,3 +107,37 @@ TEST_CASE("Ray and hit records format with fmt", "[trace]") {
     h.t = 2.5f;
     CHECK(fmt::format("{}", h) == "hit primitive 4 (shape 7) t 2.5");
 }
+
+// The paper prices a quadric test at 50 cycles only when its quadratic has two distinct real roots,
+// so the counters keep those tests apart: a ray through a sphere, one beside it, and one behind.
+TEST_CASE("Quadric tests with two distinct real roots are counted apart", "[trace]") {
+    const Scene sc = parse_nff("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n"
+                               "f 1 0 0 1 0 0 0 0\ns 0 0 0 1\n",
+                               "two_roots.nff");
+    ShapeSet set = build_shapes(sc);
+    Grid g = build_grid(sc, set, 4);
+    TraceCounters c;
+    Ray through;
+    through.o = {0, 0, 5};
+    through.d = {0, 0, -1};
+    CHECK(nearest_hit(g, set, through, c).hit);
+    CHECK(c.quadric_tests >= 1);
+    CHECK(c.quadric_two_roots == c.quadric_tests); // every voxel on its way lists the sphere, every test has both roots
+    TraceCounters beside;
+    Ray past = through;
+    past.o = {0.99f, 0.99f, 5}; // inside the sphere's box, outside the sphere: tested, no real root
+    CHECK_FALSE(nearest_hit(g, set, past, beside).hit);
+    CHECK(beside.quadric_tests >= 1);
+    CHECK(beside.quadric_two_roots == 0);
+    TraceCounters behind;
+    Ray away = through;
+    away.o = {0, 0, -0.5f}; // starts inside, the front root behind it: a miss with two real roots
+    away.d = {0, 0, -1};
+    away.tmin = 0.1f; // the front root at t = -1.5 is behind, the back one (t = 0.5) does not count: one-sided
+    CHECK_FALSE(nearest_hit(g, set, away, behind).hit);
+    CHECK(behind.quadric_two_roots == behind.quadric_tests);
+    CHECK(behind.quadric_tests >= 1);
+    TraceCounters sum = c;
+    sum += beside;
+    CHECK(sum.quadric_two_roots == c.quadric_two_roots);
+}

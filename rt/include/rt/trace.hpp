@@ -30,6 +30,7 @@ struct Hit {
     std::int32_t entity = -1; // NFF primitive index
     float a = 0, b = 0;       // triangle weights of e1, e2 (for patch normals)
     bool front = true;        // quadric: hit on the visible/outside root
+    bool two_roots = false;   // quadric: the quadratic had two distinct real roots (hit or not)
 };
 
 struct TraceCounters {
@@ -38,6 +39,7 @@ struct TraceCounters {
     std::uint64_t nonempty_voxels = 0;  // visits that went to intersection (OS -> IC)
     std::uint64_t triangle_tests = 0;
     std::uint64_t quadric_tests = 0;
+    std::uint64_t quadric_two_roots = 0; // quadric tests whose quadratic had two distinct real roots
     TraceCounters& operator+=(const TraceCounters& o);
 };
 
