@@ -1,5 +1,6 @@
 // `nesshi debug`: single-step a program (interactive with line editing, or from a script).
 #include "commands.hpp"
+#include "fifo_files.hpp"
 #include "sim_load.hpp"
 
 #include "iss/channel.hpp"
@@ -26,14 +27,9 @@ void run_debug(const DebugOpts& o) {
     // program uses gets an unbounded queue, so sends never block. `run` and `restart` make them
     // again (the inputs refilled, the outputs emptied).
     std::vector<std::pair<uint32_t, std::vector<uint32_t>>> inputs;
+    check_channels_used(o.fifo_in, {}, o.input, *prog);
     for (const auto& spec : o.fifo_in) {
-        uint32_t ch = 0;
-        std::string file;
-        try {
-            std::tie(ch, file) = iss::parse_channel_spec(spec, 0);
-        } catch (const std::invalid_argument& e) {
-            throw UsageError(e.what());
-        }
+        const auto [ch, file] = channel_spec(spec, 0);
         inputs.emplace_back(ch, iss::read_word_file(file));
     }
     std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> chans;

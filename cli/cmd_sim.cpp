@@ -1,5 +1,6 @@
 // `nesshi sim`: run one processor standalone, print statistics, trace, FIFO files.
 #include "commands.hpp"
+#include "fifo_files.hpp"
 #include "outputs.hpp"
 #include "ranges.hpp"
 #include "sim_load.hpp"
@@ -35,15 +36,6 @@ struct SimOpts {
     bool quiet = false;
 };
 
-// "[CH=]FILE" -> (channel, file); the default channel is `def`. A bad channel is a usage error.
-std::pair<uint32_t, std::string> channel_spec(const std::string& spec, uint32_t def) {
-    try {
-        return iss::parse_channel_spec(spec, def);
-    } catch (const std::invalid_argument& e) {
-        throw UsageError(e.what());
-    }
-}
-
 // The channels of one processor: inputs fed from files (then closed), outputs collected.
 struct Fifos {
     std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> in, out;
@@ -67,27 +59,6 @@ Fifos make_fifos(const SimOpts& o, const std::vector<std::vector<uint32_t>>& inp
         f.out[ch] = std::make_unique<iss::QueueChannel>();
     }
     return f;
-}
-
-// A FIFO file for a channel the program never uses would change nothing (an input never read,
-// an output always empty): a usage error that names the channels it does use.
-void check_channels_used(const SimOpts& o, const iss::Program& prog) {
-    std::set<uint32_t> recv, send;
-    for (const auto& d : prog.ops()) {
-        const isa::Kind k = d.instr.info().kind;
-        if (k == isa::Kind::Recv) recv.insert(d.imm);
-        if (k == isa::Kind::Send) send.insert(d.imm);
-    }
-    auto check = [&](const char* option, const std::string& spec, uint32_t def, const std::set<uint32_t>& used,
-                     const char* verb) {
-        const uint32_t ch = channel_spec(spec, def).first;
-        if (used.count(ch)) return;
-        throw UsageError(fmt::format("{} {}: {} never {} on channel {} ({})", option, spec, o.input, verb, ch,
-                                     used.empty() ? fmt::format("it {} on no channel", verb)
-                                                  : fmt::format("it {} on {}", verb, fmt::join(used, ", "))));
-    };
-    for (const auto& spec : o.fifo_in) check("--fifo-in", spec, 0, recv, "receives");
-    for (const auto& spec : o.fifo_out) check("--fifo-out", spec, 1, send, "sends");
 }
 
 // --expect SPEC=FILE: the dump spec and the values read from FILE.
@@ -154,7 +125,7 @@ void run_sim(const SimOpts& o) {
     check_outputs({o.trace, o.stats_json});
     for (const auto& spec : o.fifo_out) check_output(channel_spec(spec, 1).second);
     auto prog = load_sim_input(o.input, o.machine);
-    check_channels_used(o, *prog);
+    check_channels_used(o.fifo_in, o.fifo_out, o.input, *prog);
     const std::vector<Expectation> expect = read_expectations(o, *prog);
     std::vector<std::vector<uint32_t>> inputs;
     for (const auto& spec : o.fifo_in) inputs.push_back(iss::read_word_file(channel_spec(spec, 0).second));
