@@ -32,7 +32,19 @@ struct Stage {
     bool starved = false;
     std::uint64_t starved_at = 0; // in->pushed() when it starved
 
-    // Earliest cycle at which the processor can make progress; kNever if it cannot now.
+    // Words the bundle at each pc receives (the turn rule's bounds).
+    std::vector<std::uint8_t> recv_need;
+    void count_receives() {
+        const iss::Program& p = proc->program();
+        recv_need.assign(p.size(), 0);
+        for (std::uint32_t pc = 0; pc < p.size(); ++pc) {
+            const iss::DecodedBundle& b = p.bundles()[pc];
+            for (std::uint32_t i = 0; i < b.count; ++i)
+                recv_need[pc] += p.ops()[b.first + i].instr.info().kind == isa::Kind::Recv;
+        }
+    }
+
+    // Model S: earliest cycle at which the processor can make progress; kNever if it cannot now.
     std::uint64_t next_event() const {
         if (starved && in->pushed() == starved_at) return kNever;
         switch (proc->status()) {
@@ -62,9 +74,11 @@ struct Stage {
     bool blocked_on_send() const {
         return proc->status() == iss::Status::Blocked && proc->blocked_channel() != abi::kChIn;
     }
-    // Runs up to `horizon` (exclusive) or until it blocks.
-    void run(std::uint64_t horizon) {
-        if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+    // Runs up to `horizon` (exclusive) or until it blocks; first waits until `earliest`, the
+    // turn rule's bound on its next action (pipelined models), or the room it waits for (S).
+    void run(std::uint64_t horizon, std::optional<std::uint64_t> earliest = std::nullopt) {
+        if (earliest) proc->idle_until(*earliest);
+        else if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
         if (horizon <= proc->cycle()) return;
         const std::uint64_t busy_before = busy();
         const iss::Status s = proc->run(horizon - proc->cycle());
@@ -191,6 +205,18 @@ class Pe {
         os_in_.consumer_proc = os_.proc.get();
         ic_in_.consumer_proc = ic_.proc.get();
         sc_os_.consumer_clock = sc_ic_.consumer_clock = &sc_.clock_ref();
+        os_in_.producer_proc = ic_.proc.get();
+        ic_in_.producer_proc = sc_os_.producer_proc = os_.proc.get();
+        sc_ic_.producer_proc = ic_.proc.get();
+        if (!serial_) { // stages 0 OS, 1 IC, 2 SC
+            os_in_.follow_turns(&turns_, 0, 1, 2);
+            ic_in_.follow_turns(&turns_, 1, 0);
+            sc_os_.follow_turns(&turns_, 2, 0);
+            sc_ic_.follow_turns(&turns_, 2, 1);
+            sc_.follow_turns(&turns_);
+            os_.count_receives();
+            ic_.count_receives();
+        }
         if (mo.cache.enabled) {
             cache_.emplace(mo.cache);
             ic_.proc->attach_cache("global", &*cache_);
@@ -201,14 +227,17 @@ class Pe {
     // is at or past `until` (dynamic balancing: DIS may give more corners at `until`).
     void run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done) {
         while (!sc_.done()) {
-            std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
-            int w = 0;
-            for (int i = 1; i < 3; ++i)
-                if (key[i] < key[w]) w = i;
-            if (key[w] == kNever) deadlock();
-            if ((serial_ ? std::max(key[w], now_) : key[w]) >= until) break;
-            if (serial_) step_serial(w, until);
-            else step_pipelined(key, w, until);
+            if (serial_) {
+                std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
+                int w = 0;
+                for (int i = 1; i < 3; ++i)
+                    if (key[i] < key[w]) w = i;
+                if (key[w] == kNever) deadlock();
+                if (std::max(key[w], now_) >= until) break;
+                step_serial(w, until);
+            } else if (!step_exact(until)) {
+                break;
+            }
             if (sc_.corners_done() != reported_) {
                 corners_done += sc_.corners_done() - reported_;
                 reported_ = sc_.corners_done();
@@ -254,23 +283,81 @@ class Pe {
             throw std::runtime_error(fmt::format("the PE passed the cycle limit ({} cycles)", mo_.max_cycles));
     }
 
-    void run_stage(int i, std::uint64_t horizon) {
-        if (i == 2) {
-            sc_.run(horizon);
-        } else {
-            (i == 0 ? os_ : ic_).run(horizon);
+    // The turn rule (turns.hpp). earliest(i, e): a lower bound on stage i's next FIFO action given
+    // the others' bounds `e`: a processor's cycle, or the arrival of the words its bundle receives
+    // (sent ones, or the earliest its producers can still send), or the room its send waits for;
+    // SC's (sc_stage.cpp).
+    static std::uint64_t plus(std::uint64_t t, std::uint64_t d) { return t == kNever ? kNever : t + d; }
+    std::uint64_t earliest(int i, const std::array<std::uint64_t, 3>& e) const {
+        if (i == 2) return sc_.earliest(e[0], e[1]);
+        const Stage& s = i == 0 ? os_ : ic_;
+        const iss::Status st = s.proc->status();
+        if (st == iss::Status::Halted || st == iss::Status::Faulted) return kNever;
+        const std::uint64_t cycle = s.proc->cycle();
+        if (st == iss::Status::Blocked && s.proc->blocked_channel() != abi::kChIn) {
+            const std::uint32_t ch = s.proc->blocked_channel();
+            const Fifo& o = *s.out[ch];
+            const std::uint64_t known = o.room_from(cycle, s.sends_needed(ch));
+            const int consumer = &o == &ic_in_ ? 1 : &o == &os_in_ ? 0 : 2;
+            return std::min(known == Fifo::kNone ? kNever : known, std::max(cycle, plus(e[consumer], 1)));
         }
+        const std::size_t need = s.recv_need[s.proc->pc()];
+        if (need == 0) return cycle;
+        std::uint64_t t; // when the need-th word can be there
+        if (need <= s.in->size()) {
+            t = s.in->arrival(need); // sent: nothing can enter before it
+        } else {
+            t = s.in->arrival(need); // held by DIS, or still to be sent by a producer
+            const std::uint32_t lat = s.in->latency();
+            t = std::min(t, i == 0 ? std::min(plus(e[1], lat), plus(e[2], lat)) : plus(e[0], lat));
+        }
+        return t == kNever ? kNever : std::max(cycle, t);
+    }
+    // Every stage's bound, by relaxation from "never" (a stage's bound depends on the others'
+    // through what they send it). `without`: leave that stage out (it is the one about to run).
+    std::array<std::uint64_t, 3> bounds(int without) const {
+        std::array<std::uint64_t, 3> e{kNever, kNever, kNever};
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int i = 0; i < 3; ++i) {
+                if (i == without) continue;
+                const std::uint64_t v = earliest(i, e);
+                if (v < e[i]) {
+                    e[i] = v;
+                    changed = true;
+                }
+            }
+        }
+        return e;
+    }
+    bool wants_room(int i) const {
+        if (i == 2) return sc_.wants_room();
+        const Stage& s = i == 0 ? os_ : ic_;
+        return s.blocked_on_send();
     }
 
-    // Runs stage w (the earliest key) up to `quantum` past the next stage, or alone for a while;
-    // never past `until` (where DIS may hand out more corners).
-    void step_pipelined(const std::uint64_t (&key)[3], int w, std::uint64_t until) {
-        std::uint64_t second = kNever;
+    // Runs the stage with the earliest bound (ties: OS, IC, SC) with its turn horizon, and up to
+    // `quantum` cycles past it (it blocks at its first FIFO action past the horizon; the quantum
+    // only sets how often the host switches stages); never past `until` (DIS may hand out more
+    // corners there). Returns false when every stage's next action is at or past `until`.
+    bool step_exact(std::uint64_t until) {
+        const std::array<std::uint64_t, 3> e = bounds(-1);
+        int w = 0;
+        for (int i = 1; i < 3; ++i)
+            if (e[i] < e[w]) w = i;
+        if (e[w] == kNever) deadlock();
+        if (e[w] >= until) return false;
+        const std::array<std::uint64_t, 3> others = bounds(w);
+        std::uint64_t turn = kNever;
         for (int i = 0; i < 3; ++i)
-            if (i != w) second = std::min(second, key[i]);
-        std::uint64_t horizon = second == kNever ? key[w] + kSoloChunk : std::max(second, key[w]) + mo_.quantum;
-        check_limit(key[w]);
-        run_stage(w, std::min(horizon, until));
+            if (i != w && others[i] != kNever) turn = std::min(turn, i < w ? others[i] - 1 : others[i]);
+        turns_.horizon[w] = turn;
+        for (int i = 0; i < 3; ++i) turns_.wants_room[i] = i != w && wants_room(i);
+        const std::uint64_t horizon = turn == kNever ? e[w] + kSoloChunk : std::max(turn, e[w]) + mo_.quantum;
+        check_limit(e[w]);
+        if (w == 2) sc_.run(std::min(horizon, until));
+        else (w == 0 ? os_ : ic_).run(std::min(horizon, until), e[w]);
+        return true;
     }
 
     // Model S: one processor, one clock `now_`; stage w runs until it has no work.
@@ -357,6 +444,7 @@ class Pe {
     ScStage sc_;
     Stage os_, ic_;
     std::optional<iss::SetAssocCache> cache_;
+    Turns turns_;
     std::uint64_t now_ = 0;
     std::uint64_t reported_ = 0; // corners already added to the caller's count
     std::vector<Sample> samples_;
