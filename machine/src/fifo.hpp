@@ -60,20 +60,25 @@ class Fifo final : public iss::Channel {
     std::uint32_t pop() override {
         const std::uint64_t now = consumer_now();
         release(now);
+        if (turns_) max_size_ = std::max(max_size_, sent_by(now) + held_.size());
         const std::uint32_t v = words_.front().value;
         words_.pop_front();
+        if (sent_) --sent_;
         room_cycle = now + 1;
         if (turns_ && bounded_) {
             pops_.push_back(now);
             if (pops_.size() > 2 * capacity_ + 16) pops_.pop_front();
             for (int p : {producer_, host_producer_})
-                if (p >= 0 && turns_->wants_room[p]) turns_->enables(consumer_, p, now + 1);
+                if (p >= 0 && turns_->wants_room[p])
+                    turns_->enables(consumer_, p, std::max(now + 1, p == host_producer_ ? 0 : producer_now()));
         }
         return v;
     }
     // The producer processor's side.
     std::size_t writable() const override {
-        const std::uint64_t now = producer_proc ? producer_proc->cycle() : 0;
+        // One producer and no capacity: its words enter in its own order and nothing limits it.
+        if (!bounded_ && host_producer_ < 0) return std::numeric_limits<std::size_t>::max();
+        const std::uint64_t now = producer_now();
         if (!may_act(producer_, now)) return 0;
         release(now);
         return room_at(now);
@@ -81,7 +86,10 @@ class Fifo final : public iss::Channel {
     void push(std::uint32_t word, std::uint64_t cycle) override {
         release(cycle);
         put(word, cycle + latency_);
-        if (turns_) turns_->enables(producer_, consumer_, cycle + latency_);
+        // The consumer may act from the word's arrival (not before its own clock); usually the
+        // message's first word has lowered the horizon already.
+        if (turns_ && cycle + latency_ <= turns_->horizon[producer_])
+            turns_->enables(producer_, consumer_, std::max(cycle + latency_, consumer_now()));
     }
 
     // Host side (SC and DIS, stage host_producer): a message of words sent one per cycle from
@@ -95,7 +103,7 @@ class Fifo final : public iss::Channel {
             for (std::size_t i = 0; i < msg.size(); ++i) put(msg[i], first + i + latency_);
         }
         pushed_ += ahead && turns_ ? msg.size() : 0;
-        if (turns_) turns_->enables(host_producer_, consumer_, first + latency_);
+        if (turns_) turns_->enables(host_producer_, consumer_, std::max(first + latency_, consumer_now()));
     }
     // Room for a sender acting at `now`: words sent before it and not received before it.
     std::size_t room_at(std::uint64_t now) const {
@@ -131,7 +139,9 @@ class Fifo final : public iss::Channel {
     bool all_ready(std::uint64_t cycle) const {
         return std::all_of(words_.begin(), words_.end(), [cycle](const Word& w) { return w.ready <= cycle; });
     }
-    std::size_t max_size() const { return max_size_; }
+    // The most words sent and not yet received (under the turn rule counted at each receive, as
+    // a sender may run ahead of its consumer; else at each send).
+    std::size_t max_size() const { return std::max(max_size_, words_.size() + held_.size()); }
     std::uint64_t pushed() const { return pushed_; }
     // The cycle after the consumer's last receive: the earliest cycle a producer held on a full
     // FIFO can go on. The consumer is a processor or the SC model (its clock).
@@ -150,6 +160,8 @@ class Fifo final : public iss::Channel {
         std::uint64_t ready, first; // `first`: the send cycle of its message's first word
     };
     bool may_act(int stage, std::uint64_t cycle) const { return !turns_ || turns_->may_act(stage, cycle); }
+    // A stage's clock: it acts at no earlier cycle, whatever it is sent.
+    std::uint64_t producer_now() const { return producer_proc ? producer_proc->cycle() : 0; }
     std::uint64_t consumer_now() const {
         return consumer_proc ? consumer_proc->cycle() : consumer_clock ? *consumer_clock : 0;
     }
@@ -171,7 +183,16 @@ class Fifo final : public iss::Channel {
         ++pushed_;
         note_size();
     }
-    void note_size() { max_size_ = std::max(max_size_, words_.size() + held_.size()); }
+    void note_size() {
+        if (!turns_) max_size_ = std::max(max_size_, words_.size() + held_.size());
+    }
+    // Words sent by cycle `now`: all of them with several producers (they send in turn), else
+    // those whose send cycle has come (one producer's words arrive in order).
+    std::size_t sent_by(std::uint64_t now) {
+        if (host_producer_ >= 0) return words_.size();
+        while (sent_ < words_.size() && words_[sent_].ready <= now + latency_) ++sent_;
+        return sent_;
+    }
 
     mutable std::deque<Word> words_;
     mutable std::deque<Held> held_;
@@ -182,6 +203,7 @@ class Fifo final : public iss::Channel {
     Turns* turns_ = nullptr;
     int consumer_ = 0, producer_ = -1, host_producer_ = -1;
     std::size_t max_size_ = 0;
+    std::size_t sent_ = 0; // one producer: the words from the front sent by the last receive's cycle
     std::uint64_t pushed_ = 0;
 };
 

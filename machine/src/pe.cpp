@@ -32,16 +32,52 @@ struct Stage {
     bool starved = false;
     std::uint64_t starved_at = 0; // in->pushed() when it starved
 
-    // Words the bundle at each pc receives (the turn rule's bounds).
+    // For the turn rule's bounds, per pc: the words the bundle receives, and the fewest bundles
+    // (each at least a cycle) before a FIFO bundle can issue, through any branch (an indirect
+    // jump may lead to one at once; after a halt, never).
     std::vector<std::uint8_t> recv_need;
-    void count_receives() {
+    std::vector<std::uint32_t> fifo_dist;
+    void analyse() {
         const iss::Program& p = proc->program();
-        recv_need.assign(p.size(), 0);
-        for (std::uint32_t pc = 0; pc < p.size(); ++pc) {
+        const std::uint32_t n = p.size();
+        constexpr std::uint32_t kFar = ~std::uint32_t{0};
+        recv_need.assign(n, 0);
+        fifo_dist.assign(n, kFar);
+        std::vector<std::vector<std::uint32_t>> preds(n);
+        std::vector<std::uint32_t> queue;
+        for (std::uint32_t pc = 0; pc < n; ++pc) {
             const iss::DecodedBundle& b = p.bundles()[pc];
-            for (std::uint32_t i = 0; i < b.count; ++i)
-                recv_need[pc] += p.ops()[b.first + i].instr.info().kind == isa::Kind::Recv;
+            bool falls = true, indirect = false;
+            for (std::uint32_t i = 0; i < b.count; ++i) {
+                const iss::DecodedOp& d = p.ops()[b.first + i];
+                switch (d.instr.info().kind) {
+                case isa::Kind::Recv: ++recv_need[pc]; break;
+                case isa::Kind::Branch:
+                    if (d.imm < n) preds[d.imm].push_back(pc);
+                    break;
+                case isa::Kind::Jump:
+                case isa::Kind::JumpLink:
+                    falls = false;
+                    if (d.imm < n) preds[d.imm].push_back(pc);
+                    break;
+                case isa::Kind::JumpReg: indirect = true; falls = false; break;
+                case isa::Kind::Halt: falls = false; break;
+                default: break;
+                }
+            }
+            if (falls && pc + 1 < n) preds[pc + 1].push_back(pc);
+            if (b.fifo) fifo_dist[pc] = 0;
+            else if (indirect) fifo_dist[pc] = 1;
+            if (fifo_dist[pc] != kFar) queue.push_back(pc);
         }
+        // Breadth first from the FIFO bundles backwards; indirect jumps (distance 1) join in order.
+        std::stable_sort(queue.begin(), queue.end(), [&](std::uint32_t a, std::uint32_t b) { return fifo_dist[a] < fifo_dist[b]; });
+        for (std::size_t h = 0; h < queue.size(); ++h)
+            for (std::uint32_t q : preds[queue[h]])
+                if (fifo_dist[q] == kFar) {
+                    fifo_dist[q] = fifo_dist[queue[h]] + 1;
+                    queue.push_back(q);
+                }
     }
 
     // Model S: earliest cycle at which the processor can make progress; kNever if it cannot now.
@@ -74,11 +110,15 @@ struct Stage {
     bool blocked_on_send() const {
         return proc->status() == iss::Status::Blocked && proc->blocked_channel() != abi::kChIn;
     }
-    // Runs up to `horizon` (exclusive) or until it blocks; first waits until `earliest`, the
-    // turn rule's bound on its next action (pipelined models), or the room it waits for (S).
+    // Runs up to `horizon` (exclusive) or until it blocks; first, when it waits at a FIFO bundle,
+    // waits until `earliest`, the turn rule's bound on its next action (pipelined models), or
+    // the room it waits for (S).
     void run(std::uint64_t horizon, std::optional<std::uint64_t> earliest = std::nullopt) {
-        if (earliest) proc->idle_until(*earliest);
-        else if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+        if (!earliest) {
+            if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+        } else if (proc->status() == iss::Status::Blocked || recv_need[proc->pc()]) {
+            proc->idle_until(*earliest);
+        }
         if (horizon <= proc->cycle()) return;
         const std::uint64_t busy_before = busy();
         const iss::Status s = proc->run(horizon - proc->cycle());
@@ -214,8 +254,8 @@ class Pe {
             sc_os_.follow_turns(&turns_, 2, 0);
             sc_ic_.follow_turns(&turns_, 2, 1);
             sc_.follow_turns(&turns_);
-            os_.count_receives();
-            ic_.count_receives();
+            os_.analyse();
+            ic_.analyse();
         }
         if (mo.cache.enabled) {
             cache_.emplace(mo.cache);
@@ -283,57 +323,46 @@ class Pe {
             throw std::runtime_error(fmt::format("the PE passed the cycle limit ({} cycles)", mo_.max_cycles));
     }
 
-    // The turn rule (turns.hpp). earliest(i, e): a lower bound on stage i's next FIFO action given
-    // the others' bounds `e`: a processor's cycle, or the arrival of the words its bundle receives
-    // (sent ones, or the earliest its producers can still send), or the room its send waits for;
-    // SC's (sc_stage.cpp).
-    static std::uint64_t plus(std::uint64_t t, std::uint64_t d) { return t == kNever ? kNever : t + d; }
-    std::uint64_t earliest(int i, const std::array<std::uint64_t, 3>& e) const {
-        if (i == 2) return sc_.earliest(e[0], e[1]);
+    // The turn rule's bound on a processor's next FIFO action (turns.hpp): its cycle, or the
+    // arrival of the words its bundle receives (sent ones, or what its producers can still send),
+    // or the room its send waits for.
+    Bound bound(int i) const {
+        if (i == 2) return sc_.bound();
         const Stage& s = i == 0 ? os_ : ic_;
+        Bound b;
         const iss::Status st = s.proc->status();
-        if (st == iss::Status::Halted || st == iss::Status::Faulted) return kNever;
+        if (st == iss::Status::Halted || st == iss::Status::Faulted) return b;
         const std::uint64_t cycle = s.proc->cycle();
+        b.floor = cycle;
         if (st == iss::Status::Blocked && s.proc->blocked_channel() != abi::kChIn) {
             const std::uint32_t ch = s.proc->blocked_channel();
             const Fifo& o = *s.out[ch];
             const std::uint64_t known = o.room_from(cycle, s.sends_needed(ch));
-            const int consumer = &o == &ic_in_ ? 1 : &o == &os_in_ ? 0 : 2;
-            return std::min(known == Fifo::kNone ? kNever : known, std::max(cycle, plus(e[consumer], 1)));
+            b.own = known == Fifo::kNone ? kNever : known;
+            b.via[&o == &ic_in_ ? 1 : &o == &os_in_ ? 0 : 2] = 1; // the consumer's next receive
+            return b;
         }
         const std::size_t need = s.recv_need[s.proc->pc()];
-        if (need == 0) return cycle;
-        std::uint64_t t; // when the need-th word can be there
-        if (need <= s.in->size()) {
-            t = s.in->arrival(need); // sent: nothing can enter before it
-        } else {
-            t = s.in->arrival(need); // held by DIS, or still to be sent by a producer
-            const std::uint32_t lat = s.in->latency();
-            t = std::min(t, i == 0 ? std::min(plus(e[1], lat), plus(e[2], lat)) : plus(e[0], lat));
+        if (need == 0) {
+            const std::uint32_t d = s.fifo_dist[s.proc->pc()];
+            b.own = d == ~std::uint32_t{0} ? cycle : cycle + d; // (a halt ahead: it runs to it)
+            return b;
         }
-        return t == kNever ? kNever : std::max(cycle, t);
-    }
-    // Every stage's bound, by relaxation from "never" (a stage's bound depends on the others'
-    // through what they send it). `without`: leave that stage out (it is the one about to run).
-    std::array<std::uint64_t, 3> bounds(int without) const {
-        std::array<std::uint64_t, 3> e{kNever, kNever, kNever};
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (int i = 0; i < 3; ++i) {
-                if (i == without) continue;
-                const std::uint64_t v = earliest(i, e);
-                if (v < e[i]) {
-                    e[i] = v;
-                    changed = true;
-                }
-            }
+        const std::uint64_t t = s.in->arrival(need);
+        b.own = t == kNever ? kNever : std::max(cycle, t);
+        if (need > s.in->size()) { // not all sent: a producer may still send some first
+            b.via[i == 0 ? 1 : 0] = s.in->latency();
+            if (i == 0) b.via[2] = s.in->latency();
         }
-        return e;
+        return b;
     }
+    // The stage waits for room on a full FIFO (not merely for its turn to send).
     bool wants_room(int i) const {
         if (i == 2) return sc_.wants_room();
         const Stage& s = i == 0 ? os_ : ic_;
-        return s.blocked_on_send();
+        if (!s.blocked_on_send()) return false;
+        const std::uint32_t ch = s.proc->blocked_channel();
+        return s.out[ch]->room_at(s.proc->cycle()) < s.sends_needed(ch);
     }
 
     // Runs the stage with the earliest bound (ties: OS, IC, SC) with its turn horizon, and up to
@@ -341,13 +370,14 @@ class Pe {
     // only sets how often the host switches stages); never past `until` (DIS may hand out more
     // corners there). Returns false when every stage's next action is at or past `until`.
     bool step_exact(std::uint64_t until) {
-        const std::array<std::uint64_t, 3> e = bounds(-1);
+        const std::array<Bound, 3> b{bound(0), bound(1), bound(2)};
+        const std::array<std::uint64_t, 3> e = settle(b, -1);
         int w = 0;
         for (int i = 1; i < 3; ++i)
             if (e[i] < e[w]) w = i;
         if (e[w] == kNever) deadlock();
         if (e[w] >= until) return false;
-        const std::array<std::uint64_t, 3> others = bounds(w);
+        const std::array<std::uint64_t, 3> others = settle(b, w);
         std::uint64_t turn = kNever;
         for (int i = 0; i < 3; ++i)
             if (i != w && others[i] != kNever) turn = std::min(turn, i < w ? others[i] - 1 : others[i]);

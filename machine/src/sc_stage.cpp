@@ -126,18 +126,22 @@ void ScStage::idle_until(std::uint64_t cycle) {
     clock_ = cycle;
 }
 
-std::uint64_t ScStage::earliest(std::uint64_t os, std::uint64_t ic) const {
-    const auto plus = [](std::uint64_t t, std::uint64_t d) { return t == kNever ? kNever : t + d; };
-    if (fill_due_ || after_msg_) return clock_;
-    if (wants_room()) { // room comes from receives known so far, or from the OS's next
+Bound ScStage::bound() const {
+    Bound b;
+    b.floor = clock_;
+    if (fill_due_ || after_msg_) {
+        b.own = clock_;
+    } else if (sends_due()) { // room from receives so far, or from the OS's next
         const std::uint64_t known = to_os_.room_from(clock_, kNewRayWords);
-        return std::min(known == Fifo::kNone ? kNever : known, std::max(clock_, plus(os, 1)));
+        b.own = known == Fifo::kNone ? kNever : known;
+        b.via[0] = 1;
+    } else { // the next complete message: one already sent, or one the OS or the IC may still send
+        const std::uint64_t t = std::min(from_os_.arrival(1), from_ic_.arrival(static_cast<std::size_t>(abi::get("MSG_HIT"))));
+        b.own = t == kNever ? kNever : std::max(clock_, t);
+        b.via[0] = from_os_.latency();
+        b.via[1] = from_ic_.latency();
     }
-    // The next complete message: one already sent, or one the OS or the IC may still send.
-    const std::size_t hit_words = static_cast<std::size_t>(abi::get("MSG_HIT"));
-    const std::uint64_t t = std::min({from_os_.arrival(1), plus(os, from_os_.latency()),
-                                      from_ic_.arrival(hit_words), plus(ic, from_ic_.latency())});
-    return t == kNever ? kNever : std::max(clock_, t);
+    return b;
 }
 
 void ScStage::run(std::uint64_t horizon) {

@@ -52,10 +52,12 @@ class ScStage {
     // Earliest cycle at which SC can act (a complete message arrived, or a send waiting for room);
     // kNever when it has nothing to do. Model S's scheduler.
     std::uint64_t next_event() const;
-    // The turn rule's lower bound on SC's next action, given the OS's and the IC's (pe.cpp).
-    std::uint64_t earliest(std::uint64_t os, std::uint64_t ic) const;
-    // SC's ray sends wait for room on a full FIFO.
-    bool wants_room() const { return !outgoing_.empty() && !free_slots_.empty(); }
+    // The turn rule's bound on SC's next action (turns.hpp).
+    Bound bound() const;
+    // SC has rays to send (and slots for them).
+    bool sends_due() const { return !outgoing_.empty() && !free_slots_.empty(); }
+    // ...and waits for room on a full FIFO.
+    bool wants_room() const { return sends_due() && to_os_.room_at(clock_) < sc_cost::kNewRayWords; }
     // Pipelined models: act only when it has the turn (turns.hpp; stage 2).
     void follow_turns(const Turns* t) { turns_ = t; }
     // Acts while its next action starts before `horizon`.

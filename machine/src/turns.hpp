@@ -30,4 +30,35 @@ struct Turns {
     }
 };
 
+// A lower bound on a stage's next FIFO action: `own` from what it holds now (its clock, words
+// already sent to it, room already free), else no earlier than `floor` and than another stage j's
+// next action + via[j] (what j may still send it, or the room j may free). kNever: none.
+struct Bound {
+    static constexpr std::uint64_t kNever = ~std::uint64_t{0};
+    std::uint64_t own = kNever, floor = 0;
+    std::array<std::uint64_t, 3> via{kNever, kNever, kNever};
+};
+
+// Every stage's bound: the least over the chains of actions that could lead to its next one,
+// by Dijkstra's rule (each step adds at least one cycle, so the smallest tentative bound is
+// final). `without`: leave that stage out, for the stage about to run.
+inline std::array<std::uint64_t, 3> settle(const std::array<Bound, 3>& b, int without) {
+    constexpr std::uint64_t kNever = Bound::kNever;
+    std::array<std::uint64_t, 3> e{b[0].own, b[1].own, b[2].own};
+    std::array<bool, 3> done{};
+    if (without >= 0) {
+        e[without] = kNever;
+        done[without] = true;
+    }
+    for (;;) {
+        int k = -1;
+        for (int i = 0; i < 3; ++i)
+            if (!done[i] && e[i] != kNever && (k < 0 || e[i] < e[k])) k = i;
+        if (k < 0) return e;
+        done[k] = true;
+        for (int i = 0; i < 3; ++i)
+            if (!done[i] && b[i].via[k] != kNever) e[i] = std::min(e[i], std::max(b[i].floor, e[k] + b[i].via[k]));
+    }
+}
+
 } // namespace nesshi::machine
