@@ -367,6 +367,22 @@ template <bool Checked, bool Traced> struct EngineLoop {
                                fmt::format("{} is written twice in cycle {}", reg_name(d.dst), t), std::move(notes));
                 return false;
             }
+            // Stalls (memory latency, a cache, FIFO waits) delay later bundles, which the static
+            // checks cannot see: a later write may then land before an earlier one.
+            if (c.busy[d.dst] > t) {
+                std::vector<std::string> notes{fmt::format("{} writes {} in cycle {}", op_note(prog, d, c.cycle),
+                                                           reg_name(d.dst), t)};
+                for (const PendingWrite& w : p.inflight())
+                    if (w.reg == d.dst)
+                        notes.push_back(fmt::format("{} writes {} in cycle {}",
+                                                    op_note(prog, prog.ops()[w.op], w.lands - prog.ops()[w.op].latency),
+                                                    reg_name(w.reg), w.lands));
+                st = fault(FaultKind::WriteOrder,
+                           fmt::format("{} is written in cycle {}, before an earlier write to it lands in cycle {}",
+                                       reg_name(d.dst), t, c.busy[d.dst]),
+                           std::move(notes));
+                return false;
+            }
             c.busy[d.dst] = std::max(c.busy[d.dst], t);
         }
         return true;
