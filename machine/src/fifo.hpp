@@ -40,9 +40,16 @@ class Fifo final : public iss::Channel {
     }
 
     // iss::Channel, the consumer's side.
+    // A word sent is in its final place (sends into this FIFO follow the turn rule, or there is
+    // one producer): the consumer needs its turn only to wait for words not sent yet, to let held
+    // messages enter, or to free room that a producer may be waiting for.
     std::size_t readable(std::uint64_t cycle, std::size_t enough) const override {
-        if (!may_act(consumer_, cycle)) return 0;
-        release(cycle);
+        asked_ = enough;
+        if (!may_act(consumer_, cycle)) {
+            if (bounded_ || words_.size() < enough) return 0;
+        } else {
+            release(cycle);
+        }
         std::size_t n = 0;
         for (const Word& w : words_) {
             if (w.ready > cycle || n == enough) break;
@@ -52,14 +59,17 @@ class Fifo final : public iss::Channel {
     }
     std::optional<std::uint64_t> front_ready() const override {
         const std::uint64_t now = consumer_now();
-        if (!may_act(consumer_, now)) return std::nullopt;
-        release(now);
+        if (!may_act(consumer_, now)) {
+            if (bounded_ || words_.size() < asked_) return std::nullopt;
+        } else {
+            release(now);
+        }
         if (words_.empty()) return std::nullopt;
         return words_.front().ready;
     }
     std::uint32_t pop() override {
         const std::uint64_t now = consumer_now();
-        release(now);
+        if (may_act(consumer_, now)) release(now);
         if (turns_) max_size_ = std::max(max_size_, sent_by(now) + held_.size());
         const std::uint32_t v = words_.front().value;
         words_.pop_front();
@@ -194,6 +204,7 @@ class Fifo final : public iss::Channel {
         return sent_;
     }
 
+    mutable std::size_t asked_ = 1; // words the consumer's bundle receives (its last readable())
     mutable std::deque<Word> words_;
     mutable std::deque<Held> held_;
     std::deque<std::uint64_t> pops_; // cycles of the latest receives (bounded FIFOs under the turn rule)
