@@ -18,6 +18,7 @@ std::string_view fault_rule(FaultKind k) {
     case FaultKind::InflightRead: return "inflight-read";
     case FaultKind::WritePorts: return "write-ports";
     case FaultKind::DupWrite: return "dup-write";
+    case FaultKind::WriteOrder: return "write-order";
     case FaultKind::Divergence: return "divergence";
     }
     return "?";

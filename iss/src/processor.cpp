@@ -337,6 +337,22 @@ template <bool Checked, bool Traced> struct EngineLoop {
                                fmt::format("{} is written twice in cycle {}", reg_name(d.dst), t), std::move(notes));
                 return false;
             }
+            // Stalls (memory latency, a cache, FIFO waits) delay later bundles, which the static
+            // checks cannot see: a later write may then land before an earlier one.
+            if (c.busy[d.dst] > t) {
+                std::vector<std::string> notes{fmt::format("{} writes {} in cycle {}", op_note(prog, d, c.cycle),
+                                                           reg_name(d.dst), t)};
+                for (const PendingWrite& w : p.inflight())
+                    if (w.reg == d.dst)
+                        notes.push_back(fmt::format("{} writes {} in cycle {}",
+                                                    op_note(prog, prog.ops()[w.op], w.lands - prog.ops()[w.op].latency),
+                                                    reg_name(w.reg), w.lands));
+                st = fault(FaultKind::WriteOrder,
+                           fmt::format("{} is written in cycle {}, before an earlier write to it lands in cycle {}",
+                                       reg_name(d.dst), t, c.busy[d.dst]),
+                           std::move(notes));
+                return false;
+            }
             c.busy[d.dst] = std::max(c.busy[d.dst], t);
         }
         return true;
@@ -396,9 +412,10 @@ template <bool Checked, bool Traced> struct EngineLoop {
             }
             const DecodedBundle& b = *bp;
             if (c.event) [[unlikely]] {
-                if (c.event & kFault) {
+                if (c.event & kFault) { // the rest of the bundle issued: its latency-1 results land now
                     c.event = 0;
                     c.stall = 0;
+                    for (uint32_t i = 0; i < c.nwb; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
                     c.nwb = 0;
                     return memory_fault();
                 }

@@ -1,7 +1,16 @@
-// A FIFO between two stages of one PE. Each word carries the cycle from which it can be
-// received (send cycle + 1 + the link's extra latency), so a consumer running ahead of its
-// producer waits exactly until the word exists. Capacity counts words sent and not yet received.
+// A FIFO between stages of one PE. Each word carries the cycle from which it can be received
+// (send cycle + 1 + the link's extra latency), so a consumer running ahead of its producer waits
+// exactly until the word exists. Capacity counts words sent and not yet received.
+//
+// Pipelined models follow the turn rule (turns.hpp): the consumer's gates and the processor
+// producer's gates answer "nothing yet" / "no room" when their stage does not have the turn, so
+// words enter in the order of their send cycles and every action sees the FIFO as it is at its
+// cycle. DIS sends eye rays on its own link ahead of SC's clock: those messages are held and
+// enter behind everything sent before their first word. Messages never interleave: a message
+// enters whole, at its first word's send cycle.
 #pragma once
+
+#include "turns.hpp"
 
 #include "iss/channel.hpp"
 #include "iss/processor.hpp"
@@ -10,16 +19,37 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <span>
 
 namespace nesshi::machine {
 
 class Fifo final : public iss::Channel {
   public:
-    Fifo(std::size_t capacity, std::uint32_t extra_latency)
-        : capacity_(capacity ? capacity : std::numeric_limits<std::size_t>::max()), latency_(1 + extra_latency) {}
+    static constexpr std::uint64_t kNone = ~std::uint64_t{0};
 
-    // iss::Channel (the simulated processors' side)
+    Fifo(std::size_t capacity, std::uint32_t extra_latency)
+        : capacity_(capacity ? capacity : std::numeric_limits<std::size_t>::max()), bounded_(capacity != 0),
+          latency_(1 + extra_latency) {}
+
+    // Who acts on it, for the turn rule; without a call (model S) every gate answers at once.
+    void follow_turns(Turns* t, int consumer, int producer, int host_producer = -1) {
+        turns_ = t;
+        consumer_ = consumer;
+        producer_ = producer;
+        host_producer_ = host_producer;
+    }
+
+    // iss::Channel, the consumer's side.
+    // A word sent is in its final place (sends into this FIFO follow the turn rule, or there is
+    // one producer): the consumer needs its turn only to wait for words not sent yet, to let held
+    // messages enter, or to free room that a producer may be waiting for.
     std::size_t readable(std::uint64_t cycle, std::size_t enough) const override {
+        asked_ = enough;
+        if (!may_act(consumer_, cycle)) {
+            if (bounded_ || words_.size() < enough) return 0;
+        } else {
+            release(cycle);
+        }
         std::size_t n = 0;
         for (const Word& w : words_) {
             if (w.ready > cycle || n == enough) break;
@@ -28,50 +58,163 @@ class Fifo final : public iss::Channel {
         return n;
     }
     std::optional<std::uint64_t> front_ready() const override {
+        const std::uint64_t now = consumer_now();
+        if (!may_act(consumer_, now)) {
+            if (bounded_ || words_.size() < asked_) return std::nullopt;
+        } else {
+            release(now);
+        }
         if (words_.empty()) return std::nullopt;
         return words_.front().ready;
     }
     std::uint32_t pop() override {
+        const std::uint64_t now = consumer_now();
+        if (may_act(consumer_, now)) release(now);
+        if (turns_) max_size_ = std::max(max_size_, sent_by(now) + held_.size());
         const std::uint32_t v = words_.front().value;
         words_.pop_front();
-        room_cycle = 1 + (consumer_proc ? consumer_proc->cycle() : consumer_clock ? *consumer_clock : 0);
+        if (sent_) --sent_;
+        room_cycle = now + 1;
+        if (turns_ && bounded_) {
+            pops_.push_back(now);
+            if (pops_.size() > 2 * capacity_ + 16) pops_.pop_front();
+            for (int p : {producer_, host_producer_})
+                if (p >= 0 && turns_->wants_room[p])
+                    turns_->enables(consumer_, p, std::max(now + 1, p == host_producer_ ? 0 : producer_now()));
+        }
         return v;
     }
-    std::size_t writable() const override { return capacity_ - std::min(capacity_, words_.size()); }
-    void push(std::uint32_t word, std::uint64_t cycle) override { put(word, cycle + latency_); }
+    // The producer processor's side.
+    std::size_t writable() const override {
+        // One producer and no capacity: its words enter in its own order and nothing limits it.
+        if (!bounded_ && host_producer_ < 0) return std::numeric_limits<std::size_t>::max();
+        const std::uint64_t now = producer_now();
+        if (!may_act(producer_, now)) return 0;
+        release(now);
+        return room_at(now);
+    }
+    void push(std::uint32_t word, std::uint64_t cycle) override {
+        release(cycle);
+        put(word, cycle + latency_);
+        // The consumer may act from the word's arrival (not before its own clock); usually the
+        // message's first word has lowered the horizon already.
+        if (turns_ && cycle + latency_ <= turns_->horizon[producer_])
+            turns_->enables(producer_, consumer_, std::max(cycle + latency_, consumer_now()));
+    }
 
-    // Host side: the SC model, the distributor, the scheduler.
-    void send_at(std::uint32_t word, std::uint64_t cycle) { put(word, cycle + latency_); }
+    // Host side (SC and DIS, stage host_producer): a message of words sent one per cycle from
+    // `first`; `ahead` (DIS) when `first` may be past the acting stage's cycle.
+    void send(std::span<const std::uint32_t> msg, std::uint64_t first, bool ahead) {
+        if (ahead && turns_) {
+            for (std::size_t i = 0; i < msg.size(); ++i) held_.push_back({msg[i], first + i + latency_, first});
+            note_size();
+        } else {
+            release(first);
+            for (std::size_t i = 0; i < msg.size(); ++i) put(msg[i], first + i + latency_);
+        }
+        pushed_ += ahead && turns_ ? msg.size() : 0;
+        if (turns_) turns_->enables(host_producer_, consumer_, std::max(first + latency_, consumer_now()));
+    }
+    // Room for a sender acting at `now`: words sent before it and not received before it.
+    std::size_t room_at(std::uint64_t now) const {
+        if (!bounded_) return std::numeric_limits<std::size_t>::max();
+        const std::size_t used = words_.size() + held_.size() + pops_since(now);
+        return capacity_ - std::min(capacity_, used);
+    }
+    // The earliest cycle from `now` at which `need` words fit, from the receives so far; kNone
+    // when only receives still to come can make room.
+    std::uint64_t room_from(std::uint64_t now, std::size_t need) const {
+        if (!bounded_) return now;
+        const std::size_t base = words_.size() + held_.size();
+        if (capacity_ < base + need) return kNone;
+        const std::size_t spare = capacity_ - base - need; // receives at or after the cycle that may still count
+        if (pops_since(now) <= spare) return now;
+        return pops_[pops_.size() - spare - 1] + 1;
+    }
+
+    bool bounded() const { return bounded_; }
+    std::uint32_t latency() const { return latency_; }
     std::size_t size() const { return words_.size(); }
+    std::size_t held() const { return held_.size(); }
     bool empty() const { return words_.empty(); }
     std::uint32_t word(std::size_t i) const { return words_[i].value; }
     std::uint64_t ready(std::size_t i) const { return words_[i].ready; }
-    // Words from two producers interleave in push order, so ready times need not be monotone.
+    // The cycle the n-th word waiting (1-based, sent or held) can be received: kNone when fewer
+    // are known. Held words come after every sent one.
+    std::uint64_t arrival(std::size_t n) const {
+        if (n <= words_.size()) return words_[n - 1].ready;
+        if (n <= words_.size() + held_.size()) return held_[n - words_.size() - 1].ready;
+        return kNone;
+    }
     bool all_ready(std::uint64_t cycle) const {
         return std::all_of(words_.begin(), words_.end(), [cycle](const Word& w) { return w.ready <= cycle; });
     }
-    std::size_t max_size() const { return max_size_; }
+    // The most words sent and not yet received (under the turn rule counted at each receive, as
+    // a sender may run ahead of its consumer; else at each send).
+    std::size_t max_size() const { return std::max(max_size_, words_.size() + held_.size()); }
     std::uint64_t pushed() const { return pushed_; }
     // The cycle after the consumer's last receive: the earliest cycle a producer held on a full
     // FIFO can go on. The consumer is a processor or the SC model (its clock).
     std::uint64_t room_cycle = 0;
     const iss::Processor* consumer_proc = nullptr;
     const std::uint64_t* consumer_clock = nullptr;
+    const iss::Processor* producer_proc = nullptr;
 
   private:
     struct Word {
         std::uint32_t value;
         std::uint64_t ready;
     };
+    struct Held {
+        std::uint32_t value;
+        std::uint64_t ready, first; // `first`: the send cycle of its message's first word
+    };
+    bool may_act(int stage, std::uint64_t cycle) const { return !turns_ || turns_->may_act(stage, cycle); }
+    // A stage's clock: it acts at no earlier cycle, whatever it is sent.
+    std::uint64_t producer_now() const { return producer_proc ? producer_proc->cycle() : 0; }
+    std::uint64_t consumer_now() const {
+        return consumer_proc ? consumer_proc->cycle() : consumer_clock ? *consumer_clock : 0;
+    }
+    // Held messages whose first word is sent by `now` enter (the turn rule: nothing sent before
+    // them is still to come). Mutable state: the Channel's queries are const.
+    void release(std::uint64_t now) const {
+        while (!held_.empty() && held_.front().first <= now) {
+            words_.push_back({held_.front().value, held_.front().ready});
+            held_.pop_front();
+        }
+    }
+    std::size_t pops_since(std::uint64_t now) const {
+        std::size_t n = 0;
+        for (auto it = pops_.rbegin(); it != pops_.rend() && *it >= now; ++it) ++n;
+        return n;
+    }
     void put(std::uint32_t v, std::uint64_t ready) {
         words_.push_back({v, ready});
-        max_size_ = std::max(max_size_, words_.size());
         ++pushed_;
+        note_size();
     }
-    std::deque<Word> words_;
+    void note_size() {
+        if (!turns_) max_size_ = std::max(max_size_, words_.size() + held_.size());
+    }
+    // Words sent by cycle `now`: all of them with several producers (they send in turn), else
+    // those whose send cycle has come (one producer's words arrive in order).
+    std::size_t sent_by(std::uint64_t now) {
+        if (host_producer_ >= 0) return words_.size();
+        while (sent_ < words_.size() && words_[sent_].ready <= now + latency_) ++sent_;
+        return sent_;
+    }
+
+    mutable std::size_t asked_ = 1; // words the consumer's bundle receives (its last readable())
+    mutable std::deque<Word> words_;
+    mutable std::deque<Held> held_;
+    std::deque<std::uint64_t> pops_; // cycles of the latest receives (bounded FIFOs under the turn rule)
     std::size_t capacity_;
+    bool bounded_;
     std::uint32_t latency_;
+    Turns* turns_ = nullptr;
+    int consumer_ = 0, producer_ = -1, host_producer_ = -1;
     std::size_t max_size_ = 0;
+    std::size_t sent_ = 0; // one producer: the words from the front sent by the last receive's cycle
     std::uint64_t pushed_ = 0;
 };
 

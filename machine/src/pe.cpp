@@ -32,7 +32,55 @@ struct Stage {
     bool starved = false;
     std::uint64_t starved_at = 0; // in->pushed() when it starved
 
-    // Earliest cycle at which the processor can make progress; kNever if it cannot now.
+    // For the turn rule's bounds, per pc: the words the bundle receives, and the fewest bundles
+    // (each at least a cycle) before a FIFO bundle can issue, through any branch (an indirect
+    // jump may lead to one at once; after a halt, never).
+    std::vector<std::uint8_t> recv_need;
+    std::vector<std::uint32_t> fifo_dist;
+    void analyse() {
+        const iss::Program& p = proc->program();
+        const std::uint32_t n = p.size();
+        constexpr std::uint32_t kFar = ~std::uint32_t{0};
+        recv_need.assign(n, 0);
+        fifo_dist.assign(n, kFar);
+        std::vector<std::vector<std::uint32_t>> preds(n);
+        std::vector<std::uint32_t> queue;
+        for (std::uint32_t pc = 0; pc < n; ++pc) {
+            const iss::DecodedBundle& b = p.bundles()[pc];
+            bool falls = true, indirect = false;
+            for (std::uint32_t i = 0; i < b.count; ++i) {
+                const iss::DecodedOp& d = p.ops()[b.first + i];
+                switch (d.instr.info().kind) {
+                case isa::Kind::Recv: ++recv_need[pc]; break;
+                case isa::Kind::Branch:
+                    if (d.imm < n) preds[d.imm].push_back(pc);
+                    break;
+                case isa::Kind::Jump:
+                case isa::Kind::JumpLink:
+                    falls = false;
+                    if (d.imm < n) preds[d.imm].push_back(pc);
+                    break;
+                case isa::Kind::JumpReg: indirect = true; falls = false; break;
+                case isa::Kind::Halt: falls = false; break;
+                default: break;
+                }
+            }
+            if (falls && pc + 1 < n) preds[pc + 1].push_back(pc);
+            if (b.fifo) fifo_dist[pc] = 0;
+            else if (indirect) fifo_dist[pc] = 1;
+            if (fifo_dist[pc] != kFar) queue.push_back(pc);
+        }
+        // Breadth first from the FIFO bundles backwards; indirect jumps (distance 1) join in order.
+        std::stable_sort(queue.begin(), queue.end(), [&](std::uint32_t a, std::uint32_t b) { return fifo_dist[a] < fifo_dist[b]; });
+        for (std::size_t h = 0; h < queue.size(); ++h)
+            for (std::uint32_t q : preds[queue[h]])
+                if (fifo_dist[q] == kFar) {
+                    fifo_dist[q] = fifo_dist[queue[h]] + 1;
+                    queue.push_back(q);
+                }
+    }
+
+    // Model S: earliest cycle at which the processor can make progress; kNever if it cannot now.
     std::uint64_t next_event() const {
         if (starved && in->pushed() == starved_at) return kNever;
         switch (proc->status()) {
@@ -62,9 +110,15 @@ struct Stage {
     bool blocked_on_send() const {
         return proc->status() == iss::Status::Blocked && proc->blocked_channel() != abi::kChIn;
     }
-    // Runs up to `horizon` (exclusive) or until it blocks.
-    void run(std::uint64_t horizon) {
-        if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+    // Runs up to `horizon` (exclusive) or until it blocks; first, when it waits at a FIFO bundle,
+    // waits until `earliest`, the turn rule's bound on its next action (pipelined models), or
+    // the room it waits for (S).
+    void run(std::uint64_t horizon, std::optional<std::uint64_t> earliest = std::nullopt) {
+        if (!earliest) {
+            if (blocked_on_send()) proc->idle_until(out[proc->blocked_channel()]->room_cycle);
+        } else if (proc->status() == iss::Status::Blocked || recv_need[proc->pc()]) {
+            proc->idle_until(*earliest);
+        }
         if (horizon <= proc->cycle()) return;
         const std::uint64_t busy_before = busy();
         const iss::Status s = proc->run(horizon - proc->cycle());
@@ -191,6 +245,18 @@ class Pe {
         os_in_.consumer_proc = os_.proc.get();
         ic_in_.consumer_proc = ic_.proc.get();
         sc_os_.consumer_clock = sc_ic_.consumer_clock = &sc_.clock_ref();
+        os_in_.producer_proc = ic_.proc.get();
+        ic_in_.producer_proc = sc_os_.producer_proc = os_.proc.get();
+        sc_ic_.producer_proc = ic_.proc.get();
+        if (!serial_) { // stages 0 OS, 1 IC, 2 SC
+            os_in_.follow_turns(&turns_, 0, 1, 2);
+            ic_in_.follow_turns(&turns_, 1, 0);
+            sc_os_.follow_turns(&turns_, 2, 0);
+            sc_ic_.follow_turns(&turns_, 2, 1);
+            sc_.follow_turns(&turns_);
+            os_.analyse();
+            ic_.analyse();
+        }
         if (mo.cache.enabled) {
             cache_.emplace(mo.cache);
             ic_.proc->attach_cache("global", &*cache_);
@@ -201,14 +267,17 @@ class Pe {
     // is at or past `until` (dynamic balancing: DIS may give more corners at `until`).
     void run_until(std::uint64_t until, std::atomic<std::uint64_t>& corners_done) {
         while (!sc_.done()) {
-            std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
-            int w = 0;
-            for (int i = 1; i < 3; ++i)
-                if (key[i] < key[w]) w = i;
-            if (key[w] == kNever) deadlock();
-            if ((serial_ ? std::max(key[w], now_) : key[w]) >= until) break;
-            if (serial_) step_serial(w, until);
-            else step_pipelined(key, w, until);
+            if (serial_) {
+                std::uint64_t key[3] = {next_of(0), next_of(1), next_of(2)};
+                int w = 0;
+                for (int i = 1; i < 3; ++i)
+                    if (key[i] < key[w]) w = i;
+                if (key[w] == kNever) deadlock();
+                if (std::max(key[w], now_) >= until) break;
+                step_serial(w, until);
+            } else if (!step_exact(until)) {
+                break;
+            }
             if (sc_.corners_done() != reported_) {
                 corners_done += sc_.corners_done() - reported_;
                 reported_ = sc_.corners_done();
@@ -254,23 +323,71 @@ class Pe {
             throw std::runtime_error(fmt::format("the PE passed the cycle limit ({} cycles)", mo_.max_cycles));
     }
 
-    void run_stage(int i, std::uint64_t horizon) {
-        if (i == 2) {
-            sc_.run(horizon);
-        } else {
-            (i == 0 ? os_ : ic_).run(horizon);
+    // The turn rule's bound on a processor's next FIFO action (turns.hpp): its cycle, or the
+    // arrival of the words its bundle receives (sent ones, or what its producers can still send),
+    // or the room its send waits for.
+    Bound bound(int i) const {
+        if (i == 2) return sc_.bound();
+        const Stage& s = i == 0 ? os_ : ic_;
+        Bound b;
+        const iss::Status st = s.proc->status();
+        if (st == iss::Status::Halted || st == iss::Status::Faulted) return b;
+        const std::uint64_t cycle = s.proc->cycle();
+        b.floor = cycle;
+        if (st == iss::Status::Blocked && s.proc->blocked_channel() != abi::kChIn) {
+            const std::uint32_t ch = s.proc->blocked_channel();
+            const Fifo& o = *s.out[ch];
+            const std::uint64_t known = o.room_from(cycle, s.sends_needed(ch));
+            b.own = known == Fifo::kNone ? kNever : known;
+            b.via[&o == &ic_in_ ? 1 : &o == &os_in_ ? 0 : 2] = 1; // the consumer's next receive
+            return b;
         }
+        const std::size_t need = s.recv_need[s.proc->pc()];
+        if (need == 0) {
+            const std::uint32_t d = s.fifo_dist[s.proc->pc()];
+            b.own = d == ~std::uint32_t{0} ? cycle : cycle + d; // (a halt ahead: it runs to it)
+            return b;
+        }
+        const std::uint64_t t = s.in->arrival(need);
+        b.own = t == kNever ? kNever : std::max(cycle, t);
+        if (need > s.in->size()) { // not all sent: a producer may still send some first
+            b.via[i == 0 ? 1 : 0] = s.in->latency();
+            if (i == 0) b.via[2] = s.in->latency();
+        }
+        return b;
+    }
+    // The stage waits for room on a full FIFO (not merely for its turn to send).
+    bool wants_room(int i) const {
+        if (i == 2) return sc_.wants_room();
+        const Stage& s = i == 0 ? os_ : ic_;
+        if (!s.blocked_on_send()) return false;
+        const std::uint32_t ch = s.proc->blocked_channel();
+        return s.out[ch]->room_at(s.proc->cycle()) < s.sends_needed(ch);
     }
 
-    // Runs stage w (the earliest key) up to `quantum` past the next stage, or alone for a while;
-    // never past `until` (where DIS may hand out more corners).
-    void step_pipelined(const std::uint64_t (&key)[3], int w, std::uint64_t until) {
-        std::uint64_t second = kNever;
+    // Runs the stage with the earliest bound (ties: OS, IC, SC) with its turn horizon, and up to
+    // `quantum` cycles past it (it blocks at its first FIFO action past the horizon; the quantum
+    // only sets how often the host switches stages); never past `until` (DIS may hand out more
+    // corners there). Returns false when every stage's next action is at or past `until`.
+    bool step_exact(std::uint64_t until) {
+        const std::array<Bound, 3> b{bound(0), bound(1), bound(2)};
+        const std::array<std::uint64_t, 3> e = settle(b, -1);
+        int w = 0;
+        for (int i = 1; i < 3; ++i)
+            if (e[i] < e[w]) w = i;
+        if (e[w] == kNever) deadlock();
+        if (e[w] >= until) return false;
+        const std::array<std::uint64_t, 3> others = settle(b, w);
+        std::uint64_t turn = kNever;
         for (int i = 0; i < 3; ++i)
-            if (i != w) second = std::min(second, key[i]);
-        std::uint64_t horizon = second == kNever ? key[w] + kSoloChunk : std::max(second, key[w]) + mo_.quantum;
-        check_limit(key[w]);
-        run_stage(w, std::min(horizon, until));
+            if (i != w && others[i] != kNever) turn = std::min(turn, i < w ? others[i] - 1 : others[i]);
+        turns_.horizon[w] = turn;
+        for (int i = 0; i < 3; ++i) turns_.wants_room[i] = i != w && wants_room(i);
+        const std::uint64_t horizon = turn == kNever ? e[w] + kSoloChunk : std::max(turn, e[w]) + mo_.quantum;
+        check_limit(e[w]);
+        if (w == 2) sc_.run(std::min(horizon, until));
+        else (w == 0 ? os_ : ic_).run(std::min(horizon, until), e[w]);
+        return true;
     }
 
     // Model S: one processor, one clock `now_`; stage w runs until it has no work.
@@ -357,6 +474,7 @@ class Pe {
     ScStage sc_;
     Stage os_, ic_;
     std::optional<iss::SetAssocCache> cache_;
+    Turns turns_;
     std::uint64_t now_ = 0;
     std::uint64_t reported_ = 0; // corners already added to the caller's count
     std::vector<Sample> samples_;

@@ -1,13 +1,12 @@
 // One processing element: OS and IC processors (ISS instances running the kernels), the SC
 // stage, the FIFOs between them, and the scheduler that advances their clocks.
 //
-// Scheduling (models M and V). Each processor keeps its own clock. The scheduler repeatedly
-// runs the stage whose next action is earliest, up to `quantum` cycles past the next stage's
-// clock, then lets that one catch up; a stage blocked on an empty FIFO is not run until a word
-// is there, and then waits (counted) until the word's ready cycle. Words are stamped with the
-// sender's cycle, so receive times are exact; the only approximation is the order in which
-// words of two producers into one FIFO (OS input: DIS, SC and IC) are queued, which is off by
-// at most `quantum` cycles. Everything is a function of the inputs: deterministic.
+// Scheduling (models M and V). Each processor keeps its own clock. FIFO actions follow the turn
+// rule (turns.hpp), so their order, and every cycle, is the same whatever the host's
+// interleaving: the scheduler repeatedly runs the stage with the earliest bound on its next FIFO
+// action (pe.cpp) with its turn horizon, and up to `quantum` cycles past it (a performance
+// setting only); a stage waiting on a FIFO is not run until it can act, and then waits (counted)
+// until its word's ready cycle or its room. Everything is a function of the inputs: deterministic.
 // Model S: the three stages share one clock; whichever stage has work runs to completion of
 // that work while the others wait, so the PE's time is the sum of the stages' loads.
 #pragma once

@@ -46,7 +46,7 @@ ScStage::ScStage(const rt::PreparedScene& prep, const rt::RenderOptions& opt, co
 void ScStage::dis_fill(std::uint64_t at) {
     dis_clock_ = std::max(dis_clock_, at);
     while (in_flight_ < window_ && !pending_.empty() && !free_slots_.empty() &&
-           to_os_.writable() >= sc_cost::kNewRayWords) {
+           to_os_.room_at(dis_clock_) >= sc_cost::kNewRayWords) {
         const std::uint32_t corner = pending_.front();
         pending_.pop_front();
         const int cw = sink_.width + 1;
@@ -85,10 +85,9 @@ void ScStage::give(std::uint32_t corner, std::uint64_t at) {
 void ScStage::send_ray(const rt::Ray& r, std::uint32_t slot, std::uint64_t& at, bool charge_sc) {
     const abi::Tag tag{slot, tag_kind(r.kind), static_cast<std::uint32_t>(r.depth)};
     const abi::NewRay nr{tag.word(), {r.o.x, r.o.y, r.o.z}, {r.d.x, r.d.y, r.d.z}, r.tmin, r.tmax};
-    for (std::uint32_t w : nr.words()) {
-        to_os_.send_at(w, at);
-        ++at;
-    }
+    const auto words = nr.words();
+    to_os_.send(words, at, !charge_sc); // DIS's link runs ahead of SC's clock
+    at += words.size();
     if (charge_sc) {
         cycles.communication += kNewRayWords;
         cycles.words_sent += kNewRayWords;
@@ -102,7 +101,7 @@ void ScStage::spawn(const rt::Ray& ray, SlotRec rec) {
 }
 
 void ScStage::flush_sends() {
-    while (!outgoing_.empty() && !free_slots_.empty() && to_os_.writable() >= kNewRayWords) {
+    while (!outgoing_.empty() && !free_slots_.empty() && to_os_.room_at(clock_) >= kNewRayWords) {
         const Outgoing o = outgoing_.front();
         outgoing_.pop_front();
         const std::uint32_t slot = free_slots_.back();
@@ -114,7 +113,7 @@ void ScStage::flush_sends() {
 
 std::uint64_t ScStage::next_event() const {
     if (!outgoing_.empty() && !free_slots_.empty()) // a send waits for room in the OS's FIFO
-        return to_os_.writable() >= kNewRayWords ? std::max(clock_, to_os_.room_cycle) : kNever;
+        return to_os_.room_at(clock_) >= kNewRayWords ? std::max(clock_, to_os_.room_cycle) : kNever;
     std::uint64_t t = kNever;
     if (!from_os_.empty()) t = from_os_.ready(0);
     if (from_ic_.size() >= static_cast<std::size_t>(abi::get("MSG_HIT"))) t = std::min(t, from_ic_.ready(abi::get("MSG_HIT") - 1));
@@ -127,12 +126,46 @@ void ScStage::idle_until(std::uint64_t cycle) {
     clock_ = cycle;
 }
 
+Bound ScStage::bound() const {
+    Bound b;
+    b.floor = clock_;
+    if (fill_due_ || after_msg_) {
+        b.own = clock_;
+    } else if (sends_due()) { // room from receives so far, or from the OS's next
+        const std::uint64_t known = to_os_.room_from(clock_, kNewRayWords);
+        b.own = known == Fifo::kNone ? kNever : known;
+        b.via[0] = 1;
+    } else { // the next complete message: one already sent, or one the OS or the IC may still send
+        const std::uint64_t t = std::min(from_os_.arrival(1), from_ic_.arrival(static_cast<std::size_t>(abi::get("MSG_HIT"))));
+        b.own = t == kNever ? kNever : std::max(clock_, t);
+        b.via[0] = from_os_.latency();
+        b.via[1] = from_ic_.latency();
+    }
+    return b;
+}
+
 void ScStage::run(std::uint64_t horizon) {
     const std::size_t hit_words = static_cast<std::size_t>(abi::get("MSG_HIT"));
     for (;;) {
+        if (fill_due_ || after_msg_) { // what handling a message leads to, in the order it did
+            if (turns_ && (clock_ >= horizon || !may_act(clock_))) return;
+            if (fill_due_) dis_fill(clock_);
+            fill_due_ = after_msg_ = false;
+            flush_sends();
+            if (dis_held_ && !free_slots_.empty()) dis_fill(clock_);
+            continue;
+        }
         if (!outgoing_.empty() && !free_slots_.empty()) {
-            if (to_os_.writable() < kNewRayWords) return; // held on a full FIFO
-            idle_until(to_os_.room_cycle);
+            std::uint64_t t = kNever;
+            if (turns_) { // exact: the first cycle with room, from the receives so far
+                const std::uint64_t known = to_os_.room_from(clock_, kNewRayWords);
+                t = known == Fifo::kNone ? kNever : known;
+                if (t >= horizon || !may_act(t)) return;
+            } else {
+                if (to_os_.room_at(clock_) < kNewRayWords) return; // held on a full FIFO
+                t = to_os_.room_cycle;
+            }
+            idle_until(t);
             flush_sends();
             continue;
         }
@@ -143,7 +176,7 @@ void ScStage::run(std::uint64_t horizon) {
         const std::uint64_t ic_ready = ic_msg ? from_ic_.ready(hit_words - 1) : kNever;
         const bool take_os = os_ready <= ic_ready;
         const std::uint64_t start = std::max(clock_, take_os ? os_ready : ic_ready);
-        if (start >= horizon) return;
+        if (start >= horizon || !may_act(start)) return;
         idle_until(start);
         if (take_os) {
             const std::uint32_t tag = from_os_.pop();
@@ -157,8 +190,7 @@ void ScStage::run(std::uint64_t horizon) {
             cycles.words_received += hit_words;
             on_hit(w);
         }
-        flush_sends();
-        if (dis_held_ && !free_slots_.empty()) dis_fill(clock_);
+        after_msg_ = true;
     }
 }
 
@@ -261,7 +293,7 @@ void ScStage::resolved(int t) {
     free_trees_.push_back(t);
     --in_flight_;
     ++finished_;
-    dis_fill(clock_);
+    fill_due_ = true;
 }
 
 rt::Col ScStage::combine(const Tree& t, int node) {

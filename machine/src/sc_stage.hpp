@@ -50,8 +50,16 @@ class ScStage {
             int window, int ray_slots, CornerSink sink, Fifo& from_os, Fifo& from_ic, Fifo& to_os);
 
     // Earliest cycle at which SC can act (a complete message arrived, or a send waiting for room);
-    // kNever when it has nothing to do.
+    // kNever when it has nothing to do. Model S's scheduler.
     std::uint64_t next_event() const;
+    // The turn rule's bound on SC's next action (turns.hpp).
+    Bound bound() const;
+    // SC has rays to send (and slots for them).
+    bool sends_due() const { return !outgoing_.empty() && !free_slots_.empty(); }
+    // ...and waits for room on a full FIFO.
+    bool wants_room() const { return sends_due() && to_os_.room_at(clock_) < sc_cost::kNewRayWords; }
+    // Pipelined models: act only when it has the turn (turns.hpp; stage 2).
+    void follow_turns(const Turns* t) { turns_ = t; }
     // Acts while its next action starts before `horizon`.
     void run(std::uint64_t horizon);
     // Model S: the one processor is busy elsewhere until `cycle`.
@@ -138,6 +146,11 @@ class ScStage {
     std::size_t ray_slots_ = 0;
     bool limited_ = false;          // ray_slots below OS_SLOTS
     bool dis_held_ = false;         // limited, and DIS has a corner and window room but no slot
+    // After a message: DIS's top-up (a corner finished) and SC's sends, at the clock the handling
+    // ended, done when SC has the turn there.
+    bool fill_due_ = false, after_msg_ = false;
+    const Turns* turns_ = nullptr;
+    bool may_act(std::uint64_t cycle) const { return !turns_ || turns_->may_act(2, cycle); }
     std::deque<Outgoing> outgoing_;
 };
 

@@ -74,7 +74,7 @@ const std::vector<std::pair<std::string, std::string>>& sweep_axis_names() {
         {"ray_slots", "rays in flight per PE (default: capacity / 12 with bounded FIFOs)"},
         {"fifo_capacity", "words per FIFO (0 = unbounded)"},
         {"fifo_latency", "extra cycles from a send to its receive"},
-        {"quantum", "scheduling slack between a PE's stages"},
+        {"quantum", "host switching of a PE's stages (no result depends on it)"},
         {"cache", "IC cache over global memory (true/false; any cache_* axis turns it on)"},
         {"cache_size", "IC cache bytes"},
         {"cache_ways", "IC cache ways"},

@@ -74,6 +74,34 @@ TEST_CASE("two writes of one register landing in the same cycle") {
     CHECK(f.notes.size() == 2);
 }
 
+// Writes to one register land in program order. fdiv f1 (latency 4) then fadd f1 (latency 1)
+// lands the newer value first and the older over it: the checked engine stops (write-order).
+// A load stall between them moves the fadd, so the same code can land both in one cycle
+// (dup-write) or in order: the static checks assume one cycle per bundle and cannot see it.
+struct Stall : CacheModel {
+    uint32_t cycles;
+    explicit Stall(uint32_t n) : cycles(n) {}
+    uint32_t access(uint32_t, uint32_t, bool) override { return cycles; }
+};
+
+TEST_CASE("writes to one register must land in program order whatever the stalls") {
+    const std::vector<Bundle> code{{op("fdiv", 1, 2, 3), op("lw", 5, 0, 0, 0)}, {op("nop")}, {op("fadd", 1, 4, 5)},
+                                   {op("halt")}};
+    auto c = make_proc("os", code, Engine::Checked);
+    const Fault& f = run_to_fault(*c);
+    CHECK(f.kind == FaultKind::WriteOrder);
+    CHECK(f.message == "f1 is written in cycle 3, before an earlier write to it lands in cycle 4");
+    CHECK(f.notes.size() == 2);
+    for (uint32_t stall : {1u, 2u}) { // fadd issues in cycle 2 + stall: lands with fdiv, then after it
+        INFO("stall " << stall);
+        auto p = make_proc("os", code, Engine::Checked);
+        Stall model(stall);
+        p->attach_cache(p->program().machine().memories[0].name, &model);
+        if (stall == 1) CHECK(run_to_fault(*p).kind == FaultKind::DupWrite);
+        else CHECK(p->run(100) == Status::Halted);
+    }
+}
+
 TEST_CASE("reading a register whose write is in flight") {
     auto c = make_proc("os", {{op("fdiv", 1, 2, 3)}, {op("fadd", 4, 1, 1)}, {op("halt")}}, Engine::Checked);
     const Fault& f = run_to_fault(*c);

@@ -260,8 +260,10 @@ TEST_CASE("Rays in flight limited to capacity / 12: small FIFOs never fill, neve
         require_accounting(r.machine);
         CHECK(r.machine.max_fifo_words <= 12 * static_cast<std::size_t>(mo.ray_slots));
     }
-    // Refraction (mount) and big ray trees (gears): at the smallest capacity both deadlock even
-    // with a window of 1 corner, so no window works there; the ray limit does, on every model.
+    // Big ray trees (gears): at the smallest capacity it deadlocks even with a window of 1 corner,
+    // so no window works there (mount, with refraction, gets through at 1 corner: capacity counts
+    // the words sent by the sender's cycle, not those a producer running ahead has queued); the
+    // ray limit works on every model.
     for (const char* name : {"mount:1", "gears:1"}) {
         const PreparedScene prep = prepare(load_scene(name), 20);
         const RenderOptions o = small(12);
@@ -269,7 +271,10 @@ TEST_CASE("Rays in flight limited to capacity / 12: small FIFOs never fill, neve
         machine::Options one_corner = model(machine::Model::V);
         one_corner.fifo_capacity = 16;
         one_corner.window = 1;
-        CHECK_THROWS_WITH(machine::render(prep, o, one_corner), Catch::Contains("deadlock"));
+        if (std::string(name) == "gears:1")
+            CHECK_THROWS_WITH(machine::render(prep, o, one_corner), Catch::Contains("deadlock"));
+        else
+            require_same_result(nat, machine::render(prep, o, one_corner).render);
         for (machine::Model m : {machine::Model::V, machine::Model::M, machine::Model::S})
             for (std::size_t cap : {16, 64}) {
                 INFO(name << " model " << machine::model_name(m) << ", capacity " << cap);

@@ -28,6 +28,7 @@ enum class FaultKind : uint8_t {
     InflightRead, // checked engine: a source register has a write still in flight
     WritePorts,   // checked engine: more writes land in one cycle than the file has ports
     DupWrite,     // checked engine: two writes to one register land in the same cycle
+    WriteOrder,   // checked engine: a write lands before an earlier-issued one to its register
     Divergence,   // lock-step: the engines disagree
 };
 std::string_view fault_rule(FaultKind k); // "write-ports", ...

@@ -54,7 +54,7 @@ struct Options {
     // flight no FIFO ever fills and bounded FIFOs cannot deadlock (deadlock_free_ray_slots).
     int ray_slots = 0;
     std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
-    std::uint64_t quantum = 32;       // scheduling slack between a PE's processors (cycles)
+    std::uint64_t quantum = 32;       // host switching of a PE's stages (cycles past a turn); no result depends on it
     CacheOptions cache;
     // IC data placement (kernels/image.hpp): the records, voxel table and lists go to the resident
     // memory when they all fit in it; else the most-referenced shape records (by the number of voxel

@@ -1,0 +1,64 @@
+// The turn rule that makes a PE's FIFO traffic independent of how the host interleaves its
+// stages. A stage (0 OS, 1 IC, 2 SC) may act on a FIFO (receive, send, SC's handling of a
+// message, a DIS top-up) at cycle p only when every other stage's earliest possible next action
+// is later than p, or at p with a higher stage index (ties: OS, then IC, then SC). So every FIFO
+// action happens in (cycle, stage) order, whatever the scheduler's quantum.
+//
+// The scheduler gives the stage it runs a horizon: the last cycle at which it has its turn,
+// from the other stages' earliest actions (pe.cpp). What the running stage does can only move
+// the others earlier through what it sends them (or the room it frees for them), so a send or
+// a pop lowers its own horizon here; a FIFO gate past the horizon answers "not now" and the
+// processor blocks until the scheduler hands it the turn again.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+
+namespace nesshi::machine {
+
+struct Turns {
+    static constexpr std::uint64_t kAlways = ~std::uint64_t{0};
+    std::array<std::uint64_t, 3> horizon{kAlways, kAlways, kAlways};
+    std::array<bool, 3> wants_room{}; // the stage waits for room on a full FIFO (set with the horizon)
+
+    bool may_act(int stage, std::uint64_t p) const { return p <= horizon[stage]; }
+    // `stage` made it possible for `other` to act from cycle `from` on: `other` goes first at `from`
+    // when its index is lower.
+    void enables(int stage, int other, std::uint64_t from) {
+        horizon[stage] = std::min(horizon[stage], other < stage ? from - 1 : from);
+    }
+};
+
+// A lower bound on a stage's next FIFO action: `own` from what it holds now (its clock, words
+// already sent to it, room already free), else no earlier than `floor` and than another stage j's
+// next action + via[j] (what j may still send it, or the room j may free). kNever: none.
+struct Bound {
+    static constexpr std::uint64_t kNever = ~std::uint64_t{0};
+    std::uint64_t own = kNever, floor = 0;
+    std::array<std::uint64_t, 3> via{kNever, kNever, kNever};
+};
+
+// Every stage's bound: the least over the chains of actions that could lead to its next one,
+// by Dijkstra's rule (each step adds at least one cycle, so the smallest tentative bound is
+// final). `without`: leave that stage out, for the stage about to run.
+inline std::array<std::uint64_t, 3> settle(const std::array<Bound, 3>& b, int without) {
+    constexpr std::uint64_t kNever = Bound::kNever;
+    std::array<std::uint64_t, 3> e{b[0].own, b[1].own, b[2].own};
+    std::array<bool, 3> done{};
+    if (without >= 0) {
+        e[without] = kNever;
+        done[without] = true;
+    }
+    for (;;) {
+        int k = -1;
+        for (int i = 0; i < 3; ++i)
+            if (!done[i] && e[i] != kNever && (k < 0 || e[i] < e[k])) k = i;
+        if (k < 0) return e;
+        done[k] = true;
+        for (int i = 0; i < 3; ++i)
+            if (!done[i] && b[i].via[k] != kNever) e[i] = std::min(e[i], std::max(b[i].floor, e[k] + b[i].via[k]));
+    }
+}
+
+} // namespace nesshi::machine
