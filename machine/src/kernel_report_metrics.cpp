@@ -28,7 +28,7 @@ std::string paper_range(const char* what, const double (&ilp)[2], const double (
 // The 3DDDA rows of one machine: the loop and set-up on the empty grid, the rest on the sparse one.
 void dda_metrics(std::vector<KernelMetric>& out, const std::string& m) {
     const bool os = m == "os";
-    KernelMetric step = metric("dda_step", m, Workload::EmptyGrid, os ? L{"loop"} : L{"loop", "step_x", "not_x", "step_y", "step_z"},
+    KernelMetric step = metric("dda_step", m, Workload::EmptyGrid, os ? L{"loop", "__sa_kernel"} : L{"loop", "step_x", "not_x", "step_y", "step_z"},
                                PerWhat::Loads, os ? kPaper.dda_step_vliw : kPaper.dda_step_seq);
     if (os) {
         // the loop is unrolled twice: one pass is two steps
