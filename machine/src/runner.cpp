@@ -79,7 +79,8 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
             // earlier than written).
             // A `.pipeline` region (the OS voxel loop) is modulo-scheduled for m: the code around it
             // is legalized with the region as its sequential meaning, then the region goes back in.
-            const std::string& src = sources.text(pk);
+            // `#if machine` sections (the os preset's hand loop) are resolved for m first.
+            const std::string src = sched::machine_sections(sources.text(pk), name, m);
             const bool region = src.find("\n        .pipeline") != std::string::npos;
             try {
                 const sched::Legalized hand = sched::legalize(region ? sched::sequential_region(src, name, m) : src, name,

@@ -5,6 +5,7 @@
 
 #include "circuits.hpp"
 #include "text.hpp"
+#include "sched/block.hpp"
 #include "sched/bounds.hpp"
 
 #include "assembler/assembler.hpp"
@@ -253,6 +254,26 @@ std::set<std::pair<int, int>> named_registers(const std::vector<std::string>& li
         }
     }
     return used;
+}
+
+// The first register the file names that m does not have, reported as the assembler would (line,
+// caret), before virtual registers are placed, which would only find too few free ones.
+void check_named_in_range(const std::vector<std::string>& lines, std::string_view filename, const isa::Machine& m) {
+    static const std::regex re(R"((^|[^A-Za-z0-9_%])([rf])([0-9]+)\b)");
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const std::string code = strip_comment(lines[i]);
+        for (auto it = std::sregex_iterator(code.begin(), code.end(), re); it != std::sregex_iterator(); ++it) {
+            const std::string want = (*it)[2].str();
+            const int reg = std::stoi((*it)[3].str());
+            const std::uint32_t count = m.regs[want == "r" ? 0 : 1].count;
+            if (reg < static_cast<int>(count)) continue;
+            const auto col = static_cast<int>(lines[i].find(code) + static_cast<std::size_t>(it->position(2)) + 1);
+            throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1), col),
+                              fmt::format("register {}{} out of range: {} has {}0..{}{}\n{}\n{}^", want, reg, m.name, want, want,
+                                          std::min<std::uint32_t>(count, isa::kMaxRegs) - 1, lines[i],
+                                          std::string(static_cast<std::size_t>(col - 1), ' ')));
+        }
+    }
 }
 
 // ---- text of one operation --------------------------------------------------------------------
@@ -1526,8 +1547,9 @@ std::string while_report(const Graph& g, const Region& r, const Schedule& s, con
 // linear_only: stop once the sequential meaning is written (its loop between the region markers).
 PipelineResult pipeline_impl(std::string_view text, std::string_view filename, const isa::Machine& m,
                              const PipelineOptions& opts, bool linear_only) {
-    const std::vector<std::string> lines = split_lines(text);
+    const std::vector<std::string> lines = split_lines(machine_sections(text, filename, m));
     const Region r = parse_region(lines, filename);
+    check_named_in_range(lines, filename, m);
     const std::set<std::pair<int, int>> named = named_registers(lines);
     if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
 
