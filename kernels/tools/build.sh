@@ -6,6 +6,10 @@
 #   kernels/tools/build.sh OUTDIR   writes the same files under OUTDIR instead (the
 #                                   kernels.regenerate CTest compares them)
 # NESSHI names the nesshi binary (default: build/nesshi of this checkout).
+# os/dda.s is the os preset's build of os/dda.pk: its `#if machine os` sections (the hand-scheduled
+# voxel loop and its two leave paths) are kept and the `#else` ones (the `.pipeline while` region)
+# dropped, so nothing here pipelines; other machines get the region modulo-scheduled for them when
+# the kernel is built for them (machine::assemble_kernel), never from a file written here.
 set -eu
 kernels="$(cd "$(dirname "$0")/.." && pwd)"
 nesshi="${NESSHI:-$kernels/../build/nesshi}"

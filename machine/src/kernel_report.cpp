@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -102,14 +103,29 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
     const isa::Machine& m = run.prog->machine();
     r.utilization = r.ilp / static_cast<double>(m.slots.size());
     if (k.bounds != BoundsFrom::None) {
-        const auto ops = ops_of(*run.prog, k.bounds == BoundsFrom::Path ? path_from(*run.prog, k.path) : ms.ranges);
+        Ranges bounded = ms.ranges;
+        if (k.bounds == BoundsFrom::Path) bounded = path_from(*run.prog, k.path);
+        if (k.bounds == BoundsFrom::Loops) {
+            bounded.clear();
+            for (const std::string& l : k.labels)
+                if (run.prog->find_symbol(l)) {
+                    const Ranges loop = path_from(*run.prog, l);
+                    bounded.insert(bounded.end(), loop.begin(), loop.end());
+                }
+        }
+        const auto ops = ops_of(*run.prog, bounded);
         std::vector<isa::Instr> instrs;
         for (const sched::BodyOp& o : ops) instrs.push_back(o.instr);
         const sched::ResBound res = sched::res_mii(m, instrs);
         const sched::RecBound rec = sched::region_rec_mii(m, ops);
-        r.res_mii = res.cycles / k.iterations;
-        r.rec_mii = rec.cycles / k.iterations;
-        const std::string pass = k.iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", k.iterations);
+        double iterations = k.iterations;
+        if (k.iterations_are_loads) {
+            const auto n = std::count_if(instrs.begin(), instrs.end(), [](const isa::Instr& in) { return in.info().mnemonic == "lbu"; });
+            if (n > 0) iterations = static_cast<double>(n);
+        }
+        r.res_mii = res.cycles / iterations;
+        r.rec_mii = rec.cycles / iterations;
+        const std::string pass = iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", iterations);
         r.res_binds = res.binds + pass;
         r.rec_binds = rec.binds.empty() ? "" : rec.binds + pass;
     }

@@ -28,12 +28,15 @@ std::string paper_range(const char* what, const double (&ilp)[2], const double (
 // The 3DDDA rows of one machine: the loop and set-up on the empty grid, the rest on the sparse one.
 void dda_metrics(std::vector<KernelMetric>& out, const std::string& m) {
     const bool os = m == "os";
-    KernelMetric step = metric("dda_step", m, Workload::EmptyGrid, os ? L{"loop"} : L{"loop", "step_x", "not_x", "step_y", "step_z"},
+    KernelMetric step = metric("dda_step", m, Workload::EmptyGrid, os ? L{"loop", "__sa_kernel"} : L{"loop", "step_x", "not_x", "step_y", "step_z"},
                                PerWhat::Loads, os ? kPaper.dda_step_vliw : kPaper.dda_step_seq);
     if (os) {
-        // the loop is unrolled twice: one pass is two steps
-        step.iterations = 2;
-        step.bounds = BoundsFrom::Regions;
+        // The bounds over the loop body (the label through its branch back): the hand loop `loop`
+        // (the os preset), or the kernel `__sa_kernel` of the loop pipelined for another machine,
+        // not its exit code. One pass is as many steps as it loads occupancy bytes: two in the
+        // hand loop, the kernel's unroll in the pipelined one.
+        step.iterations_are_loads = true;
+        step.bounds = BoundsFrom::Loops;
     } else {
         // branchy: the bounds per step from the x path (decision + step), the common case
         step.bounds = BoundsFrom::Path;

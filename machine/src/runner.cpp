@@ -3,6 +3,7 @@
 #include "assembler/assembler.hpp"
 #include "sched/block.hpp"
 #include "sched/legalize.hpp"
+#include "sched/pipeline.hpp"
 
 #include "base/error.hpp"
 #include "base/hash.hpp"
@@ -76,8 +77,14 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
             // The hand-scheduled code between the blocks first gets the nops m's latencies need (with
             // its blocks written sequentially), then the scheduled file once more (blocks may start
             // earlier than written).
+            // A `.pipeline` region (the OS voxel loop) is modulo-scheduled for m: the code around it
+            // is legalized with the region as its sequential meaning, then the region goes back in.
+            // `#if machine` sections (the os preset's hand loop) are resolved for m first.
+            const std::string src = sched::machine_sections(sources.text(pk), name, m);
+            const bool region = src.find("\n        .pipeline") != std::string::npos;
             try {
-                const sched::Legalized hand = sched::legalize(sources.text(pk), name, [&](const std::string& t) -> std::optional<std::string> {
+                const sched::Legalized hand = sched::legalize(region ? sched::sequential_region(src, name, m) : src, name,
+                                                              [&](const std::string& t) -> std::optional<std::string> {
                     try {
                         (void)sched::pack_source(t, name, m, opts);
                         return std::nullopt;
@@ -86,7 +93,13 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
                     }
                 });
                 const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
-                const sched::Legalized packed = sched::legalize(pr.text, name, assembles);
+                std::string around = pr.text;
+                if (region) { // the blocks are bundled now: the file assembles around the region
+                    sched::PipelineOptions po;
+                    po.read_file = opts.read_file;
+                    around = sched::pipeline_source(sched::restore_region(around, src), name, m, po).pipelined;
+                }
+                const sched::Legalized packed = sched::legalize(around, name, assembles);
                 text = packed.text;
                 b.scheduled = true;
                 b.blocks = static_cast<int>(pr.blocks.size());

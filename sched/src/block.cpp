@@ -383,6 +383,7 @@ std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, 
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                        const assembler::AsmOptions& opts) {
     const std::vector<std::string> lines = split_lines(text);
+    const std::vector<bool> keep = machine_lines(lines, filename, m);
     // The sequential meaning: each block op alone in its bundle, followed by enough nops for its
     // result to land, so the file assembles and every op decodes exactly.
     std::vector<Block> blocks;
@@ -403,6 +404,7 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     for (std::size_t i = 0; i < lines.size(); ++i) {
         const std::string& s = lines[i];
         current = i;
+        if (!keep[i]) continue;
         if (marker(s, "#pack virtual")) {
             if (open) throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1)), "'#pack virtual' inside a block");
             declare_pool(pools, s, filename, static_cast<int>(i + 1));
@@ -463,8 +465,9 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     std::size_t next_block = 0;
     bool in_block = false;
     std::vector<std::string> result;
-    for (const std::string& s : lines) {
-        if (marker(s, "#pack virtual")) continue;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const std::string& s = lines[i];
+        if (!keep[i] || marker(s, "#pack virtual")) continue;
         if (marker(s, "#pack begin")) {
             in_block = true;
             continue;
@@ -513,6 +516,46 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
         if (!in_block) result.push_back(s);
     }
     for (const std::string& s : result) out.text += s + '\n';
+    return out;
+}
+
+std::vector<bool> machine_lines(const std::vector<std::string>& lines, std::string_view filename, const isa::Machine& m) {
+    std::vector<bool> keep(lines.size(), true);
+    enum { Outside, If, Else } state = Outside;
+    bool match = false;
+    int opened = 0;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const std::string t = trim(lines[i]);
+        const int ln = static_cast<int>(i + 1);
+        if (marker(t, "#if machine")) {
+            if (state != Outside) throw base::Error(base::SourceLoc(filename, ln), "'#if machine' inside another (sections do not nest)");
+            const std::string name(trim(t.substr(std::string_view("#if machine").size())));
+            if (name.empty() || !isa::is_preset(name))
+                throw base::Error(base::SourceLoc(filename, ln), fmt::format("'#if machine' names no preset machine ('{}')", name));
+            match = isa::load_machine(name).fingerprint() == m.fingerprint();
+            state = If;
+            opened = ln;
+            keep[i] = false;
+        } else if (t == "#else" && state != Outside) {
+            if (state == Else) throw base::Error(base::SourceLoc(filename, ln), "a second '#else' in one '#if machine' section");
+            state = Else;
+            keep[i] = false;
+        } else if (t == "#endif" && state != Outside) {
+            state = Outside;
+            keep[i] = false;
+        } else if (state != Outside) {
+            keep[i] = state == If ? match : !match;
+        }
+    }
+    if (state != Outside) throw base::Error(base::SourceLoc(filename, opened), "'#if machine' is never closed by '#endif'");
+    return keep;
+}
+
+std::string machine_sections(std::string_view text, std::string_view filename, const isa::Machine& m) {
+    const std::vector<std::string> lines = split_lines(text);
+    const std::vector<bool> keep = machine_lines(lines, filename, m);
+    std::string out;
+    for (std::size_t i = 0; i < lines.size(); ++i) out += (keep[i] ? lines[i] : std::string()) + '\n';
     return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include "circuits.hpp"
 #include "text.hpp"
+#include "sched/block.hpp"
 #include "sched/bounds.hpp"
 
 #include "assembler/assembler.hpp"
@@ -253,6 +254,26 @@ std::set<std::pair<int, int>> named_registers(const std::vector<std::string>& li
         }
     }
     return used;
+}
+
+// The first register the file names that m does not have, reported as the assembler would (line,
+// caret), before virtual registers are placed, which would only find too few free ones.
+void check_named_in_range(const std::vector<std::string>& lines, std::string_view filename, const isa::Machine& m) {
+    static const std::regex re(R"((^|[^A-Za-z0-9_%])([rf])([0-9]+)\b)");
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        const std::string code = strip_comment(lines[i]);
+        for (auto it = std::sregex_iterator(code.begin(), code.end(), re); it != std::sregex_iterator(); ++it) {
+            const std::string want = (*it)[2].str();
+            const int reg = std::stoi((*it)[3].str());
+            const std::uint32_t count = m.regs[want == "r" ? 0 : 1].count;
+            if (reg < static_cast<int>(count)) continue;
+            const auto col = static_cast<int>(lines[i].find(code) + static_cast<std::size_t>(it->position(2)) + 1);
+            throw base::Error(base::SourceLoc(filename, static_cast<int>(i + 1), col),
+                              fmt::format("register {}{} out of range: {} has {}0..{}{}\n{}\n{}^", want, reg, m.name, want, want,
+                                          std::min<std::uint32_t>(count, isa::kMaxRegs) - 1, lines[i],
+                                          std::string(static_cast<std::size_t>(col - 1), ' ')));
+        }
+    }
 }
 
 // ---- text of one operation --------------------------------------------------------------------
@@ -1464,9 +1485,15 @@ std::string force_trip_line(const Region& r, const PipelineOptions& opts, const 
     return s;
 }
 
+assembler::AsmOptions asm_options(const PipelineOptions& opts = {}) {
+    assembler::AsmOptions a;
+    a.read_file = opts.read_file;
+    return a;
+}
+
 isa::ObjectFile assemble_or_fail(const std::string& text, std::string_view file, const isa::Machine& m,
-                                 const std::string& what) {
-    const assembler::AsmResult res = assembler::assemble_string(text, file, m, {});
+                                 const std::string& what, const PipelineOptions& opts = {}) {
+    const assembler::AsmResult res = assembler::assemble_string(text, file, m, asm_options(opts));
     if (!res.ok || res.warnings > 0)
         throw base::Error(base::SourceLoc(file), fmt::format("the {} does not assemble cleanly:\n{}", what, res.diagnostics));
     return res.object;
@@ -1517,12 +1544,12 @@ std::string while_report(const Graph& g, const Region& r, const Schedule& s, con
     return o;
 }
 
-} // namespace
-
-PipelineResult pipeline_source(std::string_view text, std::string_view filename, const isa::Machine& m,
-                               const PipelineOptions& opts) {
-    const std::vector<std::string> lines = split_lines(text);
+// linear_only: stop once the sequential meaning is written (its loop between the region markers).
+PipelineResult pipeline_impl(std::string_view text, std::string_view filename, const isa::Machine& m,
+                             const PipelineOptions& opts, bool linear_only) {
+    const std::vector<std::string> lines = split_lines(machine_sections(text, filename, m));
     const Region r = parse_region(lines, filename);
+    check_named_in_range(lines, filename, m);
     const std::set<std::pair<int, int>> named = named_registers(lines);
     if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
 
@@ -1547,11 +1574,14 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
             if (!named.count({0, reg}) && !placeholder.count({0, reg})) res.iteration_register = reg_name(isa::RegFile::Int, reg);
         if (res.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
     }
-    res.linear = before + force_trip_line(r, opts, m) +
-                 (r.is_while ? linear_while_loop(r, placeholder_name, m, res.iteration_register)
-                             : linear_loop(r, placeholder_name, m)) +
-                 after;
-    const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region");
+    const std::string loop = r.is_while ? linear_while_loop(r, placeholder_name, m, res.iteration_register)
+                                        : linear_loop(r, placeholder_name, m);
+    if (linear_only) {
+        res.linear = before + kRegionBegin + "\n" + loop + kRegionEnd + "\n" + after;
+        return res;
+    }
+    res.linear = before + force_trip_line(r, opts, m) + loop + after;
+    const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region", opts);
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
     std::uint32_t b0 = 0;
     for (const isa::Symbol& s : lin.symbols)
@@ -1590,14 +1620,14 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
         const Emitter em(r, g, s, alloc, m);
         std::string code = r.is_while ? em.while_code("__sa") : em.code(r.trip, "__sa");
         assembler::AsmResult check =
-            assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, {});
+            assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, asm_options(opts));
         // A while loop starts with its first pass (the counted loop with its trip test): results
         // of the code before it may still be in flight. As many nops as the assembler's check asks.
         std::uint32_t longest = 1;
         for (std::uint32_t l : m.latency) longest = std::max(longest, l);
         for (std::uint32_t lead = 1; r.is_while && (!check.ok || check.warnings > 0) && lead < longest; ++lead) {
             code = "        nop\n" + code;
-            check = assembler::assemble_string(before + code + after, filename, m, {});
+            check = assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
         }
         if (!check.ok || check.warnings > 0) {
             why_not = fmt::format("II {}: {}", s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
@@ -1738,6 +1768,43 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
 
     res.pipelined = rep + before + force_trip_line(r, opts, m) + emitted + after;
     return res;
+}
+
+} // namespace
+
+PipelineResult pipeline_source(std::string_view text, std::string_view filename, const isa::Machine& m,
+                               const PipelineOptions& opts) {
+    return pipeline_impl(text, filename, m, opts, false);
+}
+
+std::string sequential_region(std::string_view text, std::string_view filename, const isa::Machine& m) {
+    return pipeline_impl(text, filename, m, {}, true).linear;
+}
+
+std::string restore_region(std::string_view legalized, std::string_view original) {
+    const std::vector<std::string> lin = split_lines(legalized), src = split_lines(original);
+    std::string out;
+    bool inside = false;
+    for (const std::string& l : lin) {
+        if (l == kRegionBegin) {
+            inside = true;
+            bool in_region = false; // the original's region lines, .pipeline to .endpipeline
+            for (const std::string& o : src) {
+                const std::string code = strip_comment(o);
+                if (code.rfind(".pipeline", 0) == 0 && (code.size() == 9 || std::isspace(static_cast<unsigned char>(code[9]))))
+                    in_region = true;
+                if (in_region) out += o + "\n";
+                if (code == ".endpipeline") in_region = false;
+            }
+            continue;
+        }
+        if (l == kRegionEnd) {
+            inside = false;
+            continue;
+        }
+        if (!inside) out += l + "\n";
+    }
+    return out;
 }
 
 } // namespace nesshi::sched

@@ -185,3 +185,8 @@ TEST_CASE("seq 3DDDA kernel matches the twin (fast engine)", "[unit][kernels][dd
 TEST_CASE("seq 3DDDA kernel matches the twin (checked engine)", "[unit][kernels][dda]") {
     run_dda("seq/dda.s", "seq", iss::Engine::Checked, 12, 100, 4);
 }
+
+TEST_CASE("os 3DDDA kernel on os-real (the voxel loop pipelined for it) matches the twin", "[unit][kernels][dda]") {
+    run_dda("os/dda.s", "os-real", iss::Engine::Fast, 40, 260, 5);
+    run_dda("os/dda.s", "os-real", iss::Engine::Checked, 12, 100, 6);
+}

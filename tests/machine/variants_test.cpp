@@ -58,6 +58,19 @@ TEST_CASE("The -real presets run the whole machine: results identical to native,
     }
 }
 
+TEST_CASE("os-real's pipelined voxel loop renders native's image, ids and depths on an 8-voxel grid", "[unit][machine]") {
+    const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
+    const rt::RenderOptions opt = small(16);
+    const rt::RenderResult native = rt::render_native(prep, opt);
+    machine::Options mo = model(machine::Model::V);
+    mo.os_machine = "os-real";
+    const machine::Result real = machine::render(prep, opt, mo);
+    CHECK(real.render.id_buffer == native.id_buffer);
+    CHECK(real.render.image.rgb == native.image.rgb);
+    CHECK(real.render.t_buffer == native.t_buffer);
+    CHECK(real.render.stats.rays == native.stats.rays);
+}
+
 TEST_CASE("A variant's kernel is scheduled from its .pk source, the preset's is the committed one", "[unit][machine]") {
     const kernels::SourceSet src = kernels::embedded();
     const auto preset = machine::assemble_kernel(src, "ic/intersect.s", "ic");
@@ -65,15 +78,21 @@ TEST_CASE("A variant's kernel is scheduled from its .pk source, the preset's is 
     CHECK(preset->machine().name == "ic");
     CHECK(variant->machine().name == "ic-2iu");
     CHECK(variant->size() < preset->size()); // the second IU shortens the straight-line bodies
-    // The hand-scheduled voxel loop gets the nops os-real's latencies need.
+    // The code around the voxel loop gets the nops os-real's latencies need, and the loop (a
+    // .pipeline while region) is modulo-scheduled for it; the os preset runs the hand loop.
     machine::KernelBuild build;
-    CHECK(machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &build)->machine().name == "os-real");
+    const auto real = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &build);
+    CHECK(real->machine().name == "os-real");
     CHECK(build.scheduled);
     CHECK(build.source == "kernels/os/dda.pk");
     CHECK(build.nops > 0);
-    machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os"), &build);
+    CHECK(real->find_symbol("__sa_kernel"));
+    CHECK_FALSE(real->find_symbol("leave_b"));
+    const auto os = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os"), &build);
     CHECK_FALSE(build.scheduled); // the committed kernel
     CHECK(build.source == "kernels/os/dda.s");
+    CHECK(os->find_symbol("leave_b"));
+    CHECK_FALSE(os->find_symbol("__sa_kernel"));
     CHECK_THROWS_WITH(machine::assemble_kernel(src, "os/dda.s", kData + "/os-32regs.toml"),
                       Catch::Contains("register r60 out of range: os-32regs has r0..r31"));
     // The IC kernel is straight-line bodies only (its pipeline across primitives is in the data

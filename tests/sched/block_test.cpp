@@ -121,6 +121,24 @@ TEST_CASE("pack_source keeps what is outside the blocks and reports each block",
     CHECK(r.blocks[0].bundles == 1);
 }
 
+TEST_CASE("#if machine sections keep one preset's code, #else every other machine's", "[unit][sched][block]") {
+    const std::string text = "        li r1, 1\n#if machine os\n        li r2, 2\n#pack begin\n        add r3, r1, r2\n"
+                             "#pack end\n#else\n        li r2, 3\n#endif\n        halt\n";
+    CHECK(sched::pack_source(text, "t.pk", isa::load_machine("os")).text ==
+          "        li r1, 1\n        li r2, 2\n        { add r3, r1, r2 }\n        halt\n");
+    CHECK(sched::pack_source(text, "t.pk", isa::load_machine("os-real")).text == "        li r1, 1\n        li r2, 3\n        halt\n");
+    // machine_sections blanks the lines it drops, so line numbers stay those of the file.
+    CHECK(sched::machine_sections(text, "t.pk", isa::load_machine("os-real")) ==
+          "        li r1, 1\n\n\n\n\n\n\n        li r2, 3\n\n        halt\n");
+    // A section open at the end, a nested one or one naming no preset is an error at its line.
+    CHECK_THROWS_WITH(sched::pack_source("#if machine os\n        halt\n", "t.pk", isa::load_machine("os")),
+                      Catch::Contains("t.pk:1: error: '#if machine' is never closed by '#endif'"));
+    CHECK_THROWS_WITH(sched::pack_source("#if machine os\n#if machine ic\n#endif\n", "t.pk", isa::load_machine("os")),
+                      Catch::Contains("t.pk:2: error: '#if machine' inside another"));
+    CHECK_THROWS_WITH(sched::pack_source("#if machine nosuch\n#endif\n", "t.pk", isa::load_machine("os")),
+                      Catch::Contains("names no preset machine ('nosuch')"));
+}
+
 TEST_CASE("pack_source places a block's virtual registers on the declared range", "[unit][sched][block]") {
     const isa::Machine m = isa::load_machine("seq"); // one unit: the bundles keep program order
     // %a dies at the first read of it, and its f10 goes to the back of the free list: %c takes

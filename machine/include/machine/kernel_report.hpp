@@ -63,6 +63,7 @@ enum class BoundsFrom {
     None,
     Regions, // every op of the measured regions
     Path,    // the fall-through path from label `path` through the first bundle that branches back to it
+    Loops,   // that path from each of `labels` the program has (a loop's body, not its exit code)
 };
 
 struct KernelMetric {
@@ -74,6 +75,8 @@ struct KernelMetric {
     std::vector<std::string> count_labels; // PerWhat::EntriesOf
     std::optional<double> paper;           // the paper's figure, when it has one
     double iterations = 1;                 // loop iterations in one pass over the bounded ops
+    // Instead of `iterations`: as many as the bounded ops hold occupancy loads (lbu), one a voxel step.
+    bool iterations_are_loads = false;
     BoundsFrom bounds = BoundsFrom::None;
     std::string path; // BoundsFrom::Path
     std::string note;

@@ -62,4 +62,13 @@ struct PackResult {
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                        const assembler::AsmOptions& opts = {});
 
+// Code for one preset only: lines between `#if machine NAME` and `#else` (or `#endif`) are kept
+// when m is the preset NAME (same description), the lines between `#else` and `#endif` when it is
+// not; the marker lines go. The OS kernel keeps its hand-scheduled voxel loop for `os` this way
+// and a `.pipeline while` region, scheduled per machine, for every other one (kernels/os/dda.pk).
+// Sections do not nest. Returns, per line of `lines`, whether it stays; pack_source drops the
+// others, and machine_sections(text, ...) blanks them (line numbers kept for diagnostics).
+std::vector<bool> machine_lines(const std::vector<std::string>& lines, std::string_view filename, const isa::Machine& m);
+std::string machine_sections(std::string_view text, std::string_view filename, const isa::Machine& m);
+
 } // namespace nesshi::sched

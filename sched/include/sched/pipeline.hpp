@@ -62,6 +62,8 @@ struct PipelineOptions {
     double exact_seconds = 0;
     // Emit the pipelined program with `li TRIP, trip` just before the region (verification).
     std::optional<std::uint32_t> force_trip;
+    // How the file's .include lines are read (embedded kernel sources); default the file system.
+    std::function<bool(const std::string& path, std::string& text)> read_file;
 };
 
 struct PipelineResult {
@@ -85,6 +87,14 @@ struct PipelineResult {
 // found or the registers do not fit.
 PipelineResult pipeline_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                                const PipelineOptions& opts);
+
+// The file with its region replaced by the region's sequential meaning between the comment lines
+// kRegionBegin and kRegionEnd, assembled nowhere: legalizing the code around a region for a
+// machine starts from it (machine::assemble_kernel), then restore_region puts the region back.
+inline constexpr const char* kRegionBegin = "# sequential meaning of the .pipeline region: begin";
+inline constexpr const char* kRegionEnd = "# sequential meaning of the .pipeline region: end";
+std::string sequential_region(std::string_view text, std::string_view filename, const isa::Machine& m);
+std::string restore_region(std::string_view legalized, std::string_view original);
 
 // Verification by simulation: for each trip count, both programs (with `li TRIP, n` before the
 // region) are assembled and handed to `run`, which runs them on random data and returns the first
