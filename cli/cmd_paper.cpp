@@ -2,6 +2,7 @@
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
 #include "commands.hpp"
 #include "errors.hpp"
+#include "lists.hpp"
 #include "shards.hpp"
 #include "stage_machines.hpp"
 #include "outputs.hpp"
@@ -15,7 +16,6 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <memory>
 #include <tuple>
@@ -38,30 +38,9 @@ struct PaperArgs {
     machine::Options machine; // the stages' machines and kernels
 };
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (std::size_t comma; (comma = s.find(',', start)) != std::string::npos; start = comma + 1)
-        parts.push_back(s.substr(start, comma - start));
-    parts.push_back(s.substr(start));
-    return parts;
-}
-
-std::vector<int> parse_grids(const std::string& s) {
-    std::vector<int> grids;
-    for (const std::string& part : split(s)) {
-        int g = 0;
-        auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), g);
-        if (ec != std::errc() || p != part.data() + part.size())
-            throw UsageError(fmt::format("bad grid '{}'", part));
-        grids.push_back(g); // range checked by paper::validate
-    }
-    return grids;
-}
-
 std::vector<machine::Model> parse_models(const std::string& s) {
     std::vector<machine::Model> models;
-    for (const std::string& part : split(s)) {
+    for (const std::string& part : split_list(s)) {
         machine::Model m{};
         if (!machine::parse_model(part, m))
             throw UsageError(fmt::format("unknown model '{}' (available: S, M, V)", part));
@@ -128,7 +107,7 @@ class ProgressPrinter {
 void run_paper_command(const PaperArgs& a) {
     paper::PaperOptions o;
     o.size = a.size;
-    o.scenes = split(a.scenes);
+    o.scenes = split_list(a.scenes);
     o.grids = parse_grids(a.grids);
     o.models = parse_models(a.models);
     refuse_stdout("--out", a.out, "it is a folder (the cells, tables and charts)");
@@ -184,6 +163,7 @@ void add_paper(CLI::App& app) {
     add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
     add_paper_gaps(*cmd);
+    add_paper_versus(*cmd);
     cmd->require_subcommand(0, 1);
     cmd->callback([a, cmd] {
         if (!cmd->get_subcommands().empty()) return; // `nesshi paper gaps` ran its own callback

@@ -2,6 +2,7 @@
 // workload and the hypotheses of paper/gaps.hpp (native renders + the model V cells of `nesshi paper`).
 #include "commands.hpp"
 #include "errors.hpp"
+#include "lists.hpp"
 #include "outputs.hpp"
 #include "ranges.hpp"
 
@@ -11,7 +12,6 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <filesystem>
 #include <memory>
 
@@ -26,24 +26,9 @@ struct GapsArgs {
     bool quiet = false;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (std::size_t comma; (comma = s.find(',', start)) != std::string::npos; start = comma + 1)
-        parts.push_back(s.substr(start, comma - start));
-    parts.push_back(s.substr(start));
-    return parts;
-}
-
 void run(GapsArgs& a) {
     a.o.scenes = split_list(a.scenes);
-    a.o.grids.clear();
-    for (const std::string& g : split_list(a.grids)) {
-        int n = 0;
-        auto [p, ec] = std::from_chars(g.data(), g.data() + g.size(), n);
-        if (ec != std::errc() || p != g.data() + g.size()) throw UsageError(fmt::format("bad grid '{}'", g));
-        a.o.grids.push_back(n);
-    }
+    a.o.grids = parse_grids(a.grids);
     for (const std::string& s : a.o.scenes)
         for (int g : a.o.grids)
             if (!paper::find_published_comm(s, g))

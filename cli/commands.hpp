@@ -16,6 +16,7 @@ void add_isa(CLI::App& app);
 void add_kernels(CLI::App& app);
 void add_paper(CLI::App& app);
 void add_paper_gaps(CLI::App& paper_cmd); // `nesshi paper gaps`, added by add_paper
+void add_paper_versus(CLI::App& paper_cmd); // `nesshi paper versus`, added by add_paper
 void add_pipeline(CLI::App& app);
 void add_loop(CLI::App& app);
 void add_schedule(CLI::App& app);
