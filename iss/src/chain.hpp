@@ -77,10 +77,7 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
             c.pc = d.bundle;
             return;
         }
-        if constexpr (commit) {
-            for (uint32_t i = 0, n = c.nwb; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
-            c.nwb = 0;
-        }
+        if constexpr (commit) c.land_direct();
         ++c.exec[d.bundle];
         if (ev) {
             ++c.taken[d.bundle];
@@ -107,10 +104,7 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
             c.pc = d.bundle;
             return;
         }
-        if constexpr (commit) {
-            for (uint32_t i = 0, n = c.nwb; i < n; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
-            c.nwb = 0;
-        }
+        if constexpr (commit) c.land_direct();
         ++c.exec[d.bundle];
         ++c.cycle;
         --c.left;

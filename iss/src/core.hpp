@@ -93,6 +93,12 @@ struct Core {
         ++pending;
     }
 
+    // The queued latency-1 writes land (the bundle ended, or faulted after issuing).
+    void land_direct() {
+        for (uint32_t i = 0, n = nwb; i < n; ++i) r[wb_reg[i]] = wb_val[i];
+        nwb = 0;
+    }
+
     void mem_fault(const DecodedOp& d, MemError e, uint32_t addr) {
         if (!(event & kFault)) {
             fault_op = &d;

@@ -415,8 +415,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
                 if (c.event & kFault) { // the rest of the bundle issued: its latency-1 results land now
                     c.event = 0;
                     c.stall = 0;
-                    for (uint32_t i = 0; i < c.nwb; ++i) c.r[c.wb_reg[i]] = c.wb_val[i];
-                    c.nwb = 0;
+                    c.land_direct();
                     return memory_fault();
                 }
             }

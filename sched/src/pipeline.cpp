@@ -1067,16 +1067,30 @@ class Emitter {
     }
     int stages() const { return stages_; }
 
-    // Offset change of memory op `op` of iteration `it` on an induction register: the increments
-    // the op should see minus those that have landed when it issues.
-    std::int64_t delta(int op, std::optional<Iter> it) const {
+    // Memory op `op` on an induction register (nullopt for any other op): the induction op,
+    // whether `op` follows it in the body, and m = floor((t_op - t_ind - latency) / II) + 1, the
+    // later iterations' increments that have landed when `op` issues.
+    struct InductionView {
+        const Induction* ind;
+        int after, m;
+    };
+    std::optional<InductionView> induction_view(int op) const {
         const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
-        if (!nd.adjusted) return 0;
+        if (!nd.adjusted) return std::nullopt;
         const Induction& ind = *g_.induction_of(nd.base);
-        const int after = op > ind.op ? 1 : 0;
         const int ta = s_.time[static_cast<std::size_t>(ind.op)], la = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
         const int diff = s_.time[static_cast<std::size_t>(op)] - ta - la;
         const int m = (diff >= 0 ? diff / s_.ii : -((-diff + s_.ii - 1) / s_.ii)) + 1; // floor + 1
+        return InductionView{&ind, op > ind.op ? 1 : 0, m};
+    }
+
+    // Offset change of memory op `op` of iteration `it` on an induction register: the increments
+    // the op should see minus those that have landed when it issues.
+    std::int64_t delta(int op, std::optional<Iter> it) const {
+        const auto view = induction_view(op);
+        if (!view) return 0;
+        const Induction& ind = *view->ind;
+        const int after = view->after, m = view->m;
         std::int64_t seen_minus_i; // (increments landed) - i
         if (!it) seen_minus_i = m;  // steady state
         else if (!it->from_end) seen_minus_i = std::max(it->offset + m, 0) - it->offset;
@@ -1204,13 +1218,10 @@ class Emitter {
     // iteration, else relative to the kernel); `exiting`: after the exit of that iteration, when
     // no step beyond those already issued and the sequential ones is issued.
     std::int64_t delta_while(int op, int i, bool absolute, std::optional<int> exiting) const {
-        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
-        if (!nd.adjusted) return 0;
-        const Induction& ind = *g_.induction_of(nd.base);
-        const int after = op > ind.op ? 1 : 0;
-        const int ta = s_.time[static_cast<std::size_t>(ind.op)], la = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
-        const int diff = s_.time[static_cast<std::size_t>(op)] - ta - la;
-        const int m = (diff >= 0 ? diff / s_.ii : -((-diff + s_.ii - 1) / s_.ii)) + 1; // floor + 1
+        const auto view = induction_view(op);
+        if (!view) return 0;
+        const Induction& ind = *view->ind;
+        const int after = view->after, m = view->m;
         std::int64_t seen = i + m;                                                         // increments landed
         if (absolute) seen = std::max<std::int64_t>(seen, 0);
         if (exiting) seen = std::min<std::int64_t>(seen, *exiting + (ind.op < r_.exit_op ? 1 : 0) + ahead(ind));
