@@ -93,9 +93,7 @@ struct DemoArgs {
     machine::Options machines; // --os-machine, --ic-machine, --seq-machine
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using base::seconds_since;
 
 void run_machine_demo(const DemoArgs& a) {
     refuse_stdout("-o", a.out, "stdout holds the demo's report (nesshi render --model V -o - writes a PNG there)");

@@ -5,6 +5,7 @@
 #include "paper/paper.hpp"
 #include "paper/cluster.hpp"
 
+#include "base/progress.hpp"
 #include "base/read_file.hpp"
 #include "base/write_file.hpp"
 #include "cell_transport.hpp"
@@ -28,7 +29,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using base::seconds_since;
 
 int default_threads(const CellEngineOptions& o) {
     if (o.threads > 0) return o.threads;

@@ -4,6 +4,8 @@
 // steals a core from the cells.
 #include "cell_transport.hpp"
 
+#include "base/progress.hpp"
+
 #include <mpi.h>
 
 #include <chrono>
@@ -110,7 +112,7 @@ void work(int threads, const std::function<std::string(std::size_t)>& run) {
                 r.ok = false;
                 r.text = e.what();
             }
-            r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            r.seconds = base::seconds_since(t0);
             lock.lock();
             outcomes.push_back(std::move(r));
             changed.notify_all();

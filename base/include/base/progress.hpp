@@ -4,6 +4,7 @@
 //   fmt::print("{} left", base::format_duration(s)); // "4:05", "1:02:03"
 #pragma once
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +17,11 @@ inline std::string progress_bar(int percent, int width) {
     const int filled = percent * width / 100;
     return "[" + std::string(static_cast<std::size_t>(filled), '#') +
            std::string(static_cast<std::size_t>(width > filled ? width - filled : 0), ' ') + "]";
+}
+
+// Wall seconds since `t0`, for the durations progress reports.
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // "m:ss" under an hour, else "h:mm:ss".
