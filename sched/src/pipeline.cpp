@@ -530,6 +530,13 @@ struct Schedule {
     isa::Instr branch, counter;     // loop control in the kernel: counter decrement and branch
     int counter_row = 0;
     bool loop_control = true;       // false for a while loop: its exit test, in the last row, is the branch
+
+    // Shifts every time by whole stages so the earliest op issues in cycle 0 of its stage 0.
+    void normalise() {
+        const int lo = *std::min_element(time.begin(), time.end());
+        const int shift = lo >= 0 ? -(lo / ii) * ii : ((-lo + ii - 1) / ii) * ii;
+        for (int& t : time) t += shift;
+    }
 };
 
 class ModuloScheduler {
@@ -594,10 +601,7 @@ class ModuloScheduler {
         Schedule s;
         s.ii = ii_;
         s.time = time_;
-        // Normalise so the earliest op issues in cycle 0 of its stage 0.
-        const int lo = *std::min_element(s.time.begin(), s.time.end());
-        const int shift = lo >= 0 ? -(lo / ii_) * ii_ : ((-lo + ii_ - 1) / ii_) * ii_;
-        for (int& t : s.time) t += shift;
+        s.normalise();
         s.branch = branch_;
         s.counter = counter_;
         s.counter_row = counter_row;
@@ -924,9 +928,7 @@ class ExactScheduler {
             s.time.resize(static_cast<std::size_t>(n));
             for (int i = 0; i < n; ++i)
                 s.time[static_cast<std::size_t>(i)] = row_[static_cast<std::size_t>(i)] + ii_ * stage_[static_cast<std::size_t>(i)];
-            const int lo = *std::min_element(s.time.begin(), s.time.end());
-            const int shift = lo >= 0 ? -(lo / ii_) * ii_ : ((-lo + ii_ - 1) / ii_) * ii_;
-            for (int& t : s.time) t += shift;
+            s.normalise();
             s.branch = branch_;
             s.counter = counter_;
             s.counter_row = row;
