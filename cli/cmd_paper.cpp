@@ -133,7 +133,7 @@ void run_paper_command(const PaperArgs& a) {
     try {
         paper::PaperRun r = paper::run_paper(o);
         printer->clear_status();
-        if (r.worker || a.quiet) return; // under mpirun, rank 0 reports
+        if (!paper::cluster().reports() || a.quiet) return; // under mpirun, rank 0 reports
         fmt::print("cells: {} loaded, {} run\n", r.loaded, r.run);
         if (r.files.empty()) // a shard that did not complete the matrix
             fmt::print("shard {}: the reports wait for every cell: merge the shards' {}/cells folders and run "

@@ -5,6 +5,7 @@
 #include "shards.hpp"
 
 #include "base/progress.hpp"
+#include "paper/cluster.hpp"
 #include "paper/sweep.hpp"
 
 #include <fmt/format.h>
@@ -58,7 +59,7 @@ void run_sweep_command(const SweepArgs& a) {
                        base::format_duration(p.elapsed_seconds), left);
         };
     const paper::SweepRun r = paper::run_sweep(spec, o);
-    if (r.worker) return; // rank 0 of the MPI run reports
+    if (!paper::cluster().reports()) return; // rank 0 of the MPI run reports
     if (!a.quiet)
         fmt::print(stderr, "cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
 }

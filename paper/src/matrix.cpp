@@ -59,7 +59,6 @@ MatrixResult run_matrix(const PaperOptions& o, const CellRunner& runner, const C
     r.stale = std::move(e.stale);
     r.loaded = e.loaded;
     r.run = e.run;
-    r.worker = e.worker;
     return r;
 }
 

@@ -1,5 +1,6 @@
 // `nesshi paper` as one call: check the options, run or load the matrix, the grid pre-pass and the
 // automatic grid choices, write the reports.
+#include "paper/cluster.hpp"
 #include "paper/paper.hpp"
 
 #include <fmt/format.h>
@@ -44,8 +45,7 @@ PaperRun run_paper(const PaperOptions& o) {
     pre.size = prepass_size(o.size);
     pre.models = {machine::Model::V};
     MatrixResult p = run_matrix(pre, run, provenance);
-    r.worker = m.worker;
-    if (m.worker) return r; // rank 0 of the MPI run has the cells and writes the reports
+    if (!cluster().reports()) return r; // rank 0 of the MPI run has the cells and writes the reports
     r.data.prepass_size = pre.size;
     for (const std::string& scene : o.scenes) {
         auto v_time = [&](int g) {

@@ -63,7 +63,6 @@ SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
     r.loaded = e.loaded;
     r.run = e.run;
     r.failures = std::move(e.failures);
-    r.worker = e.worker;
     if (e.worker) return r; // rank 0 of the MPI run has the cells and writes the outputs
     const std::vector<std::string>& json = e.texts;
 

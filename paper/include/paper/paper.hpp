@@ -109,7 +109,6 @@ struct MatrixResult {
     std::vector<std::string> failures; // "cell: message" for cells whose run threw
     std::vector<std::string> stale;    // "cell: what changed" for stored cells run again
     std::size_t loaded = 0, run = 0;
-    bool worker = false; // this process ran cells for rank 0 of an MPI run and has none
 };
 // Loads the cells whose files exist and are the current run's (by `provenance`; empty: every cell's
 // is empty), runs the others, o.threads at a time, longest first, and stores each with its
@@ -166,7 +165,6 @@ struct PaperRun {
     PaperData data;
     std::vector<std::string> files;  // written into out_dir
     std::size_t loaded = 0, run = 0; // cells
-    bool worker = false;             // this process ran cells for rank 0 of an MPI run, which reports
 };
 // The pre-pass image size: 100 x 100 for the paper's 512 x 512 (about 4% of the pixels).
 int prepass_size(int size);

@@ -91,7 +91,6 @@ struct SweepRun {
     std::vector<std::string> files;       // written into out_dir
     std::vector<std::string> failures;    // "cell axes: message"
     std::size_t loaded = 0, run = 0;
-    bool worker = false; // this process ran cells for rank 0 of an MPI run, which writes the outputs
 };
 // Runs (or loads) every cell, then writes results.csv, results.jsonl and chart.svg. Throws PaperError naming failed cells after writing the rest.
 SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o);
