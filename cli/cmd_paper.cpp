@@ -120,14 +120,8 @@ void run_paper_command(const PaperArgs& a) {
     } catch (const paper::PaperError& e) { // every check of validate is about the options
         throw UsageError(e.message());
     }
-    if (!a.quiet && paper::cluster().reports()) { // every cell runs these schedules
-        machine::Options mo = o.machine;
-        mo.model = machine::Model::V;
-        if (paper::wants(o, machine::Model::V)) fmt::print(stderr, "{}", machine::schedules_used(mo));
-        mo.model = machine::Model::M; // S comes from the M run
-        if (paper::wants(o, machine::Model::M) || paper::wants(o, machine::Model::S))
-            fmt::print(stderr, "{}", machine::schedules_used(mo));
-    }
+    if (!a.quiet && paper::cluster().reports()) // every cell runs these schedules
+        fmt::print(stderr, "{}", machine::schedules_used(o.machine, o.models));
     auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDERR_FILENO) != 0);
     if (!a.quiet) o.progress = [printer](const paper::PaperProgress& p) { (*printer)(p); };
     try {

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
+
 namespace nesshi::machine {
 
 namespace {
@@ -30,17 +32,19 @@ std::string row(const KernelReport& r, const std::string& metric, const std::str
 
 } // namespace
 
-std::string schedules_used(const Options& mo) {
+std::string schedules_used(const Options& mo, const std::vector<Model>& models) {
     const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
     KernelMachines km;
     if (!mo.os_machine.empty()) km.os = mo.os_machine;
     if (!mo.ic_machine.empty()) km.ic = mo.ic_machine;
     if (!mo.seq_machine.empty()) km.seq = mo.seq_machine;
     std::vector<Stage> stages;
-    if (mo.model == Model::V) {
+    auto runs = [&](Model m) { return std::find(models.begin(), models.end(), m) != models.end(); };
+    if (runs(Model::V)) {
         if (km.os != "os") stages.push_back({"os", false, {"dda_step", "dda_init"}});
         if (km.ic != "ic") stages.push_back({"ic", true, {"triangle", "quadric_hit", "quadric2_hit", "cylinder_hit"}});
-    } else if (km.seq != "seq") {
+    }
+    if ((runs(Model::S) || runs(Model::M)) && km.seq != "seq") {
         stages.push_back({"seq", false, {"dda_step", "dda_init"}});
         stages.push_back({"seq", true, {"triangle", "quadric_hit"}});
     }

@@ -134,6 +134,8 @@ KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachin
 // What a run on `mo`'s machines will use, for stderr before it starts: per stage that runs on
 // another description than its preset, the kernel file, how it was scheduled for the machine and
 // its headline costs ("dda_step 15.05 (ResMII 5.00, RecMII 9.00)"); "" when every stage runs on its preset.
-std::string schedules_used(const Options& mo);
+// One report serves several models (`paper` runs V and M).
+std::string schedules_used(const Options& mo, const std::vector<Model>& models);
+inline std::string schedules_used(const Options& mo) { return schedules_used(mo, {mo.model}); }
 
 } // namespace nesshi::machine
