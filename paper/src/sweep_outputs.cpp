@@ -116,9 +116,18 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
     if (x < 0) return "";
     const std::string y = s.chart_y.empty() ? "cycles.total" : s.chart_y;
     const SweepAxis& xa = s.axes[static_cast<std::size_t>(x)];
-    std::vector<std::string> xs = xa.values; // in sorted order when numeric, else as written
+    // In ascending order when numeric (a 0 that means "no limit" last), else as written.
+    std::vector<std::string> xs = xa.values;
+    const bool zero_last = sweep_axis_zero_unbounded(xa.name);
+    auto label = [&](const std::string& v) { return zero_last && integer(v) == 0 ? std::string("unbounded") : v; };
     if (std::all_of(xs.begin(), xs.end(), [](auto& v) { return integer(v).has_value(); }))
-        std::sort(xs.begin(), xs.end(), [](auto& a, auto& b) { return *integer(a) < *integer(b); });
+        std::sort(xs.begin(), xs.end(), [&](auto& a, auto& b) {
+            auto rank = [&](const std::string& v) {
+                const auto n = *integer(v);
+                return std::pair{zero_last && n == 0, n};
+            };
+            return rank(a) < rank(b);
+        });
 
     // One series per combination of the other swept axes.
     std::map<std::string, std::map<std::string, double>> series;
@@ -162,7 +171,7 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
     }
     for (std::size_t k = 0; k < xs.size(); ++k)
         o += fmt::format("<text x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", px(k), kTop + kPlotH + 18,
-                         xml_escape(xs[k]));
+                         xml_escape(label(xs[k])));
     o += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", kLeft + kPlotW / 2,
                      kTop + kPlotH + 40, xml_escape(xa.name));
     for (std::size_t si = 0; si < order.size(); ++si) {
@@ -174,7 +183,7 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
             if (it == pts.end()) continue;
             path += fmt::format("{}{:.1f},{:.1f}", path.empty() ? "M" : " L", px(k), py(it->second));
             o += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3\" fill=\"{}\"><title>{}: {}</title></circle>\n",
-                             px(k), py(it->second), color, xml_escape(order[si].empty() ? xs[k] : order[si] + " " + xs[k]),
+                             px(k), py(it->second), color, xml_escape(order[si].empty() ? label(xs[k]) : order[si] + " " + label(xs[k])),
                              it->second);
         }
         o += fmt::format("<path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>\n", path, color);

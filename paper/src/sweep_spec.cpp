@@ -89,6 +89,8 @@ const std::vector<std::pair<std::string, std::string>>& sweep_axis_names() {
     return k;
 }
 
+bool sweep_axis_zero_unbounded(std::string_view axis) { return axis == "fifo_capacity"; }
+
 const std::vector<std::string>& default_sweep_metrics() {
     static const std::vector<std::string> k = {
         "cycles.total",          "cycles.os.processing", "cycles.os.communication", "cycles.os.wait",

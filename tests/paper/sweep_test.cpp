@@ -96,5 +96,8 @@ TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a c
     CHECK(svg.find("cycles.total against fifo_capacity") != std::string::npos);
     CHECK(svg.find("scene=balls:1") != std::string::npos); // one series per other swept axis value
     CHECK(svg.find(">24</text>") < svg.find(">48</text>")); // numeric x in ascending order
+    const auto unbounded = svg.find(">unbounded</text>");   // capacity 0 (no limit) last, named
+    REQUIRE(unbounded != std::string::npos);
+    CHECK(svg.find(">48</text>") < unbounded);
     CHECK(std::count(svg.begin(), svg.end(), '<' ) > 10);
 }

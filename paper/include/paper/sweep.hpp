@@ -48,6 +48,8 @@ struct SweepSpec {
 // fifo_capacity, fifo_latency, quantum, cache, cache_size, cache_ways, cache_line, miss_cycles,
 // resident, os_machine, ic_machine, seq_machine, kernels), with a line of help each.
 const std::vector<std::pair<std::string, std::string>>& sweep_axis_names();
+// Axes whose value 0 means "no limit" (fifo_capacity): a chart puts it last, as "unbounded".
+bool sweep_axis_zero_unbounded(std::string_view axis);
 // The metrics when a spec names none.
 const std::vector<std::string>& default_sweep_metrics();
 
