@@ -36,6 +36,7 @@ AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine
         code_ok = code_ok && ok;
     }
     if (!diags.stopped()) fill_data(layout, diags);
+    if (!diags.stopped()) check_data_regions(layout, m, diags);
     if (!diags.stopped()) apply_globals(layout, diags);
     // An empty file (or one with only data) assembles, but nothing could ever run it.
     if (layout.bundles.empty() && !diags.stopped())

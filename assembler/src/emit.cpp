@@ -50,6 +50,18 @@ void fill_data(Layout& layout, Diagnostics& diags) {
     }
 }
 
+void check_data_regions(const Layout& layout, const isa::Machine& m, Diagnostics& diags) {
+    for (const DataSec& s : layout.data) {
+        if (s.bytes.empty() || m.memory_at(s.address, uint32_t(s.bytes.size()))) continue;
+        const uint64_t last = uint64_t{s.address} + s.bytes.size() - 1;
+        Diagnostic& d = diags.error(s.loc, fmt::format("data at 0x{:08x}..0x{:08x} ({} bytes) does not fit in a memory "
+                                                       "region of machine '{}'", s.address, last, s.bytes.size(), m.name));
+        for (const isa::MemoryDesc& r : m.memories)
+            Diagnostics::note(d, Loc{s.loc.file, 0, 0}, fmt::format("region {}: 0x{:08x}..0x{:08x}", r.name, r.base,
+                                                                    uint64_t{r.base} + r.size - 1));
+    }
+}
+
 void apply_globals(Layout& layout, Diagnostics& diags) {
     for (const DirectiveRec* d : layout.globals)
         for (size_t i = 0; i < d->args.size(); ++i) {

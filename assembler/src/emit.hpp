@@ -10,6 +10,10 @@ namespace nesshi::assembler {
 // Evaluates .word/.half/.byte/.float values into the data sections' bytes.
 void fill_data(Layout& layout, Diagnostics& diags);
 
+// Reports a non-empty data section that no memory region of `m` holds whole (the loader would
+// refuse the object).
+void check_data_regions(const Layout& layout, const isa::Machine& m, Diagnostics& diags);
+
 // Marks `.global` names; reports undefined or non-label names.
 void apply_globals(Layout& layout, Diagnostics& diags);
 
