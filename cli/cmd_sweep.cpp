@@ -28,7 +28,7 @@ struct SweepArgs {
 std::string axis_help() {
     std::string o = "Run a design-space sweep: the product of the spec's axes, one machine run per cell\n\n"
                     "SPEC (TOML): metrics = [\"cycles.total\", ...] (dotted paths into the stats JSON), [axes] with\n"
-                    "NAME = value or [values], [chart] x = \"AXIS\", y = \"METRIC\". Axes:\n";
+                    "NAME = value or [values], [chart] x = \"AXIS\", y = \"METRIC\", y_scale = \"log\" (default linear). Axes:\n";
     for (const auto& [name, help] : paper::sweep_axis_names()) o += fmt::format("  {:<14} {}\n", name, help);
     return o;
 }

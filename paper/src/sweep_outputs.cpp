@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -133,7 +135,7 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
     std::map<std::string, std::map<std::string, double>> series;
     std::vector<std::string> order;
     const std::vector<json> docs = parsed(texts);
-    double ymax = 0;
+    double ymax = 0, ymin = std::numeric_limits<double>::infinity(); // ymin: the least positive value
     for (std::size_t c = 0; c < cells.size(); ++c) {
         if (docs[c].is_null()) continue;
         const auto v = metric(docs[c], y);
@@ -145,6 +147,7 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
         if (!series.count(name)) order.push_back(name);
         series[name][cells[c].values[static_cast<std::size_t>(x)]] = v->get<double>();
         ymax = std::max(ymax, v->get<double>());
+        if (v->get<double>() > 0) ymin = std::min(ymin, v->get<double>());
     }
     if (series.empty()) return "";
 
@@ -152,19 +155,43 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
                                               "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac"};
     constexpr int kLeft = 90, kTop = 50, kPlotW = 520, kPlotH = 300, kLegendW = 260;
     const int height = kTop + kPlotH + 60;
+    // Linear: from 0 to a round top. Log (y_scale = "log"): from the 1-2-5 tick below the least
+    // positive value to the one above the greatest; a value <= 0 has no place on it and is left out.
+    const bool log_y = s.chart_log_y && ymin <= ymax;
     const double step = axis_step(ymax), top = std::max(step, std::ceil(ymax / step) * step);
+    auto tick_125 = [](double v, bool up) { // the 1-2-5 value at or below (above, when up) v
+        const double d = std::pow(10.0, std::floor(std::log10(v)));
+        double t = up ? d * 10 : d;
+        for (double m : {1.0, 2.0, 5.0, 10.0})
+            if (up ? d * m >= v * 0.9999999 && d * m < t : d * m <= v * 1.0000001) t = d * m;
+        return t;
+    };
+    const double lo = log_y ? tick_125(ymin, false) : 0;
+    const double hi = log_y ? std::max(lo * 2, tick_125(ymax, true)) : top;
     auto px = [&](std::size_t k) { return kLeft + (xs.size() == 1 ? kPlotW / 2.0 : kPlotW * static_cast<double>(k) / static_cast<double>(xs.size() - 1)); };
-    auto py = [&](double v) { return kTop + kPlotH * (1 - v / top); };
+    auto py = [&](double v) {
+        const double f = log_y ? std::log10(v / lo) / std::log10(hi / lo) : v / top;
+        return kTop + kPlotH * (1 - f);
+    };
+    auto drawn = [&](double v) { return !log_y || v > 0; };
+    std::vector<double> ticks;
+    if (log_y) {
+        for (double d = std::pow(10.0, std::floor(std::log10(lo))); d < hi * 1.0000001; d *= 10)
+            for (double m : {1.0, 2.0, 5.0})
+                if (d * m >= lo * 0.9999999 && d * m <= hi * 1.0000001) ticks.push_back(d * m);
+    } else {
+        for (double v = 0; v <= top * 1.0000001; v += step) ticks.push_back(v);
+    }
     std::string o = fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" "
                                 "font-family=\"sans-serif\" font-size=\"12\">\n",
                                 kLeft + kPlotW + 40 + kLegendW, height);
     o += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     // Tick labels in millions or thousands when the values are that large.
-    const double unit = top >= 1e6 ? 1e6 : top >= 1e4 ? 1e3 : 1;
+    const double unit = hi >= 1e6 ? 1e6 : hi >= 1e4 ? 1e3 : 1;
     const char* unit_name = unit == 1e6 ? " (millions)" : unit == 1e3 ? " (thousands)" : "";
-    o += fmt::format("<text x=\"{}\" y=\"24\" font-size=\"15\">{}{} against {}</text>\n", kLeft, xml_escape(y),
-                     unit_name, xml_escape(xa.name));
-    for (double v = 0; v <= top * 1.0000001; v += step) {
+    o += fmt::format("<text x=\"{}\" y=\"24\" font-size=\"15\">{}{} against {}{}</text>\n", kLeft, xml_escape(y),
+                     unit_name, xml_escape(xa.name), log_y ? " (log scale)" : "");
+    for (const double v : ticks) {
         o += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", kLeft, kLeft + kPlotW,
                          py(v), py(v));
         o += fmt::format("<text x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{:.4g}</text>\n", kLeft - 6, py(v) + 4, v / unit);
@@ -180,7 +207,7 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
         std::string path;
         for (std::size_t k = 0; k < xs.size(); ++k) {
             const auto it = pts.find(xs[k]);
-            if (it == pts.end()) continue;
+            if (it == pts.end() || !drawn(it->second)) continue;
             path += fmt::format("{}{:.1f},{:.1f}", path.empty() ? "M" : " L", px(k), py(it->second));
             o += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3\" fill=\"{}\"><title>{}: {}</title></circle>\n",
                              px(k), py(it->second), color, xml_escape(order[si].empty() ? label(xs[k]) : order[si] + " " + label(xs[k])),

@@ -141,9 +141,16 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
             for (const auto& [ck, cv] : *c) {
                 const std::string name(ck.str());
                 const auto* v = cv.as_string();
-                if ((name != "x" && name != "y") || !v)
-                    throw PaperError(where(file, cv.source()), "chart takes x = \"AXIS\" and y = \"METRIC\"");
-                (name == "x" ? s.chart_x : s.chart_y) = v->get();
+                if ((name != "x" && name != "y" && name != "y_scale") || !v)
+                    throw PaperError(where(file, cv.source()),
+                                     "chart takes x = \"AXIS\", y = \"METRIC\" and y_scale = \"linear\" or \"log\"");
+                if (name == "y_scale") {
+                    if (v->get() != "linear" && v->get() != "log")
+                        throw PaperError(where(file, cv.source()), "chart y_scale is \"linear\" or \"log\"");
+                    s.chart_log_y = v->get() == "log";
+                } else {
+                    (name == "x" ? s.chart_x : s.chart_y) = v->get();
+                }
             }
         } else {
             throw PaperError(where(file, key.source()),

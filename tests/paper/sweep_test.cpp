@@ -70,6 +70,8 @@ TEST_CASE("Sweep spec: bad input is a located error", "[unit][sweep]") {
     CHECK_THAT(error_of("metrics = []\n"), Catch::Contains("no [axes]"));
     CHECK_THAT(error_of("[axes]\nsize = 8\n[chart]\nx = \"grid\"\n"), Catch::Contains("chart x 'grid' is not one of the spec's axes"));
     CHECK_THAT(error_of("[axes\n"), Catch::StartsWith("s.toml:1:"));
+    CHECK_THAT(error_of("[axes]\nsize = 8\n[chart]\ny_scale = \"cubic\"\n"), Catch::Contains("y_scale is \"linear\" or \"log\""));
+    CHECK(parse_sweep_spec("[axes]\nsize = 8\n[chart]\ny_scale = \"log\"\n", "s.toml").chart_log_y);
 }
 
 TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a chart per series", "[unit][sweep]") {
@@ -100,4 +102,15 @@ TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a c
     REQUIRE(unbounded != std::string::npos);
     CHECK(svg.find(">48</text>") < unbounded);
     CHECK(std::count(svg.begin(), svg.end(), '<' ) > 10);
+    CHECK(svg.find("log scale") == std::string::npos);
+
+    // y_scale = "log": 1-2-5 ticks from below the least value to above the greatest (90..100 here).
+    SweepSpec log_spec = s;
+    log_spec.chart_log_y = true;
+    const std::string log_svg = sweep_chart_svg(log_spec, cells, json);
+    CHECK(log_svg.find("cycles.total against fifo_capacity (log scale)") != std::string::npos);
+    CHECK(log_svg.find(">50</text>") != std::string::npos);
+    CHECK(log_svg.find(">100</text>") != std::string::npos);
+    CHECK(log_svg.find(">200</text>") == std::string::npos);
+    CHECK(log_svg.find(">20</text>") == std::string::npos);
 }

@@ -42,6 +42,7 @@ struct SweepSpec {
     std::vector<SweepAxis> axes;   // in the file's order
     std::vector<std::string> metrics;
     std::string chart_x, chart_y;  // "" = none asked: x = the first swept numeric axis, y = cycles.total
+    bool chart_log_y = false;      // y_scale = "log": a log y axis (series far apart in size stay readable)
 };
 
 // The axes a spec may name (scene, size, grid, model, pes, balance, epoch, window, ray_slots,
