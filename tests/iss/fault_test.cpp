@@ -77,7 +77,8 @@ TEST_CASE("two writes of one register landing in the same cycle") {
 // Writes to one register land in program order. fdiv f1 (latency 4) then fadd f1 (latency 1)
 // lands the newer value first and the older over it: the checked engine stops (write-order).
 // A load stall between them moves the fadd, so the same code can land both in one cycle
-// (dup-write) or in order: the static checks assume one cycle per bundle and cannot see it.
+// (dup-write) or in order. The assembler rejects this code (it lands out of order without
+// stalls); stalls only delay later bundles, so they never reorder writes it accepts.
 struct Stall : CacheModel {
     uint32_t cycles;
     explicit Stall(uint32_t n) : cycles(n) {}
