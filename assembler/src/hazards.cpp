@@ -200,9 +200,10 @@ private:
 
     // A write landing before, or in the same cycle as, an earlier-issued write to its register that
     // is still in flight: the older value would land over the newer one, or both in one cycle. One
-    // error per earlier producer, the path on which it lands latest (the most nops to fix); a
-    // producer landing in the same cycle on every path is the same-cycle message, once per write.
-    // Earlier-issued includes an op of this bundle in a lower slot: the order the ISS issues in.
+    // error per earlier producer, on the path where it lands latest (the most nops to fix); the
+    // same-cycle message (once per write) only when no earlier write lands after this one, so one
+    // collision is never reported twice. Earlier-issued includes an op of this bundle in a lower
+    // slot: the order in which the ISS issues a bundle's ops.
     void write_order(size_t b, const OpRec& o, uint32_t lat, const RegAccess& a) {
         std::map<uint32_t, uint32_t> latest; // producer -> cycles until it lands, at most
         for (const Pending& p : in_[b])
