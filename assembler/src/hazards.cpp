@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -166,7 +167,6 @@ private:
 
     void report(size_t b) {
         const State& s = in_[b];
-        if (s.empty()) return;
         uint32_t op = first_op(b);
         for (const auto& o : bundles_[b].rec->ops) {
             std::vector<RegAccess> reads, writes;
@@ -192,19 +192,62 @@ private:
                 }
             }
             uint32_t lat = m_.latency_of(o.instr.info());
-            for (const RegAccess& a : writes)
-                for (const Pending& p : s)
-                    if (p.file == uint8_t(a.file) && p.reg == a.reg && p.k == lat) {
-                        Diagnostic& d = diags_.error(
-                            o.loc, fmt::format("{}{} is written twice in one cycle: this result and an "
-                                               "earlier '{}'{} both land in cycle +{}", prefix(a.file), a.reg,
-                                               instr(p.op).info().mnemonic, back_edge(p.op, b), lat));
-                        Diagnostics::note(d, op_rec(p.op).loc, fmt::format("other write of {}{}", prefix(a.file), a.reg));
-                        break;
-                    }
+            for (const RegAccess& a : writes) write_order(b, o, lat, a);
             ++op;
         }
         write_ports(b);
+    }
+
+    // A write landing before, or in the same cycle as, an earlier-issued write to its register that
+    // is still in flight: the older value would land over the newer one, or both in one cycle. One
+    // error per earlier producer, on the path where it lands latest (the most nops to fix); the
+    // same-cycle message (once per write) only when no earlier write lands after this one, so one
+    // collision is never reported twice. Earlier-issued includes an op of this bundle in a lower
+    // slot: the order in which the ISS issues a bundle's ops.
+    void write_order(size_t b, const OpRec& o, uint32_t lat, const RegAccess& a) {
+        std::map<uint32_t, uint32_t> latest; // producer -> cycles until it lands, at most
+        for (const Pending& p : in_[b])
+            if (p.file == uint8_t(a.file) && p.reg == a.reg) latest[p.op] = std::max(latest[p.op], p.k);
+        const std::string reg = fmt::format("{}{}", prefix(a.file), a.reg);
+        bool reported = false;
+        for (const auto& [producer, k] : latest) {
+            if (k <= lat) continue;
+            const isa::Instr& pin = instr(producer);
+            uint32_t plat = m_.latency_of(pin.info());
+            Diagnostic& d = diags_.error(
+                o.loc, fmt::format("{} is written before an earlier write to it lands: this result lands in cycle "
+                                   "+{}, the earlier '{}'{} in cycle +{}", reg, lat, pin.info().mnemonic,
+                                   back_edge(producer, b), k));
+            Diagnostics::note(d, op_rec(producer).loc,
+                              fmt::format("earlier write of {}: issued {} cycle{} before, latency {}, lands in cycle +{}",
+                                          reg, plat - k, plat - k == 1 ? "" : "s", plat, k));
+            reported = true;
+        }
+        for (const OpRec& e : bundles_[b].rec->ops) { // this bundle: the ISS issues by slot
+            uint32_t elat = m_.latency_of(e.instr.info());
+            if (&e == &o || e.instr.slot >= o.instr.slot || elat <= lat) continue;
+            std::vector<RegAccess> er, ew;
+            accesses(e.instr, er, ew);
+            for (const RegAccess& w : ew)
+                if (w.file == a.file && w.reg == a.reg) {
+                    Diagnostic& d = diags_.error(
+                        o.loc, fmt::format("{} is written before an earlier write to it lands: this result lands in "
+                                           "cycle +{}, the '{}' of a lower slot of this bundle in cycle +{}",
+                                           reg, lat, e.instr.info().mnemonic, elat));
+                    Diagnostics::note(d, e.loc, fmt::format("earlier write of {}: slot {}, latency {}, lands in cycle +{}",
+                                                            reg, m_.slots[e.instr.slot].name, elat, elat));
+                    reported = true;
+                }
+        }
+        if (reported) return;
+        for (const Pending& p : in_[b])
+            if (p.file == uint8_t(a.file) && p.reg == a.reg && p.k == lat) {
+                Diagnostic& d = diags_.error(
+                    o.loc, fmt::format("{} is written twice in one cycle: this result and an earlier '{}'{} both "
+                                       "land in cycle +{}", reg, instr(p.op).info().mnemonic, back_edge(p.op, b), lat));
+                Diagnostics::note(d, op_rec(p.op).loc, fmt::format("other write of {}", reg));
+                return;
+            }
     }
 
     // Writes landing in one cycle, this bundle's plus those still in flight, against the ports.

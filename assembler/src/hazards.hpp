@@ -7,7 +7,8 @@
 // conservatively as every return point (the bundle after a `jal`) and every code label.
 // Reported, with a note at the producing op:
 //   - a read of a register whose producer's result has not landed yet;
-//   - a write landing in the same cycle as an in-flight write of the same register;
+//   - a write landing before, or in the same cycle as, an in-flight write of the same register
+//     issued earlier (writes land in issue order; in one bundle the ISS issues in slot order);
 //   - more writes landing in one cycle than the register file has write ports, counting
 //     in-flight writes from earlier bundles (same-bundle rules are isa::check_bundle's).
 // Also warns when the last bundle can fall through past the end of the code.

@@ -20,6 +20,9 @@ int nops_for(const std::string& message) {
     static const std::regex in_flight(R"(is read before its new value lands: '.*' was issued (\d+) cycles? earlier.* and has latency (\d+))");
     std::smatch m;
     if (std::regex_search(message, m, in_flight)) return std::max(1, std::stoi(m[2]) - std::stoi(m[1]));
+    // A write landing at or before an earlier one: delay it until it lands one cycle after.
+    static const std::regex write_order(R"(is written before an earlier write to it lands: this result lands in cycle \+(\d+), the earlier '.*' in cycle \+(\d+))");
+    if (std::regex_search(message, m, write_order)) return std::stoi(m[2]) - std::stoi(m[1]) + 1;
     if (message.find("writes land in one cycle") != std::string::npos) return 1;
     if (message.find("is written twice in one cycle") != std::string::npos) return 1;
     return 0;

@@ -476,7 +476,10 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
                 const int to = writes[static_cast<std::size_t>((k + 1) % nw)];
                 const int dist = k + 1 == nw ? 1 : 0;
                 if (from == to && dist == 1 && nw == 1) continue; // one write per iteration lands in order
-                g.edges.push_back({from, to, lat(from) - lat(to) + 1, dist, "output " + name});
+                // Landing after is not enough: the next write must also issue after (the
+                // assembler and the checked ISS order writes by issue, so a longer write hoisted
+                // above a dead shorter one would be the earlier write and land last).
+                g.edges.push_back({from, to, std::max(lat(from) - lat(to) + 1, 1), dist, "output " + name});
             }
     }
     // Memory: between a store and any other access that may touch the same bytes, in both

@@ -68,6 +68,45 @@ TEST_CASE("late writes: same register and write ports across bundles", "[hazard]
     CHECK(assemble("{ fdiv f1, f2, f3 ; fdiv f4, f5, f6 }\nnop\nnop\nfadd f7, f8, f9\nhalt\n", "ic").ok);
 }
 
+// Writes to one register land in issue order (the checked ISS's write-order and dup-write).
+TEST_CASE("a write may not land before or with an earlier write of its register", "[hazard]") {
+    auto before = assemble("fdiv f1, f2, f3\nfadd f1, f4, f5\nhalt\n");
+    CHECK_FALSE(before.ok);
+    CHECK(before.errors == 1);
+    CHECK(before.diagnostics.find("test.s:2:1: error: f1 is written before an earlier write to it lands: this result "
+                                  "lands in cycle +1, the earlier 'fdiv' in cycle +3") != std::string::npos);
+    CHECK(before.diagnostics.find("test.s:1:1: note: earlier write of f1: issued 1 cycle before, latency 4, lands in "
+                                  "cycle +3") != std::string::npos);
+    // Strictly after, still in flight or not: accepted.
+    CHECK(assemble("fdiv f1, f2, f3\nfdiv f1, f4, f5\nhalt\n").ok);
+    CHECK(assemble("fdiv f1, f2, f3\nnop\nnop\nnop\nfadd f1, f4, f5\nhalt\n").ok);
+    // Other registers, other files: no constraint.
+    CHECK(assemble("fdiv f1, f2, f3\n{ fadd f2, f4, f5 ; li r1, 1 }\nhalt\n").ok);
+    // In the same cycle: the same-cycle message only.
+    auto same = assemble("fdiv f1, f2, f3\nnop\nnop\nfadd f1, f4, f5\nhalt\n");
+    CHECK(same.errors == 1);
+    CHECK(same.diagnostics.find("is written before") == std::string::npos);
+    // Around the back edge.
+    auto loop = assemble("top: fadd f1, f4, f5\n{ fdiv f1, f2, f3 ; bnez r1, top }\nhalt\n");
+    CHECK(loop.errors == 1);
+    CHECK(loop.diagnostics.find("test.s:1:6: error: f1 is written before an earlier write to it lands: this result "
+                                "lands in cycle +1, the earlier 'fdiv' (around a back edge) in cycle +3") !=
+          std::string::npos);
+    // Through jr: every return point and label.
+    auto jr = assemble("jal r31, f\nfadd f1, f4, f5\nhalt\nf: { fdiv f1, f2, f3 ; jr r31 }\n");
+    CHECK(jr.diagnostics.find("test.s:2:1: error: f1 is written before") != std::string::npos);
+    // One path lands with the fdiv, the taken one before it: one error, for the worse path.
+    auto paths = assemble("fdiv f1, f2, f3\nbeqz r1, s\nnop\ns: fadd f1, f4, f5\nhalt\n");
+    CHECK(paths.errors == 1);
+    CHECK(paths.diagnostics.find("the earlier 'fdiv' in cycle +2") != std::string::npos);
+    // One bundle: the ISS issues in slot order, so a lower slot's write is the earlier one.
+    auto bundle = assemble("{ fdiv f1, f2, f3 ; fadd f1, f4, f5 }\nhalt\n");
+    CHECK(bundle.errors == 1);
+    CHECK(bundle.diagnostics.find("the 'fdiv' of a lower slot of this bundle in cycle +4") != std::string::npos);
+    CHECK(assemble("{ fadd f1, f4, f5 ; fdiv f1, f2, f3 }\nhalt\n").ok);
+    CHECK(assemble("{ fpu1: fdiv f1, f2, f3 ; fpu0: fadd f1, f4, f5 }\nhalt\n").ok);
+}
+
 TEST_CASE("long-latency presets expose pipelined units", "[hazard]") {
     auto r = assemble("fadd f1, f2, f3\nfmul f4, f1, f1\nhalt\n", "os-real");
     isa::Machine m = isa::load_machine("os-real");

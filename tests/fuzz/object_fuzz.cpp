@@ -28,6 +28,7 @@ bool only_timing_errors(const std::string& diagnostics, bool loads) {
         const std::string line = diagnostics.substr(at, diagnostics.find('\n', at) - at);
         if (line.find("is read before its new value lands") == std::string::npos &&
             line.find("is written twice in one cycle") == std::string::npos &&
+            line.find("is written before an earlier write to it lands") == std::string::npos &&
             line.find("writes land in one cycle") == std::string::npos &&
             (loads || line.find("does not fit in a memory region") == std::string::npos))
             return false;

@@ -77,7 +77,8 @@ TEST_CASE("two writes of one register landing in the same cycle") {
 // Writes to one register land in program order. fdiv f1 (latency 4) then fadd f1 (latency 1)
 // lands the newer value first and the older over it: the checked engine stops (write-order).
 // A load stall between them moves the fadd, so the same code can land both in one cycle
-// (dup-write) or in order: the static checks assume one cycle per bundle and cannot see it.
+// (dup-write) or in order. The assembler rejects this code (it lands out of order without
+// stalls); stalls only delay later bundles, so they never reorder writes it accepts.
 struct Stall : CacheModel {
     uint32_t cycles;
     explicit Stall(uint32_t n) : cycles(n) {}
@@ -99,6 +100,27 @@ TEST_CASE("writes to one register must land in program order whatever the stalls
         p->attach_cache(p->program().machine().memories[0].name, &model);
         if (stall == 1) CHECK(run_to_fault(*p).kind == FaultKind::DupWrite);
         else CHECK(p->run(100) == Status::Halted);
+    }
+}
+
+// Stalls delay the bundles after the stalling one while results in flight land on time: code the
+// assembler accepts (each write to a register lands after the earlier ones) keeps that order under
+// any stall, but two fadds meant to land between the fdivs can be moved onto their cycle.
+TEST_CASE("stalls keep accepted writes to one register in order but not within the write ports") {
+    const std::vector<Bundle> ordered{{op("fdiv", 1, 2, 3), op("lw", 5, 0, 0, 0)}, {op("fdiv", 1, 4, 5)}, {op("nop")},
+                                      {op("nop")}, {op("nop")}, {op("fadd", 1, 6, 7)}, {op("halt")}};
+    const std::vector<Bundle> ports{{op("fdiv", 1, 2, 3), op("fdiv", 2, 4, 5), op("lw", 5, 0, 0, 0)},
+                                    {op("fadd", 3, 4, 5), op("fadd", 4, 6, 7)}, {op("halt")}};
+    for (uint32_t stall : {0u, 1u, 2u, 3u, 7u}) {
+        INFO("stall " << stall);
+        auto p = make_proc("os", ordered, Engine::Checked);
+        Stall model(stall);
+        p->attach_cache(p->program().machine().memories[0].name, &model);
+        CHECK(p->run(100) == Status::Halted);
+        auto q = make_proc("os", ports, Engine::Checked);
+        q->attach_cache(q->program().machine().memories[0].name, &model);
+        if (stall == 2) CHECK(run_to_fault(*q).kind == FaultKind::WritePorts); // the fadds land in cycle 4
+        else CHECK(q->run(100) == Status::Halted);
     }
 }
 

@@ -73,3 +73,19 @@ TEST_CASE("legalize: an error nops cannot fix is reported as it is", "[unit][sch
     CHECK_THROWS_WITH(sched::legalize("        frob r1\n        halt\n", "k.s", assembles(real)),
                       Catch::Contains("k.s:1:9: error"));
 }
+
+TEST_CASE("legalize: a write that would land before an earlier one waits until it lands after", "[unit][sched]") {
+    // On os the mul lands first and the li over it; on os-real the mul takes 3 cycles and the li,
+    // one bundle later, would land first and the mul's older value over it.
+    const char* code = "        li r1, 3\n        li r2, 7\n        mul r5, r1, r2\n        li r5, 9\n        halt\n";
+    const isa::Machine os = isa::load_machine("os"), real = isa::load_machine("os-real");
+    REQUIRE(!assembles(os)(code));
+    const std::optional<std::string> diags = assembles(real)(code);
+    REQUIRE(diags);
+    CHECK(diags->find("k.s:4:9: error: r5 is written before an earlier write to it lands") != std::string::npos);
+    const sched::Legalized l = sched::legalize(code, "k.s", assembles(real));
+    CHECK(!assembles(real)(l.text));
+    CHECK(l.nops == int(real.latency[int(isa::OpClass::Mul)]) - 1); // lands one cycle after the mul
+    CHECK(result(l.text, real) == 9);
+    CHECK(result(l.text, real) == result(code, os));
+}

@@ -3,8 +3,9 @@
 // latencies (os-real, seq-real, a user's TOML) the same bundles would read values still in
 // flight, which the exposed pipeline forbids. legalize() inserts nop bundles until the
 // assembler's hazard check accepts the code: before each bundle that reads a value too early
-// (as many as the value still needs), and one before a bundle whose results would land in one
-// cycle beyond the write ports or twice on one register. A nop only delays, so the meaning stays
+// (as many as the value still needs), one before a bundle whose results would land in one
+// cycle beyond the write ports or twice on one register, and before a bundle whose write would
+// land before an earlier write to its register as many as put it one cycle after that one. A nop only delays, so the meaning stays
 // the one the code has on the machine it was written for: a read in the overwriting producer's
 // bundle or earlier sees the old value on every machine, any later read must see the new one.
 //
@@ -28,7 +29,7 @@ struct Legalized {
 
 // `check` assembles a candidate text and returns its rendered diagnostics, or nullopt when it is
 // accepted. Errors located in `filename` (FILE:LINE:COL: error: ...) about a value read in flight,
-// write ports or a double write are fixed; a `#pack begin` ... `#pack end` block is not entered
+// write ports, a double write or a write out of order are fixed; a `#pack begin` ... `#pack end` block is not entered
 // (its nops go before its `#pack begin`: the block's own ops are scheduled by the tool). Throws
 // base::Error with the diagnostics when another error remains or no progress is made.
 Legalized legalize(const std::string& text, const std::string& filename,
