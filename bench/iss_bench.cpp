@@ -149,6 +149,8 @@ struct KernelRun {
     std::string name, machine;
     double seconds = 0, native_seconds = 0;
     uint64_t bundles = 0, ops = 0;
+    double interp_seconds = 0; // the same drive on the threaded interpreter (no compiled runs)
+    bool compiled = false;
 };
 
 // The time of the whole drive loop (host feeding and draining included: a few words per ray
@@ -164,25 +166,36 @@ template <class F> double best_native_seconds(int repeat, F&& once) {
     return best;
 }
 
-template <class Drive> void time_kernel(KernelRun& r, machine::KernelRunner& run, Drive&& drive) {
-    run.run();
-    const iss::Stats s0 = iss::compute_stats(*run.proc);
-    double t0 = cpu_seconds();
-    drive();
-    r.seconds = cpu_seconds() - t0;
-    const iss::Stats s1 = iss::compute_stats(*run.proc);
-    r.bundles = s1.bundles - s0.bundles;
-    r.ops = s1.ops - s0.ops;
+// Timed twice from the same loaded state: with compiled runs (when the kernel has them), then
+// after a reset on the threaded interpreter alone (Processor::set_compiled_runs(false)).
+template <class Load, class Drive> void time_kernel(KernelRun& r, machine::KernelRunner& run, Load&& load, Drive&& drive) {
+    r.compiled = run.proc->compiled_runs();
+    for (bool compiled : {true, false}) {
+        run.proc->reset();
+        run.in.drain_all();
+        run.out1.drain_all();
+        run.out2.drain_all();
+        run.proc->set_compiled_runs(compiled);
+        load();
+        run.run();
+        const iss::Stats s0 = iss::compute_stats(*run.proc);
+        double t0 = cpu_seconds();
+        drive();
+        (compiled ? r.seconds : r.interp_seconds) = cpu_seconds() - t0;
+        const iss::Stats s1 = iss::compute_stats(*run.proc);
+        r.bundles = s1.bundles - s0.bundles;
+        r.ops = s1.ops - s0.ops;
+    }
 }
 
 KernelRun bench_dda(const kernels::SourceSet& src, const std::string& m, int nrays) {
     KernelRun r{"3DDDA, empty 40^3 grid", m};
     machine::KernelRunner run(machine::assemble_kernel(src, kernels::kernel_path(m != "seq", false), m));
     const kernels::twins::GridGeom g = empty_grid(40);
-    run.load(kernels::os_image(g, std::vector<uint8_t>(40 * 40 * 40, 0)));
+    const kernels::MemImage image = kernels::os_image(g, std::vector<uint8_t>(40 * 40 * 40, 0));
     std::mt19937 rng(5);
     const std::vector<Ray> rays = grid_rays(nrays, rng);
-    time_kernel(r, run, [&] {
+    time_kernel(r, run, [&] { run.load(image); }, [&] {
         uint32_t i = 0;
         for (const Ray& ray : rays) {
             namespace abi = kernels::abi;
@@ -225,8 +238,6 @@ KernelRun bench_spheres(const kernels::SourceSet& src, const std::string& m, int
         lists[0].push_back(i);
     }
     const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
-    run.load(im.resident);
-    run.load(im.global);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     std::vector<Ray> rays;
     for (int i = 0; i < nrays; ++i) {
@@ -235,6 +246,9 @@ KernelRun bench_spheres(const kernels::SourceSet& src, const std::string& m, int
         rays.push_back({o, base::normalize(t - o)});
     }
     time_kernel(r, run, [&] {
+        run.load(im.resident);
+        run.load(im.global);
+    }, [&] {
         uint32_t i = 0;
         for (const Ray& ray : rays) {
             namespace abi = kernels::abi;
@@ -276,12 +290,15 @@ void print_kernels(int nrays, const std::string& only) {
     for (const char* m : {"ic", "seq"})
         if (only.empty() || only == std::string("spheres-") + m) runs.push_back(bench_spheres(src, m, nrays));
     fmt::print("\nISS fast engine on the built-in kernels, {} rays each\n\n", nrays);
-    fmt::print("{:<26} {:<4} {:>10} {:>8} {:>12} {:>12} {:>12} {:>10}\n", "kernel", "on", "bundles", "cpu s",
-               "Mbundles/s", "Mops/s", "ops/bundle", "vs twin");
+    fmt::print("(compiled: with the kernel's compiled runs; interp: the threaded interpreter alone, same rays)\n\n");
+    fmt::print("{:<26} {:<4} {:>10} {:>8} {:>12} {:>12} {:>12} {:>10} {:>14} {:>10}\n", "kernel", "on", "bundles",
+               "cpu s", "Mbundles/s", "Mops/s", "ops/bundle", "vs twin", "interp Mb/s", "speed-up");
     for (const KernelRun& r : runs)
-        fmt::print("{:<26} {:<4} {:>10} {:>8.3f} {:>12.1f} {:>12.1f} {:>12.2f} {:>9.1f}x\n", r.name, r.machine,
-                   r.bundles, r.seconds, double(r.bundles) / r.seconds / 1e6, double(r.ops) / r.seconds / 1e6,
-                   double(r.ops) / double(r.bundles), r.seconds / r.native_seconds);
+        fmt::print("{:<26} {:<4} {:>10} {:>8.3f} {:>12.1f} {:>12.1f} {:>12.2f} {:>9.1f}x {:>14.1f} {:>9.2f}x{}\n", r.name,
+                   r.machine, r.bundles, r.seconds, double(r.bundles) / r.seconds / 1e6, double(r.ops) / r.seconds / 1e6,
+                   double(r.ops) / double(r.bundles), r.seconds / r.native_seconds,
+                   double(r.bundles) / r.interp_seconds / 1e6, r.interp_seconds / r.seconds,
+                   r.compiled ? "" : "  (not compiled)");
 }
 
 } // namespace

@@ -26,9 +26,10 @@ inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd and 
 inline constexpr int kNumTails = kJump + 4;
 
 // The ring writes landing in this cycle, inside a run (the bundle before is owed its histogram
-// credit), then the next bundle's first op. Out of line and reached by tail calls, so that
-// the handlers need no stack frame, and land_then's test of an empty slot needs none either.
-[[gnu::noinline]] inline void land_ring_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
+// credit); land_ring_then: then the next bundle's first op. Out of line and reached by tail
+// calls, so that the handlers need no stack frame, and land_then's test of an empty slot needs
+// none either.
+[[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) {
     RingSlot& s = c.ring[c.cycle & c.mask];
     const uint32_t count = s.n;
     uint32_t ring_float = 0;
@@ -48,6 +49,9 @@ inline constexpr int kNumTails = kJump + 4;
         --c.write_adjust[f][prev[f]];
         ++c.write_adjust[f][prev[f] + ring[f]];
     }
+}
+[[gnu::noinline]] inline void land_ring_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
+    land_ring(c, prev_bundle);
     return next.tfn(c, next);
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "iss/channel.hpp"
+#include "iss/compiled.hpp"
 #include "iss/memory.hpp"
 #include "iss/program.hpp"
 
@@ -69,6 +70,7 @@ struct Core {
     const DecodedOp* ops = nullptr;
     uint32_t nb = 0;
     uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle
+    const CompiledRun* compiled = nullptr; // by bundle, or nullptr: the program's compiled runs
     // The first fault raised inside a bundle.
     const DecodedOp* fault_op = nullptr;
     MemError fault_mem = MemError::None;
@@ -80,16 +82,18 @@ struct Core {
         mask = size - 1;
     }
 
-    void push(const DecodedOp& d, uint32_t v) {
-        if (d.latency == 1) {
+    void push(const DecodedOp& d, uint32_t v) { push(d.dst, d.latency, d.index, v); }
+    // The same with the op's fields given (compiled runs pass constants).
+    [[gnu::always_inline]] void push(uint16_t dst, uint32_t latency, uint32_t op, uint32_t v) {
+        if (latency == 1) {
             uint32_t i = nwb++;
-            wb_reg[i] = d.dst;
+            wb_reg[i] = dst;
             wb_val[i] = v;
-            wb_op[i] = d.index;
+            wb_op[i] = op;
             return;
         }
-        RingSlot& s = ring[(cycle + d.latency) & mask];
-        s.w[s.n++] = RingWrite{d.dst, v, d.index};
+        RingSlot& s = ring[(cycle + latency) & mask];
+        s.w[s.n++] = RingWrite{dst, v, op};
         ++pending;
     }
 

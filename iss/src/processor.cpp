@@ -10,6 +10,7 @@
 // bundle.
 #include "iss/processor.hpp"
 
+#include "compiled.hpp"
 #include "core.hpp"
 
 #include "isa/printer.hpp"
@@ -166,8 +167,12 @@ template <bool Checked, bool Traced> struct EngineLoop {
         const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
         c.left = n - 1;
         c.jump_to = ~uint32_t{0};
-        const DecodedOp& head = c.ops[bundles[c.pc].first];
-        head.tfn(c, head);
+        if (c.compiled) { // compiled runs (issue 16 step 6, compiled.hpp): same contract as the chain
+            detail::run_compiled(c);
+        } else {
+            const DecodedOp& head = c.ops[bundles[c.pc].first];
+            head.tfn(c, head);
+        }
         const uint32_t pc = c.pc;
         const uint64_t done = n - 1 - c.left; // bundles finished: all but the one it stops in
         budget -= done;
@@ -490,6 +495,7 @@ void Processor::reset() {
     core_->channels = slots_.data();
     core_->words_received = &counters_.words_received;
     core_->words_sent = &counters_.words_sent;
+    set_compiled_runs(compiled_on_);
     counters_ = Counters{};
     size_t n = prog_->size();
     counters_.exec.assign(n, 0);
@@ -507,6 +513,13 @@ void Processor::set_engine(Engine e) {
     core_->busy.fill(0);
     for (const PendingWrite& w : inflight()) core_->busy[w.reg] = std::max(core_->busy[w.reg], w.lands);
 }
+
+void Processor::set_compiled_runs(bool on) {
+    compiled_on_ = on;
+    core_->compiled = on && prog_->compiled() ? prog_->compiled()->entry : nullptr;
+}
+
+bool Processor::compiled_runs() const { return core_->compiled != nullptr; }
 
 void Processor::attach_channel(uint32_t id, Channel* ch) {
     auto at = std::lower_bound(attached_.begin(), attached_.end(), id, [](const auto& e, uint32_t k) { return e.first < k; });

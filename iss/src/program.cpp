@@ -3,6 +3,10 @@
 
 #include "handlers.hpp"
 
+#include "iss/compiled.hpp"
+
+#include "base/hash.hpp"
+
 #include "isa/bundle_check.hpp"
 #include "isa/printer.hpp"
 
@@ -161,6 +165,25 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     for (DecodedOp& d : ops_)
         if (d.instr.info().kind == isa::Kind::Recv || d.instr.info().kind == isa::Kind::Send)
             d.chan = uint32_t(std::lower_bound(channel_ids_.begin(), channel_ids_.end(), d.imm) - channel_ids_.begin());
+
+    // The key of a compiled-run table: every field the engine's form depends on.
+    {
+        base::Fnv1a h;
+        auto add = [&h](uint64_t v) { h.add(std::string_view(reinterpret_cast<const char*>(&v), sizeof v)); };
+        add(m.fingerprint());
+        add(m.branch_penalty);
+        add(bundles_.size());
+        for (const DecodedBundle& b : bundles_) {
+            add(b.first), add(b.count), add(b.run), add(b.slow), add(b.control), add(b.fifo);
+            add(b.lat1_writes[0]), add(b.lat1_writes[1]);
+        }
+        for (const DecodedOp& d : ops_) {
+            add(d.instr.opcode), add(d.dst), add(d.a), add(d.b), add(d.c), add(d.imm), add(d.latency);
+            add(d.index), add(d.bundle), add(d.chan), add(d.fn == detail::kDirectHandlers[d.instr.opcode]);
+        }
+        hash_ = h.value();
+        compiled_ = find_compiled(hash_, size());
+    }
 
     // Label regions, from code symbols sorted by address.
     for (const auto& s : object_.symbols)

@@ -1,5 +1,7 @@
 #include "machine/runner.hpp"
 
+#include "compiled_runs.hpp"
+
 #include "assembler/assembler.hpp"
 #include "sched/block.hpp"
 #include "sched/legalize.hpp"
@@ -118,6 +120,7 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     if (!r.ok)
         throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name +
                                  "' (" + m.source + "):\n" + r.diagnostics);
+    detail::register_compiled_runs(); // the built-in kernels' compiled runs, found by the program's hash
     return iss::load_program(r.object, m);
 }
 

@@ -90,6 +90,10 @@ class Processor {
     Engine engine() const { return engine_; }
     void set_engine(Engine e);
     void set_tracer(Tracer* t) { tracer_ = t; } // not owned; nullptr to stop tracing
+    // Compiled runs (iss/compiled.hpp): on by default when the program has them; off, the fast
+    // engine runs the threaded interpreter (same results; for lock-step and benchmarks).
+    void set_compiled_runs(bool on);
+    bool compiled_runs() const;
 
     // Connections. Channels are not owned; channel ids are those used by send/recv (any 32-bit
     // id: the table is sparse, so attaching channel 500000000 costs what attaching channel 1 does).
@@ -149,6 +153,7 @@ class Processor {
     Status status_ = Status::Running;
     std::optional<Fault> fault_;
     uint32_t blocked_channel_ = 0;
+    bool compiled_on_ = true;
     std::vector<PendingWrite> landed_; // tracing: writes landed in the cycle not yet reported
 };
 

@@ -99,6 +99,13 @@ class Program {
     std::string format_bundle(uint32_t pc) const;
     std::string format_op(const isa::Instr& in) const;
 
+    // A hash of everything the fast engine's form of the program depends on (each op's opcode,
+    // registers, immediate, latency, channel and in-place write; each bundle's shape; the
+    // machine's fingerprint): the key of a compiled-run table (iss/compiled.hpp).
+    uint64_t decoded_hash() const { return hash_; }
+    // This program's compiled runs, or nullptr.
+    const struct CompiledProgram* compiled() const { return compiled_; }
+
   private:
     isa::Machine machine_;
     isa::ObjectFile object_;
@@ -109,6 +116,8 @@ class Program {
     std::vector<int> region_index_;
     std::vector<const isa::Symbol*> code_labels_; // sorted by address
     std::vector<std::vector<isa::Instr>> original_; // bundles as written (slot order)
+    uint64_t hash_ = 0;
+    const struct CompiledProgram* compiled_ = nullptr;
 };
 
 std::shared_ptr<const Program> load_program(const isa::ObjectFile& obj, const isa::Machine& m);

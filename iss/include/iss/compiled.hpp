@@ -1,0 +1,42 @@
+// Compiled runs: straight runs of known programs compiled to C++ at build time (issue 16, step 6).
+//
+// The ISS knows no program: a library above it (machine/'s nesshi_compiled_runs, generated from
+// the built-in kernels) registers one table per program it compiled, keyed by that program's
+// Program::decoded_hash() and size. A Program finds its table at load; any other program (a user
+// kernel, a kernel rescheduled for another machine, an edited source) runs on the threaded
+// interpreter. NESSHI_COMPILED=0 in the environment turns compiled runs off for every program
+// (set_compiled_enabled for the programs loaded after it, e.g. a benchmark comparing both in one
+// run); Processor::set_compiled_runs turns them off for one processor.
+#pragma once
+
+#include <cstdint>
+
+namespace nesshi::iss {
+
+struct Core;
+// Entry of a compiled run at bundle core.pc: it issues bundles as the threaded chain would
+// (src/compiled.hpp) and returns true when control went on to another run's bundle core.pc
+// (not yet issued), false when it stopped in bundle core.pc with that bundle's ops executed.
+using CompiledRun = bool (*)(Core& core);
+
+struct CompiledProgram {
+    const char* name = "";            // "os/dda.s@os", for reports
+    uint64_t hash = 0;                // Program::decoded_hash()
+    uint32_t bundles = 0;             // Program::size()
+    const CompiledRun* entry = nullptr; // by bundle: the run holding it, entered there
+    const uint32_t* run_of = nullptr; // by bundle: index of its run (first bundle order)
+    uint32_t runs = 0;
+};
+
+// Registers `p` (static storage); a second table with the same hash and size replaces nothing.
+void register_compiled(const CompiledProgram& p);
+// The registered table of a program, or nullptr (also when NESSHI_COMPILED=0).
+const CompiledProgram* find_compiled(uint64_t hash, uint32_t bundles);
+// Whether programs loaded from now on look their table up (default: NESSHI_COMPILED is not "0").
+void set_compiled_enabled(bool on);
+bool compiled_enabled();
+// Every registered table, for tests.
+int compiled_count();
+const CompiledProgram& compiled_at(int i);
+
+} // namespace nesshi::iss

@@ -1,0 +1,315 @@
+// Compiled runs (iss/compiled.hpp) against the threaded interpreter, in lock-step: every built-in
+// kernel on grids and primitive workloads, with and without caches (memory stalls) and a bad voxel
+// (a memory fault), two processors compared after every step of a varying number of bundles.
+#include "machine/runner.hpp"
+
+#include "base/vec.hpp"
+#include "iss/cache.hpp"
+#include "iss/compiled.hpp"
+#include "kernels/abi.hpp"
+#include "kernels/image.hpp"
+#include "kernels/messages.hpp"
+#include "kernels/shape_record.hpp"
+#include "kernels/twins/dda.hpp"
+
+#include <catch2/catch.hpp>
+#include <fmt/core.h>
+
+#include <array>
+#include <limits>
+#include <map>
+#include <memory>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace nesshi;
+
+namespace {
+
+// The full state two processors must share after the same steps.
+std::string differ(const iss::Processor& a, const iss::Processor& b) {
+    if (a.status() != b.status()) return "status";
+    if (a.status() == iss::Status::Faulted &&
+        (a.fault()->kind != b.fault()->kind || a.fault()->cycle != b.fault()->cycle || a.fault()->pc != b.fault()->pc ||
+         a.fault()->message != b.fault()->message))
+        return "fault";
+    if (a.pc() != b.pc()) return fmt::format("pc {} vs {}", a.pc(), b.pc());
+    if (a.cycle() != b.cycle()) return fmt::format("cycle {} vs {}", a.cycle(), b.cycle());
+    for (uint16_t r = 0; r < iss::kNumRegs; ++r)
+        if (a.reg(r) != b.reg(r)) return "register " + iss::reg_name(r);
+    const auto ia = a.inflight(), ib = b.inflight();
+    if (ia.size() != ib.size()) return "in-flight count";
+    for (size_t i = 0; i < ia.size(); ++i)
+        if (ia[i].reg != ib[i].reg || ia[i].value != ib[i].value || ia[i].lands != ib[i].lands || ia[i].op != ib[i].op)
+            return "in-flight write";
+    const iss::Counters &ka = a.counters(), &kb = b.counters();
+    if (ka.exec != kb.exec) return "exec counts";
+    if (ka.taken != kb.taken) return "taken counts";
+    if (ka.stall != kb.stall || ka.wait != kb.wait) return "stall or wait counts";
+    if (ka.wait_cycles != kb.wait_cycles || ka.bubble_cycles != kb.bubble_cycles || ka.stall_cycles != kb.stall_cycles)
+        return "cycle counters";
+    if (ka.words_received != kb.words_received || ka.words_sent != kb.words_sent) return "word counts";
+    for (int f = 0; f < isa::kNumRegFiles; ++f)
+        if (a.write_histogram(f) != b.write_histogram(f)) return "write histogram";
+    return {};
+}
+
+// Two runners of one program, A with compiled runs and B without, fed alike and stepped alike.
+struct Pair {
+    std::shared_ptr<const iss::Program> prog;
+    machine::KernelRunner a, b;
+    std::vector<std::unique_ptr<iss::SetAssocCache>> caches;
+    std::mt19937 steps{11};
+    uint64_t compared = 0;
+
+    Pair(std::shared_ptr<const iss::Program> p, bool cache) : prog(p), a(p), b(p) {
+        b.proc->set_compiled_runs(false);
+        REQUIRE(a.proc->compiled_runs());
+        REQUIRE_FALSE(b.proc->compiled_runs());
+        if (cache)
+            for (const auto& m : prog->machine().memories)
+                for (machine::KernelRunner* r : {&a, &b}) {
+                    caches.push_back(std::make_unique<iss::SetAssocCache>(iss::CacheGeometry{2048, 32, 2, 9}));
+                    r->proc->attach_cache(m.name, caches.back().get());
+                }
+    }
+    void load(const kernels::MemImage& m) {
+        a.load(m);
+        b.load(m);
+    }
+    template <class Words> void feed(const Words& w) {
+        a.feed(w);
+        b.feed(w);
+    }
+    // Until both wait for input (or halt or fault), in steps of 1 to 5000 bundles.
+    iss::Status run() {
+        static constexpr std::array<uint64_t, 9> kSteps{1, 2, 3, 7, 20, 64, 300, 5000, 1};
+        for (;;) {
+            const uint64_t n = kSteps[steps() % kSteps.size()];
+            const iss::Status sa = a.proc->step(n, 1'000'000);
+            const iss::Status sb = b.proc->step(n, 1'000'000);
+            ++compared;
+            const std::string d = differ(*a.proc, *b.proc);
+            if (!d.empty()) FAIL(fmt::format("{}: compiled and interpreted differ after step {} ({} bundles): {}",
+                                             prog->object().files.empty() ? "" : prog->object().files[0], compared, n, d));
+            REQUIRE(sa == sb);
+            if (sa == iss::Status::Faulted || sa == iss::Status::Halted ||
+                (sa == iss::Status::Blocked && a.proc->blocked_channel() == 0)) {
+                REQUIRE(a.proc->memory().hash() == b.proc->memory().hash());
+                REQUIRE(a.out1.drain_all() == b.out1.drain_all());
+                REQUIRE(a.out2.drain_all() == b.out2.drain_all());
+                return sa;
+            }
+        }
+    }
+};
+
+struct Grid {
+    kernels::twins::GridGeom g;
+    std::vector<std::uint8_t> occ;
+};
+Grid make_grid(int n, double density, std::mt19937& rng) {
+    Grid t;
+    for (int k = 0; k < 3; ++k) {
+        t.g.n[k] = n;
+        t.g.lo[k] = -10.0f;
+        t.g.cell[k] = 20.0f / static_cast<float>(n);
+        t.g.hi[k] = t.g.lo[k] + static_cast<float>(n) * t.g.cell[k];
+        t.g.inv_cell[k] = 1.0f / t.g.cell[k];
+    }
+    std::bernoulli_distribution full(density);
+    t.occ.resize(static_cast<std::size_t>(n * n * n));
+    for (auto& v : t.occ) v = full(rng) ? 1 : 0;
+    return t;
+}
+
+// The 3DDDA kernel: random rays; each VISIT answered by a RETURN (no hit), or, for every fifth
+// ray, the first one answered with the RETURN of a hit at t = 1.
+void drive_dda(Pair& p, std::mt19937& rng, int rays) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    p.run();
+    for (int i = 0; i < rays; ++i) {
+        base::Vec3f o{u(rng) * 30.0f, u(rng) * 30.0f, u(rng) * 30.0f};
+        base::Vec3f tgt{u(rng) * 8.0f, u(rng) * 8.0f, u(rng) * 8.0f};
+        if (i % 7 == 3) o = tgt * 0.5f; // from inside the grid
+        base::Vec3f d = base::normalize(tgt - o);
+        kernels::abi::NewRay nr{kernels::abi::Tag{static_cast<std::uint32_t>(i % 4096), kernels::abi::Kind::eye, 1}.word(),
+                                {o.x, o.y, o.z}, {d.x, d.y, d.z}, 0.0f, std::numeric_limits<float>::infinity()};
+        p.feed(nr.words());
+        for (;;) {
+            REQUIRE(p.run() == iss::Status::Blocked);
+            auto w = p.a.out1.drain_all();
+            p.a.out2.drain_all();
+            if (w.empty()) break;
+            p.feed(std::array<std::uint32_t, 1>{w[0]});
+        }
+    }
+}
+
+kernels::Shape tri_shape(std::mt19937& rng, bool two) {
+    std::uniform_real_distribution<double> q(-3.0, 3.0);
+    base::Vec3d v0{q(rng), q(rng), q(rng)}, v1{q(rng), q(rng), q(rng)}, v2{q(rng), q(rng), q(rng)};
+    const base::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = base::cross(e1, e2);
+    const double det = base::dot(nn, nn);
+    const base::Vec3d rows[3] = {nn * (1.0 / det), base::cross(e2, nn) * (1.0 / det), base::cross(nn, e1) * (1.0 / det)};
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeTriangle | (two ? kernels::kShapeTwoSided : 0u);
+    for (std::size_t i = 0; i < 3; ++i) {
+        s.w[4 * i] = static_cast<float>(rows[i].x);
+        s.w[4 * i + 1] = static_cast<float>(rows[i].y);
+        s.w[4 * i + 2] = static_cast<float>(rows[i].z);
+        s.w[4 * i + 3] = static_cast<float>(-base::dot(rows[i], v0));
+    }
+    return s;
+}
+kernels::Shape quadric_shape(std::mt19937& rng, int kind) {
+    std::uniform_real_distribution<float> q(-2.0f, 2.0f);
+    kernels::Shape s;
+    s.kind_flags = kernels::kShapeQuadric | (kind == 1 ? kernels::kShapeTwoSided : 0u);
+    s.w[0] = q(rng) * 0.2f, s.w[1] = q(rng) * 0.2f, s.w[2] = q(rng) * 0.2f;
+    s.w[3] = s.w[4] = s.w[5] = 1.0f;
+    s.w[12] = -1.0f;
+    if (kind == 2) { // a cylinder along z, length 4
+        s.w[5] = 0.0f;
+        s.w[2] = -2.0f;
+        s.w[15] = 1.0f;
+        s.w[16] = 4.0f;
+    }
+    return s;
+}
+
+// The intersection kernel: one voxel holding triangles, spheres (one- and two-sided) and
+// cylinders; rays aimed at the origin or past it. With `fault`, a last VISIT names a voxel far
+// outside the lists.
+iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
+    std::vector<kernels::Shape> shapes;
+    for (int i = 0; i < 24; ++i) shapes.push_back(i % 4 == 0 ? tri_shape(rng, i % 8 == 0) : quadric_shape(rng, i % 4 - 1));
+    std::vector<std::vector<std::uint32_t>> lists(2);
+    for (int i = 0; i < 24; ++i) lists[i % 3 == 0 ? 1 : 0].push_back(static_cast<std::uint32_t>(i));
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
+    p.load(im.resident);
+    p.load(im.global);
+    p.run();
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i <= rays; ++i) {
+        base::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
+        base::Vec3f tgt = i % 5 == 4 ? base::Vec3f{30.0f, 30.0f, 0.0f} : base::Vec3f{u(rng) * 0.3f, u(rng) * 0.3f, 0.0f};
+        base::Vec3f d = base::normalize(tgt - o);
+        kernels::abi::Visit v;
+        v.tag = kernels::abi::Tag{static_cast<std::uint32_t>(i), kernels::abi::Kind::eye, 1}.word() |
+                (i % 2 ? kernels::abi::kTagReturn : 0u);
+        v.voxel = i == rays ? (fault ? 0x3fffffffu : 0u) : static_cast<std::uint32_t>(i % 2);
+        v.t_out = 1e30f;
+        for (int k = 0; k < 3; ++k) v.o[k] = o[k], v.d[k] = d[k];
+        v.tmax = std::numeric_limits<float>::infinity();
+        p.feed(v.words());
+        const iss::Status s = p.run();
+        if (s != iss::Status::Blocked) return s;
+    }
+    return iss::Status::Blocked;
+}
+
+// Runs of each compiled program with a bundle issued by a processor with compiled runs.
+std::map<std::string, std::set<uint32_t>>& reached() {
+    static std::map<std::string, std::set<uint32_t>> r;
+    return r;
+}
+void note_reached(const Pair& p) {
+    const iss::CompiledProgram* c = p.prog->compiled();
+    REQUIRE(c);
+    auto& s = reached()[c->name];
+    for (uint32_t pc = 0; pc < p.prog->size(); ++pc)
+        if (p.a.proc->counters().exec[pc]) s.insert(c->run_of[pc]);
+}
+
+const std::vector<std::string> kDda = {"os/dda.s@os", "seq/dda.s@seq", "os/dda.s@os-real", "seq/dda.s@seq-real"};
+const std::vector<std::string> kIntersect = {"ic/intersect.s@ic", "seq/intersect.s@seq", "ic/intersect.s@ic-real",
+                                             "seq/intersect.s@seq-real"};
+
+std::shared_ptr<const iss::Program> program(const std::string& spec) {
+    const size_t at = spec.find('@');
+    return machine::assemble_kernel(kernels::embedded(), spec.substr(0, at), spec.substr(at + 1));
+}
+
+void lockstep_dda() {
+    for (const std::string& spec : kDda)
+        for (bool cache : {false, true}) {
+            INFO(spec << (cache ? " with caches" : ""));
+            Pair p(program(spec), cache);
+            std::mt19937 rng(5);
+            Grid g = make_grid(12, 0.0, rng);
+            p.load(kernels::os_image(g.g, g.occ));
+            drive_dda(p, rng, 25);
+            note_reached(p);
+            Pair q(program(spec), cache);
+            Grid s = make_grid(10, 0.05, rng);
+            q.load(kernels::os_image(s.g, s.occ));
+            drive_dda(q, rng, 40);
+            note_reached(q);
+        }
+}
+
+void lockstep_intersect() {
+    for (const std::string& spec : kIntersect)
+        for (bool cache : {false, true})
+            for (bool fault : {false, true}) {
+                INFO(spec << (cache ? " with caches" : "") << (fault ? ", bad voxel" : ""));
+                Pair p(program(spec), cache);
+                std::mt19937 rng(7);
+                const iss::Status s = drive_intersect(p, rng, 30, fault);
+                CHECK(s == (fault ? iss::Status::Faulted : iss::Status::Blocked));
+                note_reached(p);
+            }
+}
+
+} // namespace
+
+TEST_CASE("compiled runs: every built-in kernel in lock-step with the interpreter, every run entered or listed",
+          "[compiled]") {
+    lockstep_dda();
+    lockstep_intersect();
+    std::string unreached;
+    int total = 0, hit = 0;
+    for (int i = 0; i < iss::compiled_count(); ++i) {
+        const iss::CompiledProgram& c = iss::compiled_at(i);
+        const auto& s = reached()[c.name];
+        total += int(c.runs);
+        hit += int(s.size());
+        for (uint32_t r = 0; r < c.runs; ++r) {
+            if (s.count(r)) continue;
+            uint32_t first = 0;
+            while (c.run_of[first] != r) ++first;
+            unreached += fmt::format(" {}:run{}@{}", c.name, r, first);
+        }
+    }
+    WARN(fmt::format("compiled runs entered in lock-step: {} of {}; not reached:{}", hit, total, unreached));
+    CHECK(iss::compiled_count() == 8);
+    CHECK(hit * 10 >= total * 7);
+}
+
+TEST_CASE("compiled runs: a program one immediate away from a compiled one runs interpreted", "[compiled]") {
+    const kernels::SourceSet src = kernels::embedded();
+    const auto same = machine::assemble_kernel(src, "ic/intersect.s", "ic");
+    REQUIRE(same->compiled());
+    kernels::SourceSet edited = src;
+    bool changed = false;
+    for (kernels::SourceFile& f : edited.files)
+        if (f.path == "ic/intersect.s") {
+            const size_t at = f.text.find("li r60, 0x7f800000");
+            REQUIRE(at != std::string::npos);
+            f.text.replace(at, 18, "li r60, 0x7f800001");
+            changed = true;
+        }
+    REQUIRE(changed);
+    const auto other = machine::assemble_kernel(edited, "ic/intersect.s", "ic");
+    CHECK(other->size() == same->size());
+    CHECK(other->decoded_hash() != same->decoded_hash());
+    CHECK(other->compiled() == nullptr);
+    iss::Processor proc(other);
+    CHECK_FALSE(proc.compiled_runs());
+    // Rescheduled for another machine: not compiled either.
+    CHECK(machine::assemble_kernel(src, "ic/intersect.s", std::string(NESSHI_TEST_DATA) + "/ic-2iu.toml")->compiled() ==
+          nullptr);
+}
