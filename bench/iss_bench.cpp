@@ -133,17 +133,6 @@ std::vector<Ray> grid_rays(int n, std::mt19937& rng) {
     return rays;
 }
 
-kernels::twins::GridGeom empty_grid(int n) {
-    kernels::twins::GridGeom g;
-    for (int k = 0; k < 3; ++k) {
-        g.n[k] = n;
-        g.lo[k] = -10.0f;
-        g.cell[k] = 20.0f / float(n);
-        g.hi[k] = g.lo[k] + float(n) * g.cell[k];
-        g.inv_cell[k] = 1.0f / g.cell[k];
-    }
-    return g;
-}
 
 struct KernelRun {
     std::string name, machine;
@@ -191,7 +180,7 @@ template <class Load, class Drive> void time_kernel(KernelRun& r, machine::Kerne
 KernelRun bench_dda(const kernels::SourceSet& src, const std::string& m, int nrays) {
     KernelRun r{"3DDDA, empty 40^3 grid", m};
     machine::KernelRunner run(machine::assemble_kernel(src, kernels::kernel_path(m != "seq", false), m));
-    const kernels::twins::GridGeom g = empty_grid(40);
+    const kernels::twins::GridGeom g = kernels::twins::cubic_grid(40, -10.0f, 20.0f);
     const kernels::MemImage image = kernels::os_image(g, std::vector<uint8_t>(40 * 40 * 40, 0));
     std::mt19937 rng(5);
     const std::vector<Ray> rays = grid_rays(nrays, rng);

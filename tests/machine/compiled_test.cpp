@@ -112,13 +112,7 @@ struct Grid {
 };
 Grid make_grid(int n, double density, std::mt19937& rng) {
     Grid t;
-    for (int k = 0; k < 3; ++k) {
-        t.g.n[k] = n;
-        t.g.lo[k] = -10.0f;
-        t.g.cell[k] = 20.0f / static_cast<float>(n);
-        t.g.hi[k] = t.g.lo[k] + static_cast<float>(n) * t.g.cell[k];
-        t.g.inv_cell[k] = 1.0f / t.g.cell[k];
-    }
+    t.g = kernels::twins::cubic_grid(n, -10.0f, 20.0f);
     std::bernoulli_distribution full(density);
     t.occ.resize(static_cast<std::size_t>(n * n * n));
     for (auto& v : t.occ) v = full(rng) ? 1 : 0;

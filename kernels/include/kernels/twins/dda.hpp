@@ -38,6 +38,19 @@ struct GridGeom {
     int n[3] = {1, 1, 1};
 };
 
+// n^3 cubic voxels over [lo, lo + size]^3: the grid of the synthetic workloads and benchmarks.
+inline GridGeom cubic_grid(int n, float lo, float size) {
+    GridGeom g;
+    for (int k = 0; k < 3; ++k) {
+        g.n[k] = n;
+        g.lo[k] = lo;
+        g.cell[k] = size / static_cast<float>(n);
+        g.hi[k] = lo + static_cast<float>(n) * g.cell[k];
+        g.inv_cell[k] = 1.0f / g.cell[k];
+    }
+    return g;
+}
+
 struct DdaState {
     int i[3];
     int step[3];
