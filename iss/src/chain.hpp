@@ -19,11 +19,16 @@ namespace nesshi::iss::detail {
 
 // Tails: Return (the dispatch loop's handlers), Next (an op that is not its bundle's last),
 // Exit (last op of a run's last bundle), End + flags (last op of any other bundle of a run),
-// Jump + flags (last op of a control bundle without halt when the branch penalty is 0: the
-// chain goes on at the next bundle or the branch's target, when no FIFO gate guards it).
-inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 7;
-inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd and kJump
-inline constexpr int kNumTails = kJump + 4;
+// Jump + commit flag (last op of a control bundle without halt when the branch penalty is 0:
+// the chain goes on at the next bundle or the branch's target).
+//
+// FIFO bundles: the chain goes into one (End + kEndGate, or a Jump whose target is one) only
+// when its fast gate passes (gate_passes); otherwise it stops in the bundle before, exactly as
+// at any other stop, and the general loop's fifo_gate decides at the FIFO bundle (wait, block,
+// deadlock, no channel) as it would have without the chain.
+inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 11;
+inline constexpr int kEndCommit = 1, kEndEvents = 2, kEndGate = 4; // flags added to kEnd (kJump: commit only)
+inline constexpr int kNumTails = kJump + 2;
 
 // The ring writes landing in this cycle, inside a run (the bundle before is owed its histogram
 // credit), then the next bundle's first op. Out of line and reached by tail calls, so that
@@ -57,6 +62,55 @@ inline constexpr int kNumTails = kJump + 4;
     return next.tfn(c, next);
 }
 
+// The end of bundle `d.bundle` once the chain goes on to bundle `to`: what the general loop's
+// turn does after the handlers (commit, counts, the cycle, the budget), then `to`'s first op.
+template <bool Commit, bool Jump> [[gnu::always_inline]] inline void step(Core& c, const DecodedOp& d, uint32_t to) {
+    if constexpr (Commit) c.land_direct();
+    ++c.exec[d.bundle];
+    if constexpr (Jump) {
+        if (c.event) { // kTaken, the only event a chain goes on with
+            ++c.taken[d.bundle];
+            c.event = 0;
+        }
+        c.jump_from = d.bundle; // the bundle before `to`, should the chain stop there
+        c.jump_to = to;
+    }
+    ++c.cycle;
+    --c.left;
+    const DecodedOp& n = Jump ? c.ops[c.bundles[to].first] : (&d)[1]; // ops are in bundle order
+    if (c.pending) [[unlikely]]
+        return land_then(c, n, d.bundle);
+    return n.tfn(c, n);
+}
+
+// A FIFO bundle's fast gate at the current cycle: for each channel and direction it uses (in
+// the order of their first op), a channel is attached and holds `need` readable words or has
+// room for `need`. It passes exactly when the general gate (EngineLoop::fifo_gate) would say
+// Go, which asks the same of each op with the words up to it (Channel::readable's contract),
+// and it asks nothing the general gate would not ask first when it does not pass.
+inline bool gate_passes(const Core& c, const DecodedBundle& b) {
+    for (const FifoNeed *g = c.needs + b.gate_first, *e = g + b.gate_count; g != e; ++g) {
+        const Channel* ch = c.channels[g->slot];
+        if (!ch) return false;
+        if (g->recv ? ch->readable(c.cycle, g->need) < g->need : ch->writable() < g->need) return false;
+    }
+    return true;
+}
+
+// The end of a bundle whose successor `to` is a FIFO bundle. Out of line (the gate calls the
+// channels) and reached by a tail call. The channels are asked at `to`'s issue cycle, the one
+// the general gate sees (a host's channel may read its processor's cycle()).
+template <bool Commit, bool Jump> [[gnu::noinline]] void step_gated(Core& c, const DecodedOp& d, uint32_t to) {
+    ++c.cycle;
+    const bool go = gate_passes(c, c.bundles[to]);
+    --c.cycle;
+    if (!go) [[unlikely]] {
+        c.pc = d.bundle;
+        return;
+    }
+    return step<Commit, Jump>(c, d, to);
+}
+
 template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedOp& d) {
     if constexpr (T == kReturn) {
         return;
@@ -73,27 +127,16 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
             return;
         }
         const uint32_t to = ev ? c.next_pc : d.bundle + 1;
-        if (to >= c.nb || c.bundles[to].slow) [[unlikely]] { // a bad pc, or a FIFO gate: loop() again
+        if (to >= c.nb) [[unlikely]] { // a bad pc: loop() again
             c.pc = d.bundle;
             return;
         }
-        if constexpr (commit) c.land_direct();
-        ++c.exec[d.bundle];
-        if (ev) {
-            ++c.taken[d.bundle];
-            c.event = 0;
-        }
-        c.jump_from = d.bundle; // the bundle before `to`, should the chain stop there
-        c.jump_to = to;
-        ++c.cycle;
-        --c.left;
-        const DecodedOp& n = c.ops[c.bundles[to].first];
-        if (c.pending) [[unlikely]]
-            return land_then(c, n, d.bundle);
-        return n.tfn(c, n);
+        if (c.bundles[to].slow) return step_gated<commit, true>(c, d, to);
+        return step<commit, true>(c, d, to);
     } else {
         constexpr bool commit = (T - kEnd) & kEndCommit; // the bundle queues latency-1 writes
         constexpr bool events = (T - kEnd) & kEndEvents; // it has a load or store (fault, stall)
+        constexpr bool gate = (T - kEnd) & kEndGate;     // the next bundle is a FIFO bundle
         if constexpr (events) {
             if (c.event) [[unlikely]] {
                 c.pc = d.bundle;
@@ -104,14 +147,8 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
             c.pc = d.bundle;
             return;
         }
-        if constexpr (commit) c.land_direct();
-        ++c.exec[d.bundle];
-        ++c.cycle;
-        --c.left;
-        const DecodedOp& n = (&d)[1]; // ops are stored in bundle order: the next bundle's first
-        if (c.pending) [[unlikely]]
-            return land_then(c, n, d.bundle);
-        return n.tfn(c, n);
+        if constexpr (gate) return step_gated<commit, false>(c, d, d.bundle + 1);
+        else return step<commit, false>(c, d, d.bundle + 1);
     }
 }
 

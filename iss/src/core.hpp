@@ -67,6 +67,7 @@ struct Core {
     std::array<uint64_t*, 2> write_adjust{};
     const DecodedBundle* bundles = nullptr;
     const DecodedOp* ops = nullptr;
+    const FifoNeed* needs = nullptr; // Program::fifo_needs
     uint32_t nb = 0;
     uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle
     // The first fault raised inside a bundle.

@@ -156,8 +156,9 @@ template <bool Checked, bool Traced> struct EngineLoop {
     // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
     // and, without a branch penalty, the runs control goes to, until a run's last bundle, a
     // bundle whose handlers raised an event other than a taken branch, or one whose successor
-    // needs the FIFO gate has executed its operations; loop() then finishes that bundle as any
-    // other. Only those stops end a chain early, so the cycle limit and the budget are checked
+    // is a FIFO bundle whose fast gate does not pass (chain.hpp) has executed its operations;
+    // loop() then finishes that bundle as any other, and its fifo_gate decides at the FIFO
+    // bundle. Only those stops end a chain early, so the cycle limit and the budget are checked
     // once; inside it land_next always equals the cycle and the bundle before is owed its
     // histogram credit, so landing reduces to the cycle's ring slot, and that state is written
     // back once, at the end. The chain of threaded handlers (chain.hpp) leaves c.pc at the
@@ -236,9 +237,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
                                                               d.instr.info().mnemonic, ch));
                 return Gate::Stop;
             }
-            size_t need = 0; // this op plus earlier ops of the bundle on the same channel and direction
-            for (uint32_t j = 0; j <= i; ++j)
-                need += ops[j].instr.info().kind == kind && ops[j].imm == ch;
+            const size_t need = d.need; // this op plus earlier ops of the bundle on the same channel and direction
             if (kind == isa::Kind::Recv) {
                 if (chan->readable(c.cycle, need) >= need) continue;
                 std::optional<uint64_t> ready = chan->front_ready();
@@ -379,6 +378,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
         c.nb = prog.size();
         c.write_adjust = {k.write_adjust[0].data(), k.write_adjust[1].data()};
         c.bundles = prog.bundles().data();
+        c.needs = prog.fifo_needs().data();
         Status st = loop(limit, budget, wait_blocked);
         // Stop at a cycle boundary with that cycle's writes landed, so registers and inflight()
         // show the state the next bundle will read.
