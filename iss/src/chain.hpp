@@ -6,6 +6,19 @@
 // general loop's turn per bundle would (see EngineLoop::run_plain): it stops with the
 // stopping bundle's ops executed and nothing else, and the loop finishes that bundle.
 //
+// The run entry/exit contract (for anything else entered from EngineLoop::run_plain, such as
+// compiled runs): run_plain enters at bundle c.pc, whose FIFO gate (if any) loop() has passed,
+// with c.left = bundles that may be finished after the one it stops in, c.jump_to = ~0, and one
+// pass begun at c.pc (++c.enter[c.pc]). A bundle is finished by: landing its queued latency-1
+// writes (land_direct), for a taken jump ++c.taken and c.event = 0, ++c.cycle, --c.left, then
+// at the next cycle the ring slot's writes (land_then: registers, c.pending, last_ring and the
+// write_adjust credit of the bundle before). Execution counts are by pass: falling through counts
+// nothing, a jump from b to t does ++c.leave[b + 1], ++c.enter[t] and sets jump_from/jump_to.
+// Entering a FIFO bundle needs its fast gate (step_gated: asked at its issue cycle). The stop:
+// c.pc = the bundle whose ops have run but which is not finished (its events in c.event,
+// next_pc set by a taken control op); run_plain then ends the pass (++c.leave[c.pc]) and
+// settles land_next/lat1_owed/last_owed, and loop() finishes that bundle as any other.
+//
 // GCC 12 has no musttail: every call here is in tail position with the handler's own
 // signature, and no handler may keep an addressable local, so -O2 emits jumps
 // (tests/iss/threaded_test.cpp runs a long run on a small stack to check it).
@@ -64,10 +77,13 @@ inline constexpr int kNumTails = kJump + 2;
 
 // The end of bundle `d.bundle` once the chain goes on to bundle `to`: what the general loop's
 // turn does after the handlers (commit, counts, the cycle, the budget), then `to`'s first op.
+// A bundle's execution is counted by pass (Processor::flush_passes): nothing to count when the
+// chain falls through; a jump ends a pass after `d.bundle` and begins one at `to`.
 template <bool Commit, bool Jump> [[gnu::always_inline]] inline void step(Core& c, const DecodedOp& d, uint32_t to) {
     if constexpr (Commit) c.land_direct();
-    ++c.exec[d.bundle];
     if constexpr (Jump) {
+        ++c.leave[d.bundle + 1];
+        ++c.enter[to];
         if (c.event) { // kTaken, the only event a chain goes on with
             ++c.taken[d.bundle];
             c.event = 0;

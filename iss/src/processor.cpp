@@ -167,9 +167,12 @@ template <bool Checked, bool Traced> struct EngineLoop {
         const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
         c.left = n - 1;
         c.jump_to = ~uint32_t{0};
+        ++c.enter[c.pc]; // a pass begins at the head...
+        p.passes_dirty_ = true;
         const DecodedOp& head = c.ops[bundles[c.pc].first];
         head.tfn(c, head);
         const uint32_t pc = c.pc;
+        ++c.leave[pc]; // ...and the last one ends before the bundle the chain stops in (loop() counts it)
         const uint64_t done = n - 1 - c.left; // bundles finished: all but the one it stops in
         budget -= done;
         if (!(c.event & kTaken)) c.next_pc = pc + 1; // only a control bundle sets it
@@ -373,6 +376,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
 
     Status run(uint64_t limit, uint64_t budget, bool wait_blocked) {
         c.exec = k.exec.data();
+        c.enter = p.pass_enter_.data();
+        c.leave = p.pass_leave_.data();
         c.taken = k.taken.data();
         c.ops = prog.ops().data();
         c.nb = prog.size();
@@ -493,6 +498,9 @@ void Processor::reset() {
     counters_ = Counters{};
     size_t n = prog_->size();
     counters_.exec.assign(n, 0);
+    pass_enter_.assign(n, 0);
+    pass_leave_.assign(n + 1, 0);
+    passes_dirty_ = false;
     counters_.wait.assign(n, 0);
     counters_.taken.assign(n, 0);
     counters_.stall.assign(n, 0);
@@ -582,7 +590,19 @@ void Processor::set_reg(uint16_t flat, uint32_t value) {
     if (flat < kNumRegs) core_->r[flat] = value;
 }
 
+void Processor::flush_passes() const {
+    uint64_t open = 0; // passes that cover pc (modulo 2^64, as the counts)
+    for (size_t pc = 0; pc < pass_enter_.size(); ++pc) {
+        open += pass_enter_[pc] - pass_leave_[pc];
+        counters_.exec[pc] += open;
+        pass_enter_[pc] = pass_leave_[pc] = 0;
+    }
+    pass_leave_.back() = 0; // every pass ended by the last bundle
+    passes_dirty_ = false;
+}
+
 std::vector<uint64_t> Processor::write_histogram(int file) const {
+    if (passes_dirty_) flush_passes();
     std::vector<uint64_t> h = counters_.write_adjust[file];
     const auto& bundles = prog_->bundles();
     for (size_t pc = 0; pc < bundles.size(); ++pc) h[bundles[pc].lat1_writes[file]] += counters_.exec[pc];
