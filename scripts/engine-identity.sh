@@ -14,13 +14,14 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 rm -rf "$OUT" && mkdir -p "$OUT"
 cd "$ROOT"
 
-# The stats JSON without host measurements (the "host" object, any *seconds field).
+# The stats JSON without host measurements (the "host" object, any *seconds field) and without a
+# paper cell's "digest", which hashes its *seconds fields too (two runs of one build differ there).
 strip() {
     python3 - "$1" <<'PY'
 import json, sys
 def clean(v):
     if isinstance(v, dict):
-        return {k: clean(x) for k, x in v.items() if k != "host" and not k.endswith("seconds")}
+        return {k: clean(x) for k, x in v.items() if k not in ("host", "digest") and not k.endswith("seconds")}
     return [clean(x) for x in v] if isinstance(v, list) else v
 path = sys.argv[1]
 with open(path) as f: data = json.load(f)

@@ -6,6 +6,19 @@
 // general loop's turn per bundle would (see EngineLoop::run_plain): it stops with the
 // stopping bundle's ops executed and nothing else, and the loop finishes that bundle.
 //
+// The run entry/exit contract (for anything else entered from EngineLoop::run_plain, such as
+// compiled runs): run_plain enters at bundle c.pc, whose FIFO gate (if any) loop() has passed,
+// with c.left = bundles that may be finished after the one it stops in, c.jump_to = ~0, and one
+// pass begun at c.pc (++c.enter[c.pc]). A bundle is finished by: landing its queued latency-1
+// writes (land_direct), for a taken jump ++c.taken and c.event = 0, ++c.cycle, --c.left, then
+// at the next cycle the ring slot's writes (land_then: registers, c.pending, last_ring and the
+// write_adjust credit of the bundle before). Execution counts are by pass: falling through counts
+// nothing, a jump from b to t does ++c.leave[b + 1], ++c.enter[t] and sets jump_from/jump_to.
+// Entering a FIFO bundle needs its fast gate (step_gated: asked at its issue cycle). The stop:
+// c.pc = the bundle whose ops have run but which is not finished (its events in c.event,
+// next_pc set by a taken control op); run_plain then ends the pass (++c.leave[c.pc]) and
+// settles land_next/lat1_owed/last_owed, and loop() finishes that bundle as any other.
+//
 // GCC 12 has no musttail: every call here is in tail position with the handler's own
 // signature, and no handler may keep an addressable local, so -O2 emits jumps
 // (tests/iss/threaded_test.cpp runs a long run on a small stack to check it).
@@ -19,11 +32,16 @@ namespace nesshi::iss::detail {
 
 // Tails: Return (the dispatch loop's handlers), Next (an op that is not its bundle's last),
 // Exit (last op of a run's last bundle), End + flags (last op of any other bundle of a run),
-// Jump + flags (last op of a control bundle without halt when the branch penalty is 0: the
-// chain goes on at the next bundle or the branch's target, when no FIFO gate guards it).
-inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 7;
-inline constexpr int kEndCommit = 1, kEndEvents = 2; // flags added to kEnd and kJump
-inline constexpr int kNumTails = kJump + 4;
+// Jump + commit flag (last op of a control bundle without halt when the branch penalty is 0:
+// the chain goes on at the next bundle or the branch's target).
+//
+// FIFO bundles: the chain goes into one (End + kEndGate, or a Jump whose target is one) only
+// when its fast gate passes (gate_passes); otherwise it stops in the bundle before, exactly as
+// at any other stop, and the general loop's fifo_gate decides at the FIFO bundle (wait, block,
+// deadlock, no channel) as it would have without the chain.
+inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 11;
+inline constexpr int kEndCommit = 1, kEndEvents = 2, kEndGate = 4; // flags added to kEnd (kJump: commit only)
+inline constexpr int kNumTails = kJump + 2;
 
 // The ring writes landing in this cycle, inside a run (the bundle before is owed its histogram
 // credit); land_ring_then: then the next bundle's first op. Out of line and reached by tail
@@ -61,6 +79,69 @@ inline constexpr int kNumTails = kJump + 4;
     return next.tfn(c, next);
 }
 
+// The end of bundle `bundle` once the chain goes on to bundle `to`: what the general loop's
+// turn does after the handlers (commit, counts, the cycle, the budget), short of landing the
+// next cycle's ring writes. A bundle's execution is counted by pass (Processor::flush_passes):
+// nothing to count when the chain falls through; a jump ends a pass after `bundle` and begins
+// one at `to`. Compiled runs (compiled.hpp) end their bundles with it too.
+template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish(Core& c, uint32_t bundle, uint32_t to) {
+    if constexpr (Commit) c.land_direct();
+    if constexpr (Jump) {
+        ++c.leave[bundle + 1];
+        ++c.enter[to];
+        if (c.event) { // kTaken, the only event a chain goes on with
+            ++c.taken[bundle];
+            c.event = 0;
+        }
+        c.jump_from = bundle; // the bundle before `to`, should the chain stop there
+        c.jump_to = to;
+    }
+    ++c.cycle;
+    --c.left;
+}
+
+// finish, then the ring writes landing now and `to`'s first op.
+template <bool Commit, bool Jump> [[gnu::always_inline]] inline void step(Core& c, const DecodedOp& d, uint32_t to) {
+    finish<Commit, Jump>(c, d.bundle, to);
+    const DecodedOp& n = Jump ? c.ops[c.bundles[to].first] : (&d)[1]; // ops are in bundle order
+    if (c.pending) [[unlikely]]
+        return land_then(c, n, d.bundle);
+    return n.tfn(c, n);
+}
+
+// A FIFO bundle's fast gate at the current cycle: for each channel and direction it uses (in
+// the order of their first op), a channel is attached and holds `need` readable words or has
+// room for `need`. It passes exactly when the general gate (EngineLoop::fifo_gate) would say
+// Go, which asks the same of each op with the words up to it (Channel::readable's contract),
+// and it asks nothing the general gate would not ask first when it does not pass.
+inline bool gate_passes(const Core& c, const DecodedBundle& b) {
+    for (const FifoNeed *g = c.needs + b.gate_first, *e = g + b.gate_count; g != e; ++g) {
+        const Channel* ch = c.channels[g->slot];
+        if (!ch) return false;
+        if (g->recv ? ch->readable(c.cycle, g->need) < g->need : ch->writable() < g->need) return false;
+    }
+    return true;
+}
+
+// The fast gate of FIFO bundle `to`, the successor of the bundle just executed, asked at `to`'s
+// issue cycle, the one the general gate sees (a host's channel may read its processor's cycle()).
+[[gnu::always_inline]] inline bool gate_at_issue(Core& c, uint32_t to) {
+    ++c.cycle;
+    const bool go = gate_passes(c, c.bundles[to]);
+    --c.cycle;
+    return go;
+}
+
+// The end of a bundle whose successor `to` is a FIFO bundle. Out of line (the gate calls the
+// channels) and reached by a tail call. When the gate does not pass, the chain stops here.
+template <bool Commit, bool Jump> [[gnu::noinline]] void step_gated(Core& c, const DecodedOp& d, uint32_t to) {
+    if (!gate_at_issue(c, to)) [[unlikely]] {
+        c.pc = d.bundle;
+        return;
+    }
+    return step<Commit, Jump>(c, d, to);
+}
+
 template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedOp& d) {
     if constexpr (T == kReturn) {
         return;
@@ -77,27 +158,16 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
             return;
         }
         const uint32_t to = ev ? c.next_pc : d.bundle + 1;
-        if (to >= c.nb || c.bundles[to].slow) [[unlikely]] { // a bad pc, or a FIFO gate: loop() again
+        if (to >= c.nb) [[unlikely]] { // a bad pc: loop() again
             c.pc = d.bundle;
             return;
         }
-        if constexpr (commit) c.land_direct();
-        ++c.exec[d.bundle];
-        if (ev) {
-            ++c.taken[d.bundle];
-            c.event = 0;
-        }
-        c.jump_from = d.bundle; // the bundle before `to`, should the chain stop there
-        c.jump_to = to;
-        ++c.cycle;
-        --c.left;
-        const DecodedOp& n = c.ops[c.bundles[to].first];
-        if (c.pending) [[unlikely]]
-            return land_then(c, n, d.bundle);
-        return n.tfn(c, n);
+        if (c.bundles[to].slow) return step_gated<commit, true>(c, d, to);
+        return step<commit, true>(c, d, to);
     } else {
         constexpr bool commit = (T - kEnd) & kEndCommit; // the bundle queues latency-1 writes
         constexpr bool events = (T - kEnd) & kEndEvents; // it has a load or store (fault, stall)
+        constexpr bool gate = (T - kEnd) & kEndGate;     // the next bundle is a FIFO bundle
         if constexpr (events) {
             if (c.event) [[unlikely]] {
                 c.pc = d.bundle;
@@ -108,14 +178,8 @@ template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedO
             c.pc = d.bundle;
             return;
         }
-        if constexpr (commit) c.land_direct();
-        ++c.exec[d.bundle];
-        ++c.cycle;
-        --c.left;
-        const DecodedOp& n = (&d)[1]; // ops are stored in bundle order: the next bundle's first
-        if (c.pending) [[unlikely]]
-            return land_then(c, n, d.bundle);
-        return n.tfn(c, n);
+        if constexpr (gate) return step_gated<commit, false>(c, d, d.bundle + 1);
+        else return step<commit, false>(c, d, d.bundle + 1);
     }
 }
 

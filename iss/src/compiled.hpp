@@ -5,6 +5,9 @@
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is exec<> (handlers.hpp) with its operands known, its semantics
 // isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> then<kJump + flags>, stop() kExit.
+// The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
+// ends through chain.hpp's finish<> (execution counts by pass), and a run goes into a FIFO bundle
+// only when gate_at_issue passes.
 // It returns true when control goes on to another run (core.pc is the next bundle, not issued
 // yet: run_compiled enters that run) and false when it stops in bundle core.pc with its ops
 // executed, which EngineLoop::run_plain and loop() then finish as after a chain.
@@ -91,7 +94,7 @@ template <size_t O, bool Direct>
     } else if constexpr (info.kind == Kind::Halt) {
         c.event |= kHalt;
     } else if constexpr (info.kind == Kind::Recv || info.kind == Kind::Send) {
-        exec<O, Direct, kReturn>(c, c.ops[index]); // first bundle of a run only: its gate has passed
+        exec<O, Direct, kReturn>(c, c.ops[index]); // its gate has passed (loop()'s, or end<>'s or jump<>'s fast one)
     } else {
         static_assert(info.kind == Kind::Nop);
     }
@@ -109,17 +112,21 @@ template <size_t O, bool Direct>
     return false;
 }
 
-// The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it.
-template <bool Commit, bool Events> [[gnu::always_inline]] inline bool end(Core& c, uint32_t bundle) {
+// The gate of FIFO bundle `to` before a compiled run goes into it (gate_at_issue, out of line).
+[[gnu::noinline]] inline bool cgate(Core& c, uint32_t to) { return gate_at_issue(c, to); }
+
+// The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
+// (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes).
+template <bool Commit, bool Events, bool Gate> [[gnu::always_inline]] inline bool end(Core& c, uint32_t bundle) {
     if constexpr (Events)
         if (c.event) [[unlikely]]
             return stop(c, bundle);
     if (c.left == 0) [[unlikely]]
         return stop(c, bundle);
-    if constexpr (Commit) c.land_direct();
-    ++c.exec[bundle];
-    ++c.cycle;
-    --c.left;
+    if constexpr (Gate)
+        if (!cgate(c, bundle + 1)) [[unlikely]]
+            return stop(c, bundle);
+    finish<Commit, false>(c, bundle, bundle + 1);
     if (c.pending) [[unlikely]]
         cland(c, bundle);
     return true;
@@ -135,20 +142,11 @@ template <bool Commit> [[gnu::always_inline]] inline uint32_t jump(Core& c, uint
         return kStopped;
     }
     const uint32_t to = ev ? c.next_pc : bundle + 1;
-    if (to >= c.nb || c.bundles[to].slow) [[unlikely]] {
+    if (to >= c.nb || (c.bundles[to].slow && !cgate(c, to))) [[unlikely]] {
         c.pc = bundle;
         return kStopped;
     }
-    if constexpr (Commit) c.land_direct();
-    ++c.exec[bundle];
-    if (ev) {
-        ++c.taken[bundle];
-        c.event = 0;
-    }
-    c.jump_from = bundle;
-    c.jump_to = to;
-    ++c.cycle;
-    --c.left;
+    finish<Commit, true>(c, bundle, to);
     if (c.pending) [[unlikely]]
         cland(c, bundle);
     return to;

@@ -61,13 +61,16 @@ struct Core {
     uint64_t* words_received = nullptr;
     uint64_t* words_sent = nullptr;
     // Threaded runs (chain.hpp): bundles the chain may still finish after the current one, and
-    // what the end of a bundle updates (Counters::exec and write_adjust, set by EngineLoop::run).
+    // what the end of a bundle updates (the pass counts, Counters::taken and write_adjust, set by
+    // EngineLoop::run).
     uint64_t left = 0;
-    uint64_t* exec = nullptr;
+    uint64_t* enter = nullptr; // Processor::pass_enter_, pass_leave_
+    uint64_t* leave = nullptr;
     uint64_t* taken = nullptr;
     std::array<uint64_t*, 2> write_adjust{};
     const DecodedBundle* bundles = nullptr;
     const DecodedOp* ops = nullptr;
+    const FifoNeed* needs = nullptr; // Program::fifo_needs
     uint32_t nb = 0;
     uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle
     const CompiledRun* compiled = nullptr; // by bundle, or nullptr: the program's compiled runs

@@ -107,7 +107,8 @@ template <size_t O, bool Direct, int T> void exec(Core& c, const DecodedOp& d) {
         c.next_pc = a;
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::Recv) {
-        // The engine's FIFO gate has checked that the channel exists and holds a word.
+        // The FIFO gate (the engine's, or the chain's fast one) has checked that the channel
+        // exists and holds a word.
         put(c.channels[d.chan]->pop());
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
@@ -133,13 +134,15 @@ inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers = kTable<true
 
 // The threaded handler of `opcode` with Tail `tail`.
 inline Handler threaded_handler(uint32_t opcode, bool direct, int tail) {
-    static_assert(kNumTails == 11);
+    static_assert(kNumTails == 13);
     static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kPlain = {
-        kTable<false, 0>, kTable<false, 1>, kTable<false, 2>, kTable<false, 3>, kTable<false, 4>, kTable<false, 5>,
-        kTable<false, 6>, kTable<false, 7>, kTable<false, 8>, kTable<false, 9>, kTable<false, 10>};
+        kTable<false, 0>, kTable<false, 1>, kTable<false, 2>,  kTable<false, 3>,  kTable<false, 4>,
+        kTable<false, 5>, kTable<false, 6>, kTable<false, 7>,  kTable<false, 8>,  kTable<false, 9>,
+        kTable<false, 10>, kTable<false, 11>, kTable<false, 12>};
     static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kDirect = {
-        kTable<true, 0>, kTable<true, 1>, kTable<true, 2>, kTable<true, 3>, kTable<true, 4>, kTable<true, 5>,
-        kTable<true, 6>, kTable<true, 7>, kTable<true, 8>, kTable<true, 9>, kTable<true, 10>};
+        kTable<true, 0>, kTable<true, 1>, kTable<true, 2>,  kTable<true, 3>,  kTable<true, 4>,
+        kTable<true, 5>, kTable<true, 6>, kTable<true, 7>,  kTable<true, 8>,  kTable<true, 9>,
+        kTable<true, 10>, kTable<true, 11>, kTable<true, 12>};
     return (direct ? kDirect : kPlain)[tail][opcode];
 }
 

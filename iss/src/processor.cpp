@@ -157,8 +157,9 @@ template <bool Checked, bool Traced> struct EngineLoop {
     // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
     // and, without a branch penalty, the runs control goes to, until a run's last bundle, a
     // bundle whose handlers raised an event other than a taken branch, or one whose successor
-    // needs the FIFO gate has executed its operations; loop() then finishes that bundle as any
-    // other. Only those stops end a chain early, so the cycle limit and the budget are checked
+    // is a FIFO bundle whose fast gate does not pass (chain.hpp) has executed its operations;
+    // loop() then finishes that bundle as any other, and its fifo_gate decides at the FIFO
+    // bundle. Only those stops end a chain early, so the cycle limit and the budget are checked
     // once; inside it land_next always equals the cycle and the bundle before is owed its
     // histogram credit, so landing reduces to the cycle's ring slot, and that state is written
     // back once, at the end. The chain of threaded handlers (chain.hpp) leaves c.pc at the
@@ -167,6 +168,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
         const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
         c.left = n - 1;
         c.jump_to = ~uint32_t{0};
+        ++c.enter[c.pc]; // a pass begins at the head...
+        p.passes_dirty_ = true;
         if (c.compiled) { // compiled runs (issue 16 step 6, compiled.hpp): same contract as the chain
             detail::run_compiled(c);
         } else {
@@ -174,6 +177,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
             head.tfn(c, head);
         }
         const uint32_t pc = c.pc;
+        ++c.leave[pc]; // ...and the last one ends before the bundle the chain stops in (loop() counts it)
         const uint64_t done = n - 1 - c.left; // bundles finished: all but the one it stops in
         budget -= done;
         if (!(c.event & kTaken)) c.next_pc = pc + 1; // only a control bundle sets it
@@ -241,9 +245,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
                                                               d.instr.info().mnemonic, ch));
                 return Gate::Stop;
             }
-            size_t need = 0; // this op plus earlier ops of the bundle on the same channel and direction
-            for (uint32_t j = 0; j <= i; ++j)
-                need += ops[j].instr.info().kind == kind && ops[j].imm == ch;
+            const size_t need = d.need; // this op plus earlier ops of the bundle on the same channel and direction
             if (kind == isa::Kind::Recv) {
                 if (chan->readable(c.cycle, need) >= need) continue;
                 std::optional<uint64_t> ready = chan->front_ready();
@@ -378,12 +380,14 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     Status run(uint64_t limit, uint64_t budget, bool wait_blocked) {
-        c.exec = k.exec.data();
+        c.enter = p.pass_enter_.data();
+        c.leave = p.pass_leave_.data();
         c.taken = k.taken.data();
         c.ops = prog.ops().data();
         c.nb = prog.size();
         c.write_adjust = {k.write_adjust[0].data(), k.write_adjust[1].data()};
         c.bundles = prog.bundles().data();
+        c.needs = prog.fifo_needs().data();
         Status st = loop(limit, budget, wait_blocked);
         // Stop at a cycle boundary with that cycle's writes landed, so registers and inflight()
         // show the state the next bundle will read.
@@ -499,6 +503,9 @@ void Processor::reset() {
     counters_ = Counters{};
     size_t n = prog_->size();
     counters_.exec.assign(n, 0);
+    pass_enter_.assign(n, 0);
+    pass_leave_.assign(n + 1, 0);
+    passes_dirty_ = false;
     counters_.wait.assign(n, 0);
     counters_.taken.assign(n, 0);
     counters_.stall.assign(n, 0);
@@ -595,7 +602,19 @@ void Processor::set_reg(uint16_t flat, uint32_t value) {
     if (flat < kNumRegs) core_->r[flat] = value;
 }
 
+void Processor::flush_passes() const {
+    uint64_t open = 0; // passes that cover pc (modulo 2^64, as the counts)
+    for (size_t pc = 0; pc < pass_enter_.size(); ++pc) {
+        open += pass_enter_[pc] - pass_leave_[pc];
+        counters_.exec[pc] += open;
+        pass_enter_[pc] = pass_leave_[pc] = 0;
+    }
+    pass_leave_.back() = 0; // every pass ended by the last bundle
+    passes_dirty_ = false;
+}
+
 std::vector<uint64_t> Processor::write_histogram(int file) const {
+    if (passes_dirty_) flush_passes();
     std::vector<uint64_t> h = counters_.write_adjust[file];
     const auto& bundles = prog_->bundles();
     for (size_t pc = 0; pc < bundles.size(); ++pc) h[bundles[pc].lat1_writes[file]] += counters_.exec[pc];

@@ -126,16 +126,18 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     original_ = std::move(decoded);
     for (uint32_t pc = size(); pc-- > 0;) {
         DecodedBundle& b = bundles_[pc];
-        if (!b.control && pc + 1 < size() && !bundles_[pc + 1].slow) b.run = 1 + bundles_[pc + 1].run;
+        if (!b.control && pc + 1 < size()) b.run = 1 + bundles_[pc + 1].run;
     }
     // Threaded form: each op's handler goes on to the next op; a bundle's last op also ends the
     // bundle (skipping the commit of queued latency-1 writes when it queues none, and the event
     // test when it has no load or store, the only ops that raise one before a run's last bundle).
     // Without a branch penalty, a control bundle (halt aside) goes on to the bundle it sends
-    // control to, so a loop is one chain.
+    // control to, so a loop is one chain. A bundle before a FIFO bundle goes on into it only
+    // when that bundle's fast gate passes (kEndGate).
     const bool jumps = m.branch_penalty == 0;
-    for (const DecodedBundle& b : bundles_) {
-        int flags = 0;
+    for (uint32_t pc = 0; pc < size(); ++pc) {
+        const DecodedBundle& b = bundles_[pc];
+        int flags = pc + 1 < size() && bundles_[pc + 1].slow ? detail::kEndGate : 0;
         bool halt = false;
         for (uint32_t i = b.first; i < b.first + b.count; ++i) {
             const DecodedOp& d = ops_[i];
@@ -148,7 +150,7 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         for (uint32_t i = b.first; i < b.first + b.count; ++i) {
             DecodedOp& d = ops_[i];
             const int tail = i + 1 < b.first + b.count  ? detail::kNext
-                             : b.control && !halt && jumps ? detail::kJump + flags
+                             : b.control && !halt && jumps ? detail::kJump + (flags & detail::kEndCommit)
                              : b.run == 1                  ? detail::kExit
                                                            : detail::kEnd + flags;
             d.tfn = detail::threaded_handler(d.instr.opcode, d.fn == detail::kDirectHandlers[d.instr.opcode], tail);
@@ -165,6 +167,25 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     for (DecodedOp& d : ops_)
         if (d.instr.info().kind == isa::Kind::Recv || d.instr.info().kind == isa::Kind::Send)
             d.chan = uint32_t(std::lower_bound(channel_ids_.begin(), channel_ids_.end(), d.imm) - channel_ids_.begin());
+    // FIFO gates: per send/recv, the words its bundle moves through its channel in its direction
+    // up to and including it (what the general gate asks of the channel for that op); per FIFO
+    // bundle, the fast gate: those counts for each channel and direction, in the order of their
+    // first op (EngineLoop::fifo_gate, chain.hpp gate_passes).
+    for (DecodedBundle& b : bundles_) {
+        if (!b.fifo) continue;
+        b.gate_first = uint32_t(fifo_needs_.size());
+        for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+            DecodedOp& d = ops_[i];
+            const isa::Kind k = d.instr.info().kind;
+            if (k != isa::Kind::Recv && k != isa::Kind::Send) continue;
+            const bool recv = k == isa::Kind::Recv;
+            auto g = std::find_if(fifo_needs_.begin() + b.gate_first, fifo_needs_.end(),
+                                  [&](const FifoNeed& n) { return n.slot == d.chan && n.recv == recv; });
+            if (g == fifo_needs_.end()) g = fifo_needs_.insert(g, FifoNeed{d.chan, 0, recv});
+            d.need = ++g->need;
+        }
+        b.gate_count = uint32_t(fifo_needs_.size()) - b.gate_first;
+    }
 
     // The key of a compiled-run table: every field the engine's form depends on.
     {
@@ -175,11 +196,12 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         add(bundles_.size());
         for (const DecodedBundle& b : bundles_) {
             add(b.first), add(b.count), add(b.run), add(b.slow), add(b.control), add(b.fifo);
-            add(b.lat1_writes[0]), add(b.lat1_writes[1]);
+            add(b.lat1_writes[0]), add(b.lat1_writes[1]), add(b.gate_first), add(b.gate_count);
         }
+        for (const FifoNeed& g : fifo_needs_) add(g.slot), add(g.need), add(g.recv);
         for (const DecodedOp& d : ops_) {
             add(d.instr.opcode), add(d.dst), add(d.a), add(d.b), add(d.c), add(d.imm), add(d.latency);
-            add(d.index), add(d.bundle), add(d.chan), add(d.fn == detail::kDirectHandlers[d.instr.opcode]);
+            add(d.index), add(d.bundle), add(d.chan), add(d.need), add(d.fn == detail::kDirectHandlers[d.instr.opcode]);
         }
         hash_ = h.value();
         compiled_ = find_compiled(hash_, size());

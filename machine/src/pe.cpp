@@ -131,7 +131,7 @@ struct Stage {
             throw std::runtime_error(fmt::format("{} processor stopped: {}\n{}", name, iss::status_name(s),
                                                  proc->fault_report()));
     }
-    std::uint64_t busy() const { return proc->cycle() - proc->counters().wait_cycles; }
+    std::uint64_t busy() const { return proc->cycle() - proc->wait_cycles(); }
 
     // --trace-json: the bundles with FIFO operations, whose executions are communication cycles.
     std::vector<std::uint32_t> fifo_pcs;
@@ -427,7 +427,7 @@ class Pe {
     Meter meter(int i) const {
         if (i == 2) return {sc_.clock(), sc_.cycles.wait, sc_.cycles.communication};
         const Stage& s = i == 0 ? os_ : ic_;
-        return {s.proc->cycle(), s.proc->counters().wait_cycles, s.communication()};
+        return {s.proc->cycle(), s.proc->wait_cycles(), s.communication()};
     }
     void log_activity() {
         for (int i = 0; i < 3; ++i) activity_[i].add(meter(i));

@@ -41,26 +41,36 @@ std::string ident(const std::string& spec) {
     return id;
 }
 
-// The tail of bundle `pc`'s last op, as Program builds it (program.cpp).
+// The tail of bundle `pc`'s last op, as Program builds it (program.cpp); checked against the
+// handler Program chose, so that the generated code cannot drift from the threaded form.
 struct Tail {
     enum Kind { Exit, End, Jump } kind = Exit;
-    bool commit = false, events = false;
+    bool commit = false, events = false, gate = false;
 };
 
 Tail tail_of(const iss::Program& prog, uint32_t pc) {
+    namespace d = iss::detail;
     const iss::DecodedBundle& b = prog.bundles()[pc];
     Tail t;
     bool halt = false;
     for (uint32_t i = b.first; i < b.first + b.count; ++i) {
-        const iss::DecodedOp& d = prog.ops()[i];
-        const isa::Kind k = d.instr.info().kind;
+        const iss::DecodedOp& op = prog.ops()[i];
+        const isa::Kind k = op.instr.info().kind;
         halt |= k == isa::Kind::Halt;
         if (k == isa::Kind::Load || k == isa::Kind::Store) t.events = true;
-        if (d.dst != iss::kNoReg && d.latency == 1 && !iss::detail::op_direct(d)) t.commit = true;
+        if (op.dst != iss::kNoReg && op.latency == 1 && !d::op_direct(op)) t.commit = true;
     }
+    t.gate = pc + 1 < prog.size() && prog.bundles()[pc + 1].slow; // the next bundle has a FIFO gate
     t.kind = b.control && !halt && prog.machine().branch_penalty == 0 ? Tail::Jump
              : b.run == 1                                            ? Tail::Exit
                                                                      : Tail::End;
+    const int commit = t.commit ? d::kEndCommit : 0;
+    const int tail = t.kind == Tail::Jump ? d::kJump + commit
+                     : t.kind == Tail::Exit ? d::kExit
+                                            : d::kEnd + commit + (t.events ? d::kEndEvents : 0) + (t.gate ? d::kEndGate : 0);
+    const iss::DecodedOp& last = prog.ops()[b.first + b.count - 1];
+    if (last.tfn != d::threaded_handler(last.instr.opcode, d::op_direct(last), tail))
+        throw std::runtime_error(fmt::format("bundle {}: the generator's tail {} is not the threaded form's", pc, tail));
     return t;
 }
 
@@ -105,7 +115,7 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                out += fmt::format("    if (!end<{}, {}>(c, {})) return false;\n", t.commit, t.events, pc);
+                out += fmt::format("    if (!end<{}, {}, {}>(c, {})) return false;\n", t.commit, t.events, t.gate, pc);
             } else {
                 out += fmt::format("    {{\n        const uint32_t to = jump<{}>(c, {});\n", t.commit, pc);
                 for (uint32_t to : targets) out += fmt::format("        if (to == {0}) goto b{0};\n", to);

@@ -24,6 +24,13 @@ class Channel {
     // Number of words receivable at `cycle` (words whose ready cycle <= cycle), counted up to
     // `enough`: the engine only asks whether a bundle's receives can all go, and a long queue
     // must not cost a scan per receive.
+    //
+    // The engines rely on two properties of readable() and writable() (a host's channel may
+    // update its own state in them, as machine::Fifo does): between two operations on the
+    // channel the answers do not depend on how often or in what order they are asked, and
+    // readable(cycle, k) >= k exactly when k words are receivable (so it is monotone in k).
+    // The threaded engine's fast gate asks once per channel and direction with all the words
+    // the bundle moves; when that does not pass, the general gate asks again, op by op.
     virtual size_t readable(uint64_t cycle, size_t enough) const = 0;
     // Ready cycle of the front word; nullopt when the channel is empty.
     virtual std::optional<uint64_t> front_ready() const = 0;

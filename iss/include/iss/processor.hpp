@@ -131,7 +131,14 @@ class Processor {
     uint32_t reg(uint16_t flat) const;
     void set_reg(uint16_t flat, uint32_t value);
     std::vector<PendingWrite> inflight() const; // sorted by landing cycle
-    const Counters& counters() const { return counters_; }
+    // The execution counts of bundles finished inside threaded chains are kept per pass (see
+    // flush_passes) and added in here, so the counts are always whole when read.
+    const Counters& counters() const {
+        if (passes_dirty_) flush_passes();
+        return counters_;
+    }
+    // Counters::wait_cycles without settling the execution counts (the machine asks every quantum).
+    uint64_t wait_cycles() const { return counters_.wait_cycles; }
 
     // Back to the loaded state (registers zero, pc 0, data reloaded, counters cleared).
     void reset();
@@ -149,7 +156,14 @@ class Processor {
     // slot per id the program uses (Program::channel_ids(), DecodedOp::chan).
     std::vector<std::pair<uint32_t, Channel*>> attached_;
     std::vector<Channel*> slots_;
-    Counters counters_;
+    mutable Counters counters_;
+    // Fast engine: a threaded chain counts the bundles it finishes by pass (a stretch issued in
+    // address order, from the chain's head or a jump's target to a jump or the chain's stop):
+    // pass_enter_[q] passes began at bundle q, pass_leave_[r + 1] ended after bundle r, so
+    // bundle pc was finished sum(enter[0..pc]) - sum(leave[0..pc]) more times (flush_passes).
+    mutable std::vector<uint64_t> pass_enter_, pass_leave_;
+    mutable bool passes_dirty_ = false;
+    void flush_passes() const;
     Status status_ = Status::Running;
     std::optional<Fault> fault_;
     uint32_t blocked_channel_ = 0;

@@ -40,6 +40,17 @@ struct DecodedOp {
     uint32_t bundle = 0;               // bundle address
     isa::Instr instr;                  // the decoded operation, for printing
     uint32_t chan = 0;                 // send/recv: index of channel `imm` in Program::channel_ids()
+    uint32_t need = 0;                 // send/recv: this op and the earlier ops of its bundle on its
+                                       // channel in its direction (the words its gate asks for)
+};
+
+// A FIFO bundle's fast gate (the threaded engine's test before it chains into the bundle): per
+// channel and direction the bundle uses, in the order of their first op in Program::ops, the
+// words it receives from (readable) or sends into (writable) that channel.
+struct FifoNeed {
+    uint32_t slot = 0;                 // DecodedOp::chan
+    uint32_t need = 0;
+    bool recv = false;
 };
 
 // Static properties of a bundle; dynamic behaviour only needs its execution count.
@@ -50,12 +61,13 @@ struct DecodedBundle {
     bool slow = false;                 // needs the engine's slow path (FIFO gate)
     bool control = false;              // branch, jump or halt
     // Fast engine: this bundle and the run - 1 after it issue back to back unless a handler
-    // raises an event (none but the first needs the gate, none but the last has control).
+    // raises an event or a FIFO bundle's fast gate does not pass (none but the last has control).
     uint32_t run = 1;
     std::array<uint32_t, isa::kNumRegFiles> reads{};
     std::array<uint32_t, isa::kNumRegFiles> writes{};
     std::array<uint32_t, isa::kNumRegFiles> lat1_writes{}; // writes that land in the next cycle
     uint32_t slot_mask = 0;            // bit s: slot s issues a non-nop operation
+    uint32_t gate_first = 0, gate_count = 0; // FIFO bundles: range in Program::fifo_needs()
 };
 
 // A code label region: from a label's bundle to the next label's bundle (exclusive).
@@ -83,6 +95,8 @@ class Program {
     const std::vector<Region>& regions() const { return regions_; }
     // The channel ids the program's send/recv operations use, ascending, each once.
     const std::vector<uint32_t>& channel_ids() const { return channel_ids_; }
+    // The fast gates of the FIFO bundles (DecodedBundle::gate_first, gate_count).
+    const std::vector<FifoNeed>& fifo_needs() const { return fifo_needs_; }
     uint32_t size() const { return uint32_t(bundles_.size()); }
     // The ops of bundle `pc` in slot order (as written), for printing.
     std::vector<isa::Instr> bundle_instrs(uint32_t pc) const;
@@ -100,8 +114,8 @@ class Program {
     std::string format_op(const isa::Instr& in) const;
 
     // A hash of everything the fast engine's form of the program depends on (each op's opcode,
-    // registers, immediate, latency, channel and in-place write; each bundle's shape; the
-    // machine's fingerprint): the key of a compiled-run table (iss/compiled.hpp).
+    // registers, immediate, latency, channel, FIFO need and in-place write; each bundle's shape
+    // and FIFO gate; the machine's fingerprint): the key of a compiled-run table (iss/compiled.hpp).
     uint64_t decoded_hash() const { return hash_; }
     // This program's compiled runs, or nullptr.
     const struct CompiledProgram* compiled() const { return compiled_; }
@@ -113,6 +127,7 @@ class Program {
     std::vector<DecodedOp> ops_;
     std::vector<Region> regions_;
     std::vector<uint32_t> channel_ids_;
+    std::vector<FifoNeed> fifo_needs_;
     std::vector<int> region_index_;
     std::vector<const isa::Symbol*> code_labels_; // sorted by address
     std::vector<std::vector<isa::Instr>> original_; // bundles as written (slot order)
