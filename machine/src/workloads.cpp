@@ -2,6 +2,8 @@
 // report measures the same rays on the same grids and shapes.
 #include "workloads.hpp"
 
+#include "machine/random_shapes.hpp"
+
 #include "base/vec.hpp"
 #include "kernels/abi.hpp"
 #include "kernels/image.hpp"
@@ -69,7 +71,18 @@ WorkloadRun grid_run(const kernels::SourceSet& sources, const std::string& role,
     return w;
 }
 
-kernels::Shape tri_shape(std::mt19937& rng, bool two) {
+kernels::Shape shape_of(Workload w, std::mt19937& rng) {
+    switch (w) {
+    case Workload::Triangles: return random_triangle(rng, false);
+    case Workload::TwoSidedSpheres: return random_sphere(rng, true);
+    case Workload::Cylinders: return random_cylinder(rng);
+    default: return random_sphere(rng, false);
+    }
+}
+
+} // namespace
+
+kernels::Shape random_triangle(std::mt19937& rng, bool two) {
     std::uniform_real_distribution<double> p(-3.0, 3.0);
     base::Vec3d v0{p(rng), p(rng), p(rng)}, v1{p(rng), p(rng), p(rng)}, v2{p(rng), p(rng), p(rng)};
     const base::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = base::cross(e1, e2);
@@ -86,7 +99,7 @@ kernels::Shape tri_shape(std::mt19937& rng, bool two) {
     return s;
 }
 
-kernels::Shape sphere_shape(std::mt19937& rng, bool two) {
+kernels::Shape random_sphere(std::mt19937& rng, bool two) {
     std::uniform_real_distribution<float> p(-2.0f, 2.0f);
     kernels::Shape s;
     s.kind_flags = kernels::kShapeQuadric | (two ? kernels::kShapeTwoSided : 0u);
@@ -96,26 +109,14 @@ kernels::Shape sphere_shape(std::mt19937& rng, bool two) {
     return s;
 }
 
-// A cylinder of radius 1 along z through a point near the origin, length 4 (one-sided).
-kernels::Shape cylinder_shape(std::mt19937& rng) {
-    kernels::Shape s = sphere_shape(rng, false);
+kernels::Shape random_cylinder(std::mt19937& rng) {
+    kernels::Shape s = random_sphere(rng, false);
     s.w[5] = 0.0f;  // C: no z term
     s.w[2] = -2.0f; // from z = -2
     s.w[15] = 1.0f; // axis z
     s.w[16] = 4.0f; // length
     return s;
 }
-
-kernels::Shape shape_of(Workload w, std::mt19937& rng) {
-    switch (w) {
-    case Workload::Triangles: return tri_shape(rng, false);
-    case Workload::TwoSidedSpheres: return sphere_shape(rng, true);
-    case Workload::Cylinders: return cylinder_shape(rng);
-    default: return sphere_shape(rng, false);
-    }
-}
-
-} // namespace
 
 bool is_grid(Workload w) { return w == Workload::EmptyGrid || w == Workload::SparseGrid; }
 

@@ -1,6 +1,7 @@
 // Compiled runs (iss/compiled.hpp) against the threaded interpreter, in lock-step: every built-in
 // kernel on grids and primitive workloads, with and without caches (memory stalls) and a bad voxel
 // (a memory fault), two processors compared after every step of a varying number of bundles.
+#include "machine/random_shapes.hpp"
 #include "machine/runner.hpp"
 
 #include "base/vec.hpp"
@@ -142,44 +143,14 @@ void drive_dda(Pair& p, std::mt19937& rng, int rays) {
     }
 }
 
-kernels::Shape tri_shape(std::mt19937& rng, bool two) {
-    std::uniform_real_distribution<double> q(-3.0, 3.0);
-    base::Vec3d v0{q(rng), q(rng), q(rng)}, v1{q(rng), q(rng), q(rng)}, v2{q(rng), q(rng), q(rng)};
-    const base::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = base::cross(e1, e2);
-    const double det = base::dot(nn, nn);
-    const base::Vec3d rows[3] = {nn * (1.0 / det), base::cross(e2, nn) * (1.0 / det), base::cross(nn, e1) * (1.0 / det)};
-    kernels::Shape s;
-    s.kind_flags = kernels::kShapeTriangle | (two ? kernels::kShapeTwoSided : 0u);
-    for (std::size_t i = 0; i < 3; ++i) {
-        s.w[4 * i] = static_cast<float>(rows[i].x);
-        s.w[4 * i + 1] = static_cast<float>(rows[i].y);
-        s.w[4 * i + 2] = static_cast<float>(rows[i].z);
-        s.w[4 * i + 3] = static_cast<float>(-base::dot(rows[i], v0));
-    }
-    return s;
-}
-kernels::Shape quadric_shape(std::mt19937& rng, int kind) {
-    std::uniform_real_distribution<float> q(-2.0f, 2.0f);
-    kernels::Shape s;
-    s.kind_flags = kernels::kShapeQuadric | (kind == 1 ? kernels::kShapeTwoSided : 0u);
-    s.w[0] = q(rng) * 0.2f, s.w[1] = q(rng) * 0.2f, s.w[2] = q(rng) * 0.2f;
-    s.w[3] = s.w[4] = s.w[5] = 1.0f;
-    s.w[12] = -1.0f;
-    if (kind == 2) { // a cylinder along z, length 4
-        s.w[5] = 0.0f;
-        s.w[2] = -2.0f;
-        s.w[15] = 1.0f;
-        s.w[16] = 4.0f;
-    }
-    return s;
-}
-
 // The intersection kernel: one voxel holding triangles, spheres (one- and two-sided) and
 // cylinders; rays aimed at the origin or past it. With `fault`, a last VISIT names a voxel far
 // outside the lists.
 iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
     std::vector<kernels::Shape> shapes;
-    for (int i = 0; i < 24; ++i) shapes.push_back(i % 4 == 0 ? tri_shape(rng, i % 8 == 0) : quadric_shape(rng, i % 4 - 1));
+    for (int i = 0; i < 24; ++i) shapes.push_back(i % 4 == 0   ? machine::random_triangle(rng, i % 8 == 0)
+                         : i % 4 == 3 ? machine::random_cylinder(rng)
+                                      : machine::random_sphere(rng, i % 4 == 2));
     std::vector<std::vector<std::uint32_t>> lists(2);
     for (int i = 0; i < 24; ++i) lists[i % 3 == 0 ? 1 : 0].push_back(static_cast<std::uint32_t>(i));
     const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
