@@ -2,7 +2,7 @@
 // report measures the same rays on the same grids and shapes.
 #include "workloads.hpp"
 
-#include "machine/random_shapes.hpp"
+#include "machine/synthetic_inputs.hpp"
 
 #include "base/vec.hpp"
 #include "kernels/abi.hpp"
@@ -24,21 +24,6 @@ namespace {
 constexpr int kGridRays = 300;
 constexpr int kPrimitiveRays = 200;
 constexpr int kPrimitives = 40;
-
-struct Grid {
-    kernels::twins::GridGeom g;
-    std::vector<std::uint8_t> occ;
-};
-
-// An n^3 grid over [-10, 10]^3, each voxel full with probability `density`.
-Grid make_grid(int n, double density, std::mt19937& rng) {
-    Grid t;
-    t.g = kernels::twins::cubic_grid(n, -10.0f, 20.0f);
-    std::bernoulli_distribution full(density);
-    t.occ.resize(static_cast<std::size_t>(n * n * n));
-    for (auto& v : t.occ) v = full(rng) ? 1 : 0;
-    return t;
-}
 
 // Random rays through the grid; each VISIT is answered with a RETURN (no hit).
 void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
@@ -64,7 +49,7 @@ WorkloadRun grid_run(const kernels::SourceSet& sources, const std::string& role,
                      std::mt19937& rng) {
     WorkloadRun w{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), machine)),
                   kGridRays};
-    Grid g = make_grid(n, density, rng);
+    const OccupancyGrid g = random_grid(n, density, rng);
     w.run->load(kernels::os_image(g.g, g.occ));
     w.run->run();
     drive_dda(*w.run, rng, kGridRays);
@@ -81,6 +66,15 @@ kernels::Shape shape_of(Workload w, std::mt19937& rng) {
 }
 
 } // namespace
+
+OccupancyGrid random_grid(int n, double density, std::mt19937& rng) {
+    OccupancyGrid t;
+    t.g = kernels::twins::cubic_grid(n, -10.0f, 20.0f);
+    std::bernoulli_distribution full(density);
+    t.occ.resize(static_cast<std::size_t>(n * n * n));
+    for (auto& v : t.occ) v = full(rng) ? 1 : 0;
+    return t;
+}
 
 kernels::Shape random_triangle(std::mt19937& rng, bool two) {
     std::uniform_real_distribution<double> p(-3.0, 3.0);

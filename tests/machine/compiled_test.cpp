@@ -1,7 +1,7 @@
 // Compiled runs (iss/compiled.hpp) against the threaded interpreter, in lock-step: every built-in
 // kernel on grids and primitive workloads, with and without caches (memory stalls) and a bad voxel
 // (a memory fault), two processors compared after every step of a varying number of bundles.
-#include "machine/random_shapes.hpp"
+#include "machine/synthetic_inputs.hpp"
 #include "machine/runner.hpp"
 
 #include "base/vec.hpp"
@@ -107,19 +107,6 @@ struct Pair {
     }
 };
 
-struct Grid {
-    kernels::twins::GridGeom g;
-    std::vector<std::uint8_t> occ;
-};
-Grid make_grid(int n, double density, std::mt19937& rng) {
-    Grid t;
-    t.g = kernels::twins::cubic_grid(n, -10.0f, 20.0f);
-    std::bernoulli_distribution full(density);
-    t.occ.resize(static_cast<std::size_t>(n * n * n));
-    for (auto& v : t.occ) v = full(rng) ? 1 : 0;
-    return t;
-}
-
 // The 3DDDA kernel: random rays; each VISIT answered by a RETURN (no hit), or, for every fifth
 // ray, the first one answered with the RETURN of a hit at t = 1.
 void drive_dda(Pair& p, std::mt19937& rng, int rays) {
@@ -204,12 +191,12 @@ void lockstep_dda() {
             INFO(spec << (cache ? " with caches" : ""));
             Pair p(program(spec), cache);
             std::mt19937 rng(5);
-            Grid g = make_grid(12, 0.0, rng);
+            const machine::OccupancyGrid g = machine::random_grid(12, 0.0, rng);
             p.load(kernels::os_image(g.g, g.occ));
             drive_dda(p, rng, 25);
             note_reached(p);
             Pair q(program(spec), cache);
-            Grid s = make_grid(10, 0.05, rng);
+            const machine::OccupancyGrid s = machine::random_grid(10, 0.05, rng);
             q.load(kernels::os_image(s.g, s.occ));
             drive_dda(q, rng, 40);
             note_reached(q);
