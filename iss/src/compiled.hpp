@@ -3,8 +3,8 @@
 // each bundle's end, and nothing else of the engine, so that the engine can change behind these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
-// chain (chain.hpp) would: op<> is exec<> (handlers.hpp) with its operands known, its semantics
-// isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> then<kJump + flags>, stop() kExit.
+// chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
+// known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> then<kJump + flags>, stop() kExit.
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
 // ends through chain.hpp's finish<> (execution counts by pass), and a run goes into a FIFO bundle
 // only when gate_at_issue passes.
@@ -20,7 +20,6 @@
 #include "isa/ops.hpp"
 
 #include <cstdint>
-#include <cstring>
 
 namespace nesshi::iss::detail {
 
@@ -29,75 +28,24 @@ inline void run_compiled(Core& c) {
     while (c.compiled[c.pc](c)) {}
 }
 
-// Source F of row O from register `reg`, or 0 when the row does not read it (as src<>).
-template <size_t O, isa::Field F> [[gnu::always_inline]] inline uint32_t csrc(const Core& c, uint16_t reg) {
-    if constexpr (!uses_field(isa::kOps[O], F)) return 0;
-    else return c.r[reg];
-}
+// An op's fields as constants of the generated code (handlers.hpp's FromRecord for records).
+struct Constants {
+    uint16_t dst_, a_, b_, c_;
+    uint32_t imm_, latency_, index_, bundle_;
+    uint16_t dst() const { return dst_; }
+    uint16_t reg(isa::Field f) const { return f == isa::Field::Rs1 ? a_ : f == isa::Field::Rs2 ? b_ : c_; }
+    uint32_t imm() const { return imm_; }
+    uint32_t latency() const { return latency_; }
+    uint32_t index() const { return index_; }
+    uint32_t bundle() const { return bundle_; }
+    const DecodedOp& record(const Core& c) const { return c.ops[index_]; } // misses, FIFO channels
+};
 
-template <bool Direct>
-[[gnu::always_inline]] inline void cput(Core& c, uint16_t dst, uint32_t lat, uint32_t index, uint32_t v) {
-    if constexpr (Direct) c.r[dst] = v;
-    else c.push(dst, lat, index, v);
-}
-
-// Misses through the checked access with the op's record (a fault names it).
-template <size_t O, bool Direct> [[gnu::noinline]] void cload_miss(Core& c, uint32_t index, uint32_t addr) {
-    const DecodedOp& d = c.ops[index];
-    const uint64_t v = c.load_checked(d, addr, isa::kOps[O].mem_bytes);
-    if (v != Core::kLoadFailed) put<Direct>(c, d, extend<O>(uint32_t(v)));
-}
-template <size_t O> [[gnu::noinline]] void cstore_miss(Core& c, uint32_t index, uint32_t addr, uint32_t v) {
-    c.store_checked(c.ops[index], addr, isa::kOps[O].mem_bytes, v);
-}
-
-// Row O with its operands given: exec<O, Direct, kReturn> for a DecodedOp with these fields.
+// Row O with its operands given: the handlers' semantics, ending as kReturn.
 template <size_t O, bool Direct>
 [[gnu::always_inline]] inline void op(Core& c, uint16_t dst, uint16_t ra, uint16_t rb, uint16_t rc, uint32_t imm,
                                       uint32_t lat, uint32_t index, uint32_t bundle) {
-    using isa::Field;
-    using isa::Kind;
-    constexpr const isa::OpInfo& info = isa::kOps[O];
-    constexpr isa::Eval eval = info.eval;
-    const uint32_t a = csrc<O, Field::Rs1>(c, ra);
-    const uint32_t b = csrc<O, Field::Rs2>(c, rb);
-    const uint32_t cc = csrc<O, Field::Rs3>(c, rc);
-    if constexpr (info.kind == Kind::Compute) {
-        cput<Direct>(c, dst, lat, index, eval(a, b, cc, imm));
-    } else if constexpr (info.kind == Kind::Load) {
-        const uint32_t addr = eval(a, b, cc, imm);
-        if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return cload_miss<O, Direct>(c, index, addr);
-        uint32_t v = 0;
-        std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes);
-        cput<Direct>(c, dst, lat, index, extend<O>(v));
-    } else if constexpr (info.kind == Kind::Store) {
-        const uint32_t addr = eval(a, b, cc, imm);
-        if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return cstore_miss<O>(c, index, addr, b);
-        std::memcpy(c.mem->tlb_data(addr), &b, info.mem_bytes);
-    } else if constexpr (info.kind == Kind::Branch) {
-        if (eval(a, b, cc, imm)) {
-            c.next_pc = imm;
-            c.event |= kTaken;
-        }
-    } else if constexpr (info.kind == Kind::Jump) {
-        c.next_pc = imm;
-        c.event |= kTaken;
-    } else if constexpr (info.kind == Kind::JumpLink) {
-        cput<Direct>(c, dst, lat, index, bundle + 1);
-        c.next_pc = imm;
-        c.event |= kTaken;
-    } else if constexpr (info.kind == Kind::JumpReg) {
-        c.next_pc = a;
-        c.event |= kTaken;
-    } else if constexpr (info.kind == Kind::Halt) {
-        c.event |= kHalt;
-    } else if constexpr (info.kind == Kind::Recv || info.kind == Kind::Send) {
-        exec<O, Direct, kReturn>(c, c.ops[index]); // its gate has passed (loop()'s, or end<>'s or jump<>'s fast one)
-    } else {
-        static_assert(info.kind == Kind::Nop);
-    }
+    semantics<O, Direct, kReturn>(c, Constants{dst, ra, rb, rc, imm, lat, index, bundle});
 }
 
 // The ring writes landing now, once a bundle of a run has ended (land_then without its tail).

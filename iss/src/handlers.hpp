@@ -27,22 +27,34 @@ constexpr bool uses_field(const isa::OpInfo& info, isa::Field f) {
     return false;
 }
 
+// The fields of an operation that its semantics read: from its record (the handlers), or given
+// as constants (compiled runs, compiled.hpp, where record() is only asked on rare paths).
+struct FromRecord {
+    const DecodedOp& d;
+    uint16_t dst() const { return d.dst; }
+    uint16_t reg(isa::Field f) const { return f == isa::Field::Rs1 ? d.a : f == isa::Field::Rs2 ? d.b : d.c; }
+    uint32_t imm() const { return d.imm; }
+    uint32_t latency() const { return d.latency; }
+    uint32_t index() const { return d.index; }
+    uint32_t bundle() const { return d.bundle; }
+    const DecodedOp& record(const Core&) const { return d; }
+};
+
 // Source F of row O, or 0 when the row does not read it. The choice is made at compile time:
 // asked of a run-time reference to the row, GCC kept the scan of its operand table in every
 // handler (a third of the engine's host instructions).
-template <size_t O, isa::Field F> [[gnu::always_inline]] inline uint32_t src(const Core& c, const DecodedOp& d) {
+template <size_t O, isa::Field F, class Fields>
+[[gnu::always_inline]] inline uint32_t src(const Core& c, const Fields& f) {
     if constexpr (!uses_field(isa::kOps[O], F)) return 0;
-    else if constexpr (F == isa::Field::Rs1) return c.r[d.a];
-    else if constexpr (F == isa::Field::Rs2) return c.r[d.b];
-    else return c.r[d.c];
+    else return c.r[f.reg(F)];
 }
 
 // Direct: the result has latency 1 and no later operation of the bundle reads its register, so
 // it can be written in place (the load-time decoder proves this per operation). Otherwise the
 // write is queued and lands after every operation of the bundle has read its sources.
-template <bool Direct> [[gnu::always_inline]] inline void put(Core& c, const DecodedOp& d, uint32_t v) {
-    if constexpr (Direct) c.r[d.dst] = v;
-    else c.push(d, v);
+template <bool Direct, class Fields> [[gnu::always_inline]] inline void put(Core& c, const Fields& f, uint32_t v) {
+    if constexpr (Direct) c.r[f.dst()] = v;
+    else c.push(f.dst(), f.latency(), f.index(), v);
 }
 
 // A loaded value of row O, extended to 32 bits.
@@ -58,7 +70,7 @@ template <size_t O> constexpr uint32_t extend(uint32_t v) {
 // it ends as the handler would (its Tail T, chain.hpp).
 template <size_t O, bool Direct, int T> [[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint32_t addr) {
     const uint64_t v = c.load_checked(d, addr, isa::kOps[O].mem_bytes);
-    if (v != Core::kLoadFailed) put<Direct>(c, d, extend<O>(uint32_t(v)));
+    if (v != Core::kLoadFailed) put<Direct>(c, FromRecord{d}, extend<O>(uint32_t(v)));
     return then<T>(c, d);
 }
 template <size_t O, int T> [[gnu::noinline]] void store_miss(Core& c, const DecodedOp& d, uint32_t addr, uint32_t v) {
@@ -66,42 +78,42 @@ template <size_t O, int T> [[gnu::noinline]] void store_miss(Core& c, const Deco
     return then<T>(c, d);
 }
 
-// Row O's semantics, then its Tail T: kReturn for the dispatch loop, the others for threaded
-// runs (chain.hpp).
-template <size_t O, bool Direct, int T> void exec(Core& c, const DecodedOp& d) {
+// Row O's semantics on an op's fields (FromRecord, or a compiled run's constants), then its Tail
+// T: kReturn for the dispatch loop and compiled runs, the others for threaded runs (chain.hpp).
+template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inline void semantics(Core& c, const Fields& f) {
     using isa::Field;
     using isa::Kind;
     constexpr const isa::OpInfo& info = isa::kOps[O];
     constexpr isa::Eval eval = info.eval;
-    const uint32_t a = src<O, Field::Rs1>(c, d);
-    const uint32_t b = src<O, Field::Rs2>(c, d);
-    const uint32_t cc = src<O, Field::Rs3>(c, d);
-    auto put = [&](uint32_t v) { detail::put<Direct>(c, d, v); };
+    const uint32_t a = src<O, Field::Rs1>(c, f);
+    const uint32_t b = src<O, Field::Rs2>(c, f);
+    const uint32_t cc = src<O, Field::Rs3>(c, f);
+    auto put = [&](uint32_t v) { detail::put<Direct>(c, f, v); };
     if constexpr (info.kind == Kind::Compute) {
-        put(eval(a, b, cc, d.imm));
+        put(eval(a, b, cc, f.imm()));
     } else if constexpr (info.kind == Kind::Load) {
-        const uint32_t addr = eval(a, b, cc, d.imm);
+        const uint32_t addr = eval(a, b, cc, f.imm());
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return load_miss<O, Direct, T>(c, d, addr);
+            return load_miss<O, Direct, T>(c, f.record(c), addr);
         uint32_t v = 0;
         std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes); // little-endian host assumed, as in PagedMemory
         put(extend<O>(v));
     } else if constexpr (info.kind == Kind::Store) {
-        const uint32_t addr = eval(a, b, cc, d.imm);
+        const uint32_t addr = eval(a, b, cc, f.imm());
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return store_miss<O, T>(c, d, addr, b);
+            return store_miss<O, T>(c, f.record(c), addr, b);
         std::memcpy(c.mem->tlb_data(addr), &b, info.mem_bytes); // little-endian host assumed, as in PagedMemory
     } else if constexpr (info.kind == Kind::Branch) {
-        if (eval(a, b, cc, d.imm)) {
-            c.next_pc = d.imm;
+        if (eval(a, b, cc, f.imm())) {
+            c.next_pc = f.imm();
             c.event |= kTaken;
         }
     } else if constexpr (info.kind == Kind::Jump) {
-        c.next_pc = d.imm;
+        c.next_pc = f.imm();
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpLink) {
-        put(d.bundle + 1); // not c.pc: the fast engine updates it only at the end of a run
-        c.next_pc = d.imm;
+        put(f.bundle() + 1); // not c.pc: the fast engine updates it only at the end of a run
+        c.next_pc = f.imm();
         c.event |= kTaken;
     } else if constexpr (info.kind == Kind::JumpReg) {
         c.next_pc = a;
@@ -109,17 +121,22 @@ template <size_t O, bool Direct, int T> void exec(Core& c, const DecodedOp& d) {
     } else if constexpr (info.kind == Kind::Recv) {
         // The FIFO gate (the engine's, or the chain's fast one) has checked that the channel
         // exists and holds a word.
-        put(c.channels[d.chan]->pop());
+        put(c.channels[f.record(c).chan]->pop());
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
-        c.channels[d.chan]->push(a, c.cycle);
+        c.channels[f.record(c).chan]->push(a, c.cycle);
         ++*c.words_sent;
     } else if constexpr (info.kind == Kind::Halt) {
         c.event |= kHalt;
     } else {
         static_assert(info.kind == Kind::Nop);
     }
-    return then<T>(c, d);
+    return then<T>(c, f.record(c));
+}
+
+// The handler of row O.
+template <size_t O, bool Direct, int T> void exec(Core& c, const DecodedOp& d) {
+    return semantics<O, Direct, T>(c, FromRecord{d});
 }
 
 template <bool Direct, int T, size_t... I>
