@@ -28,7 +28,6 @@ QUANTA = ["1", None, "100000"]  # None: the default
 
 def strip(stats):
     stats.pop("host", None)
-    stats.get("grid", {}).pop("build_seconds", None)
     stats.get("machine", {}).pop("quantum", None)
     return stats
 
