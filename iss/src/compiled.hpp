@@ -1,6 +1,7 @@
-// What compiled runs (iss/compiled.hpp) are made of: the generated code of a straight run calls
-// op<O, Direct>(...) with constant operands for each operation and one of end/jump/stop for
-// each bundle's end, and nothing else of the engine, so that the engine can change behind these.
+// What compiled runs (iss/compiled.hpp) are made of: the generated code of a straight run keeps
+// its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands for each
+// operation (after Counts::put_cycle when the op reads c.cycle) and one of end/jump/stop/leave
+// for each bundle's end, and nothing else of the engine, so that the engine can change behind these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
@@ -48,55 +49,107 @@ template <size_t O, bool Direct>
     semantics<O, Direct, kReturn>(c, Constants{dst, ra, rb, rc, imm, lat, index, bundle});
 }
 
-// The ring writes landing now, once a bundle of a run has ended (land_then without its tail).
+// The cycle and the budget inside a run, kept in the generated function's locals rather than
+// in c.cycle and c.left. Inside a run both are a function of the bundle's index j as long as
+// control goes straight on: the budget left in bundle j is k - j, its cycle end - (k - j) (end:
+// the cycle at which the budget reaches 0), so a bundle's end tests k against its index and
+// updates nothing; a goto from bundle j to bundle t adds t - (j + 1) to k. Written back at every
+// exit; the cycle also before anything that reads c.cycle (put_cycle: a ring push, a channel, a
+// gate, a landing). Nothing inside a run reads c.left.
+struct Counts {
+    uint64_t k, end;
+    explicit Counts(const Core& c) : k(c.left + c.pc), end(c.cycle + c.left) {}
+    bool spent(uint32_t j) const { return k == j; }
+    uint64_t cycle(uint32_t j) const { return end - (k - j); }
+    void put_cycle(Core& c, uint32_t j) const { c.cycle = cycle(j); }
+    void put(Core& c, uint32_t j) const {
+        c.cycle = cycle(j);
+        c.left = k - j;
+    }
+    void go(uint32_t j, uint32_t t) { k += uint64_t{t} - (j + 1); } // bundle j finished, t next
+};
+
+// The ring writes landing now, once bundle `prev_bundle` of a run has ended (land_then without
+// its tail).
 [[gnu::noinline]] inline void cland_ring(Core& c, uint32_t prev_bundle) { land_ring(c, prev_bundle); }
-[[gnu::always_inline]] inline void cland(Core& c, uint32_t prev_bundle) {
-    if (c.ring[c.cycle & c.mask].n) cland_ring(c, prev_bundle);
+[[gnu::always_inline]] inline void cland(Core& c, const Counts& n, uint32_t prev_bundle) {
+    const uint64_t cycle = n.cycle(prev_bundle + 1);
+    if (c.ring[cycle & c.mask].n) {
+        c.cycle = cycle;
+        cland_ring(c, prev_bundle);
+    }
 }
 
-// The last bundle of a run that does not jump (kExit): the chain stops in it.
-[[gnu::always_inline]] inline bool stop(Core& c, uint32_t bundle) {
+// The run stops in bundle `bundle` (the last bundle of a run that does not jump, kExit, or any
+// bundle the chain would stop in), or, bundle `bundle` finished, goes on to the run holding `to`.
+[[gnu::always_inline]] inline bool stop(Core& c, const Counts& n, uint32_t bundle) {
+    n.put(c, bundle);
     c.pc = bundle;
     return false;
 }
+[[gnu::always_inline]] inline bool leave(Core& c, const Counts& n, uint32_t bundle, uint32_t to) {
+    n.put(c, bundle + 1);
+    c.pc = to;
+    return true;
+}
 
-// The gate of FIFO bundle `to` before a compiled run goes into it (gate_at_issue, out of line).
-[[gnu::noinline]] inline bool cgate(Core& c, uint32_t to) { return gate_at_issue(c, to); }
+// The gate of FIFO bundle `to` before a compiled run goes into it from bundle `bundle`
+// (gate_at_issue, out of line).
+[[gnu::noinline]] inline bool cgate_at(Core& c, uint32_t to) { return gate_at_issue(c, to); }
+[[gnu::always_inline]] inline bool cgate(Core& c, const Counts& n, uint32_t bundle, uint32_t to) {
+    n.put_cycle(c, bundle);
+    return cgate_at(c, to);
+}
+
+// finish<> (chain.hpp) short of the counts.
+template <bool Commit, bool Jump> [[gnu::always_inline]] inline void cfinish(Core& c, uint32_t bundle, uint32_t to) {
+    if constexpr (Commit) c.land_direct();
+    if constexpr (Jump) {
+        ++c.leave[bundle + 1];
+        ++c.enter[to];
+        if (c.event) {
+            ++c.taken[bundle];
+            c.event = 0;
+        }
+        c.jump_from = bundle;
+        c.jump_to = to;
+    }
+}
 
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes).
-template <bool Commit, bool Events, bool Gate> [[gnu::always_inline]] inline bool end(Core& c, uint32_t bundle) {
+template <bool Commit, bool Events, bool Gate> [[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle) {
     if constexpr (Events)
         if (c.event) [[unlikely]]
-            return stop(c, bundle);
-    if (c.left == 0) [[unlikely]]
-        return stop(c, bundle);
+            return stop(c, n, bundle);
+    if (n.spent(bundle)) [[unlikely]]
+        return stop(c, n, bundle);
     if constexpr (Gate)
-        if (!cgate(c, bundle + 1)) [[unlikely]]
-            return stop(c, bundle);
-    finish<Commit, false>(c, bundle, bundle + 1);
+        if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]]
+            return stop(c, n, bundle);
+    cfinish<Commit, false>(c, bundle, bundle + 1);
     if (c.pending) [[unlikely]]
-        cland(c, bundle);
+        cland(c, n, bundle);
     return true;
 }
 
 // The end of control bundle `bundle` when the chain goes on across it (then<kJump + flags>):
 // the bundle it goes to, or kStopped (the chain stops in it).
 inline constexpr uint32_t kStopped = ~uint32_t{0};
-template <bool Commit> [[gnu::always_inline]] inline uint32_t jump(Core& c, uint32_t bundle) {
+template <bool Commit> [[gnu::always_inline]] inline uint32_t jump(Core& c, Counts& n, uint32_t bundle) {
     const uint32_t ev = c.event;
-    if ((ev & ~uint32_t{kTaken}) || c.left == 0) [[unlikely]] {
-        c.pc = bundle;
+    if ((ev & ~uint32_t{kTaken}) || n.spent(bundle)) [[unlikely]] {
+        stop(c, n, bundle);
         return kStopped;
     }
     const uint32_t to = ev ? c.next_pc : bundle + 1;
-    if (to >= c.nb || (c.bundles[to].slow && !cgate(c, to))) [[unlikely]] {
-        c.pc = bundle;
+    if (to >= c.nb || (c.bundles[to].slow && !cgate(c, n, bundle, to))) [[unlikely]] {
+        stop(c, n, bundle);
         return kStopped;
     }
-    finish<Commit, true>(c, bundle, to);
+    cfinish<Commit, true>(c, bundle, to);
     if (c.pending) [[unlikely]]
-        cland(c, bundle);
+        cland(c, n, bundle);
     return to;
 }
 

@@ -91,7 +91,7 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                                   spec);
     for (uint32_t r = 0; r < starts.size(); ++r) {
         const uint32_t first = starts[r], end = r + 1 < starts.size() ? starts[r + 1] : nb;
-        out += fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    switch (c.pc) {{\n", first,
+        out += fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n    switch (c.pc) {{\n", first,
                            end - 1, r);
         for (uint32_t pc = first; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
         out += "    default: __builtin_unreachable();\n    }\n";
@@ -100,6 +100,7 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             out += fmt::format("b{}:\n", pc);
             std::set<uint32_t> targets; // constant branch targets inside this run
+            bool cycle_put = false;      // c.cycle holds the bundle's cycle (Counts)
             for (uint32_t i = b.first; i < b.first + b.count; ++i) {
                 const iss::DecodedOp& d = prog.ops()[i];
                 const isa::Kind k = d.instr.info().kind;
@@ -107,19 +108,26 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                 if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) && d.imm >= first &&
                     d.imm < end)
                     targets.insert(d.imm);
+                // A ring push (its slot), a channel (a host's may ask its processor's cycle()).
+                if (!cycle_put && ((!iss::detail::op_direct(d) && d.latency > 1) || k == isa::Kind::Send ||
+                                   k == isa::Kind::Recv)) {
+                    out += fmt::format("    n.put_cycle(c, {});\n", pc);
+                    cycle_put = true;
+                }
                 out += fmt::format("    op<{}, {}>(c, {}, {}, {}, {}, 0x{:x}u, {}, {}, {}); // {}\n", int(d.instr.opcode),
                                    iss::detail::op_direct(d), d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
             }
             const Tail t = tail_of(prog, pc);
             if (t.kind == Tail::Exit) {
-                out += fmt::format("    return stop(c, {});\n", pc);
+                out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                out += fmt::format("    if (!end<{}, {}, {}>(c, {})) return false;\n", t.commit, t.events, t.gate, pc);
+                out += fmt::format("    if (!end<{}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events, t.gate, pc);
             } else {
-                out += fmt::format("    {{\n        const uint32_t to = jump<{}>(c, {});\n", t.commit, pc);
-                for (uint32_t to : targets) out += fmt::format("        if (to == {0}) goto b{0};\n", to);
-                out += "        if (to == kStopped) return false;\n        c.pc = to;\n        return true;\n    }\n";
+                out += fmt::format("    {{\n        const uint32_t to = jump<{}>(c, n, {});\n", t.commit, pc);
+                for (uint32_t to : targets)
+                    out += fmt::format("        if (to == {0}) {{\n            n.go({1}, {0});\n            goto b{0};\n        }}\n", to, pc);
+                out += fmt::format("        if (to == kStopped) return false;\n        return leave(c, n, {}, to);\n    }}\n", pc);
             }
         }
         out += "}\n";
