@@ -55,7 +55,7 @@ template <size_t O, bool Direct>
 // the cycle at which the budget reaches 0), so a bundle's end tests k against its index and
 // updates nothing; a goto from bundle j to bundle t adds t - (j + 1) to k. Written back at every
 // exit; the cycle also before anything that reads c.cycle (put_cycle: a ring push, a channel, a
-// gate, a landing). Nothing inside a run reads c.left.
+// gate). Nothing inside a run reads c.left.
 struct Counts {
     uint64_t k, end;
     explicit Counts(const Core& c) : k(c.left + c.pc), end(c.cycle + c.left) {}
@@ -69,15 +69,34 @@ struct Counts {
     void go(uint32_t j, uint32_t t) { k += uint64_t{t} - (j + 1); } // bundle j finished, t next
 };
 
-// The ring writes landing now, once bundle `prev_bundle` of a run has ended (land_then without
-// its tail).
-[[gnu::noinline]] inline void cland_ring(Core& c, uint32_t prev_bundle) { land_ring(c, prev_bundle); }
-[[gnu::always_inline]] inline void cland(Core& c, const Counts& n, uint32_t prev_bundle) {
-    const uint64_t cycle = n.cycle(prev_bundle + 1);
-    if (c.ring[cycle & c.mask].n) {
-        c.cycle = cycle;
-        cland_ring(c, prev_bundle);
+// The ring writes landing at `cycle`, once bundle j of a run has ended: land_ring (chain.hpp)
+// with j's lat1_writes given as constants W0, W1 (its write_adjust credit).
+template <uint32_t W0, uint32_t W1> [[gnu::noinline]] void cland_ring(Core& c, uint64_t cycle) {
+    RingSlot& s = c.ring[cycle & c.mask];
+    const uint32_t count = s.n;
+    uint32_t ring_float = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        const RingWrite& w = s.w[i];
+        c.r[w.reg] = w.value;
+        ring_float += (w.reg >> 7) & 1;
     }
+    c.pending -= count;
+    s.n = 0;
+    c.last_ring_cycle = cycle;
+    c.last_ring = {count - ring_float, ring_float};
+    if (count != ring_float) {
+        --c.write_adjust[0][W0];
+        ++c.write_adjust[0][W0 + count - ring_float];
+    }
+    if (ring_float) {
+        --c.write_adjust[1][W1];
+        ++c.write_adjust[1][W1 + ring_float];
+    }
+}
+// The same when the ring's slot for the cycle after bundle j holds writes.
+template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline void cland(Core& c, const Counts& n, uint32_t j) {
+    const uint64_t cycle = n.cycle(j + 1);
+    if (c.ring[cycle & c.mask].n) cland_ring<W0, W1>(c, cycle);
 }
 
 // The run stops in bundle `bundle` (the last bundle of a run that does not jump, kExit, or any
@@ -117,8 +136,10 @@ template <bool Commit, bool Jump> [[gnu::always_inline]] inline void cfinish(Cor
 }
 
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
-// (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes).
-template <bool Commit, bool Events, bool Gate> [[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle) {
+// (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its
+// lat1_writes).
+template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1>
+[[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle) {
     if constexpr (Events)
         if (c.event) [[unlikely]]
             return stop(c, n, bundle);
@@ -129,14 +150,14 @@ template <bool Commit, bool Events, bool Gate> [[gnu::always_inline]] inline boo
             return stop(c, n, bundle);
     cfinish<Commit, false>(c, bundle, bundle + 1);
     if (c.pending) [[unlikely]]
-        cland(c, n, bundle);
+        cland<W0, W1>(c, n, bundle);
     return true;
 }
 
 // The end of control bundle `bundle` when the chain goes on across it (then<kJump + flags>):
 // the bundle it goes to, or kStopped (the chain stops in it).
 inline constexpr uint32_t kStopped = ~uint32_t{0};
-template <bool Commit> [[gnu::always_inline]] inline uint32_t jump(Core& c, Counts& n, uint32_t bundle) {
+template <bool Commit, uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline uint32_t jump(Core& c, Counts& n, uint32_t bundle) {
     const uint32_t ev = c.event;
     if ((ev & ~uint32_t{kTaken}) || n.spent(bundle)) [[unlikely]] {
         stop(c, n, bundle);
@@ -149,7 +170,7 @@ template <bool Commit> [[gnu::always_inline]] inline uint32_t jump(Core& c, Coun
     }
     cfinish<Commit, true>(c, bundle, to);
     if (c.pending) [[unlikely]]
-        cland(c, n, bundle);
+        cland<W0, W1>(c, n, bundle);
     return to;
 }
 

@@ -122,9 +122,11 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                out += fmt::format("    if (!end<{}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events, t.gate, pc);
+                out += fmt::format("    if (!end<{}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events, t.gate,
+                                   b.lat1_writes[0], b.lat1_writes[1], pc);
             } else {
-                out += fmt::format("    {{\n        const uint32_t to = jump<{}>(c, n, {});\n", t.commit, pc);
+                out += fmt::format("    {{\n        const uint32_t to = jump<{}, {}, {}>(c, n, {});\n", t.commit,
+                                   b.lat1_writes[0], b.lat1_writes[1], pc);
                 for (uint32_t to : targets)
                     out += fmt::format("        if (to == {0}) {{\n            n.go({1}, {0});\n            goto b{0};\n        }}\n", to, pc);
                 out += fmt::format("        if (to == kStopped) return false;\n        return leave(c, n, {}, to);\n    }}\n", pc);
