@@ -135,10 +135,15 @@ template <bool Commit, bool Jump> [[gnu::always_inline]] inline void cfinish(Cor
     }
 }
 
+// What a bundle's end does about the ring: probe the next cycle's slot when writes are pending
+// (kProbe), nothing (kNoRing: the generator proved that no write lands then), or land the slot
+// (kRing: it proved that one does; gen_compiled_runs.cpp has the proof).
+enum Land { kProbe, kNoRing, kRing };
+
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its
 // lat1_writes).
-template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1>
+template <bool Commit, bool Events, bool Gate, Land L, uint32_t W0, uint32_t W1>
 [[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle) {
     if constexpr (Events)
         if (c.event) [[unlikely]]
@@ -149,8 +154,12 @@ template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1>
         if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]]
             return stop(c, n, bundle);
     cfinish<Commit, false>(c, bundle, bundle + 1);
-    if (c.pending) [[unlikely]]
-        cland<W0, W1>(c, n, bundle);
+    if constexpr (L == kRing) {
+        cland_ring<W0, W1>(c, n.cycle(bundle + 1));
+    } else if constexpr (L == kProbe) {
+        if (c.pending) [[unlikely]]
+            cland<W0, W1>(c, n, bundle);
+    }
     return true;
 }
 

@@ -19,6 +19,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <fstream>
@@ -89,18 +90,30 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                                   "#include \"compiled.hpp\"\n#include \"iss/compiled.hpp\"\n\n"
                                   "namespace nesshi::iss::detail {{\nnamespace {{\n",
                                   spec);
+    // Ring landings (compiled.hpp's Land). A run entered at its first bundle f in cycle C issues
+    // bundle f + o in cycle C + o until its first control bundle; the end of bundle j lands
+    // cycle C + (j + 1 - f). A write landing then was pushed in cycle C' = C + (j + 1 - f) - L,
+    // L <= max_lat: when C' >= C, by bundle f + (C' - C) of this entry, whose pushes the
+    // generator knows (a push that does not happen is a faulting load's, whose bundle stops the
+    // run); when C' < C, before the entry, possible only while j + 1 - f < max_lat. So past the
+    // first max_lat - 1 ends the entry at f lands exactly what its own bundles pushed; entries
+    // anywhere else (and gotos) run a second copy of the run that probes at every end.
+    uint32_t max_lat = 1;
+    for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
     for (uint32_t r = 0; r < starts.size(); ++r) {
         const uint32_t first = starts[r], end = r + 1 < starts.size() ? starts[r + 1] : nb;
-        out += fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n    switch (c.pc) {{\n", first,
-                           end - 1, r);
-        for (uint32_t pc = first; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
+        out += fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n    switch (c.pc) {{\n",
+                           first, end - 1, r);
+        out += fmt::format("    case {0}: goto f{0};\n", first);
+        for (uint32_t pc = first + 1; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
         out += "    default: __builtin_unreachable();\n    }\n";
-        for (uint32_t pc = first; pc < end; ++pc) {
+        auto label = [first](uint32_t pc) { return fmt::format("{}{}", pc == first ? 'f' : 'b', pc); };
+        // Bundle pc's code; `lands`: the ends after which writes pushed by the copy land (fast copy).
+        auto bundle_code = [&](uint32_t pc, bool fast, std::set<uint32_t>& lands) {
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
-            out += fmt::format("b{}:\n", pc);
             std::set<uint32_t> targets; // constant branch targets inside this run
-            bool cycle_put = false;      // c.cycle holds the bundle's cycle (Counts)
+            bool cycle_put = false;     // c.cycle holds the bundle's cycle (Counts)
             for (uint32_t i = b.first; i < b.first + b.count; ++i) {
                 const iss::DecodedOp& d = prog.ops()[i];
                 const isa::Kind k = d.instr.info().kind;
@@ -108,12 +121,16 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                 if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) && d.imm >= first &&
                     d.imm < end)
                     targets.insert(d.imm);
+                const bool ring = !iss::detail::op_direct(d) && d.latency > 1;
                 // A ring push (its slot), a channel (a host's may ask its processor's cycle()).
-                if (!cycle_put && ((!iss::detail::op_direct(d) && d.latency > 1) || k == isa::Kind::Send ||
-                                   k == isa::Kind::Recv)) {
+                if (!cycle_put && (ring || k == isa::Kind::Send || k == isa::Kind::Recv)) {
                     out += fmt::format("    n.put_cycle(c, {});\n", pc);
                     cycle_put = true;
                 }
+                // The kinds whose semantics put a result (handlers.hpp); a load only if it does not fault.
+                if (ring && (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink ||
+                             k == isa::Kind::Recv))
+                    lands.insert(pc + d.latency - 1);
                 out += fmt::format("    op<{}, {}>(c, {}, {}, {}, {}, 0x{:x}u, {}, {}, {}); // {}\n", int(d.instr.opcode),
                                    iss::detail::op_direct(d), d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
@@ -122,15 +139,30 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                out += fmt::format("    if (!end<{}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events, t.gate,
-                                   b.lat1_writes[0], b.lat1_writes[1], pc);
+                const char* land = !fast || pc + 1 - first < max_lat ? "kProbe" : lands.count(pc) ? "kRing" : "kNoRing";
+                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events,
+                                   t.gate, land, b.lat1_writes[0], b.lat1_writes[1], pc);
             } else {
                 out += fmt::format("    {{\n        const uint32_t to = jump<{}, {}, {}>(c, n, {});\n", t.commit,
                                    b.lat1_writes[0], b.lat1_writes[1], pc);
                 for (uint32_t to : targets)
-                    out += fmt::format("        if (to == {0}) {{\n            n.go({1}, {0});\n            goto b{0};\n        }}\n", to, pc);
+                    out += fmt::format("        if (to == {0}) {{\n            n.go({1}, {0});\n            goto {2};\n        }}\n",
+                                       to, pc, label(to));
                 out += fmt::format("        if (to == kStopped) return false;\n        return leave(c, n, {}, to);\n    }}\n", pc);
             }
+            return t.kind;
+        };
+        // The copy entered at `first`, up to its first bundle that does not go straight on.
+        std::set<uint32_t> lands, none;
+        out += fmt::format("f{}:\n", first);
+        for (uint32_t pc = first;; ++pc) {
+            if (pc == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+            if (bundle_code(pc, true, lands) != Tail::End) break;
+        }
+        // The copy entered anywhere else.
+        for (uint32_t pc = first + 1; pc < end; ++pc) {
+            out += fmt::format("b{}:\n", pc);
+            bundle_code(pc, false, none);
         }
         out += "}\n";
     }

@@ -84,9 +84,10 @@ struct Pair {
         a.feed(w);
         b.feed(w);
     }
-    // Until both wait for input (or halt or fault), in steps of 1 to 5000 bundles.
+    // Until both wait for input (or halt or fault), in steps of 1 to 5000 bundles: small ones stop
+    // runs at every offset, also between a ring push and its landing (compiled.hpp's Land).
     iss::Status run() {
-        static constexpr std::array<uint64_t, 9> kSteps{1, 2, 3, 7, 20, 64, 300, 5000, 1};
+        static constexpr std::array<uint64_t, 12> kSteps{1, 2, 3, 4, 5, 7, 11, 20, 64, 300, 5000, 1};
         for (;;) {
             const uint64_t n = kSteps[steps() % kSteps.size()];
             const iss::Status sa = a.proc->step(n, 1'000'000);
