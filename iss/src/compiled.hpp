@@ -183,6 +183,32 @@ template <bool Commit, uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline u
     return to;
 }
 
+// The same for a control bundle whose one control op has a constant target: the generator knows
+// where it goes when the branch is taken (Taken) and when not, and whether that bundle is a FIFO
+// bundle (Gate) inside the program; jump()'s tests of c.next_pc, c.nb and slow fold away. The
+// caller has tested the events and the budget (jump_held).
+[[gnu::always_inline]] inline bool jump_held(const Core& c, const Counts& n, uint32_t bundle) {
+    return (c.event & ~uint32_t{kTaken}) || n.spent(bundle);
+}
+template <bool Commit, bool Taken, bool Gate, uint32_t W0, uint32_t W1>
+[[gnu::always_inline]] inline bool jump_to(Core& c, Counts& n, uint32_t bundle, uint32_t to) {
+    if constexpr (Gate)
+        if (!cgate(c, n, bundle, to)) [[unlikely]]
+            return stop(c, n, bundle);
+    if constexpr (Commit) c.land_direct();
+    ++c.leave[bundle + 1];
+    ++c.enter[to];
+    if constexpr (Taken) {
+        ++c.taken[bundle];
+        c.event = 0;
+    }
+    c.jump_from = bundle;
+    c.jump_to = to;
+    if (c.pending) [[unlikely]]
+        cland<W0, W1>(c, n, bundle);
+    return true;
+}
+
 // For the generator: what the engine's form of the program says of an op and a bundle.
 inline bool op_direct(const DecodedOp& d) { return d.fn == kDirectHandlers[d.instr.opcode]; }
 

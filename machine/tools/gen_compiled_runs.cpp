@@ -75,6 +75,20 @@ Tail tail_of(const iss::Program& prog, uint32_t pc) {
     return t;
 }
 
+// The one control op of control bundle `pc` when its target is a constant (branch, jump, jal),
+// else nullptr (jr, or more than one).
+const iss::DecodedOp* constant_jump(const iss::Program& prog, uint32_t pc) {
+    const iss::DecodedBundle& b = prog.bundles()[pc];
+    const iss::DecodedOp* found = nullptr;
+    int control = 0;
+    for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+        const isa::Kind k = prog.ops()[i].instr.info().kind;
+        if (k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) found = &prog.ops()[i];
+        control += k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink || k == isa::Kind::JumpReg;
+    }
+    return control == 1 ? found : nullptr;
+}
+
 // Between the items of an array initializer, `per_line` a line.
 const char* sep(uint32_t i, uint32_t per_line) { return i == 0 ? "\n    " : i % per_line ? ", " : ",\n    "; }
 
@@ -142,6 +156,26 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                 const char* land = !fast || pc + 1 - first < max_lat ? "kProbe" : lands.count(pc) ? "kRing" : "kNoRing";
                 out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events,
                                    t.gate, land, b.lat1_writes[0], b.lat1_writes[1], pc);
+            } else if (const iss::DecodedOp* j = constant_jump(prog, pc)) {
+                // Taken to j->imm, or (a branch) not taken to pc + 1: stops where jump() would.
+                const bool cond = j->instr.info().kind == isa::Kind::Branch;
+                out += fmt::format("    if (jump_held(c, n, {})) return stop(c, n, {});\n", pc, pc);
+                auto go = [&](bool taken, uint32_t to) {
+                    std::string s = taken && cond ? "    if (c.event) {\n" : "    {\n";
+                    if (to >= nb) {
+                        s += fmt::format("        return stop(c, n, {});\n    }}\n", pc);
+                        return s;
+                    }
+                    s += fmt::format("        if (!jump_to<{}, {}, {}, {}, {}>(c, n, {}, {})) return false;\n", t.commit,
+                                     taken, bool(prog.bundles()[to].slow), b.lat1_writes[0], b.lat1_writes[1], pc, to);
+                    if (to >= first && to < end)
+                        s += fmt::format("        n.go({}, {});\n        goto {};\n    }}\n", pc, to, label(to));
+                    else
+                        s += fmt::format("        return leave(c, n, {}, {});\n    }}\n", pc, to);
+                    return s;
+                };
+                out += go(true, j->imm);
+                if (cond) out += go(false, pc + 1);
             } else {
                 out += fmt::format("    {{\n        const uint32_t to = jump<{}, {}, {}>(c, n, {});\n", t.commit,
                                    b.lat1_writes[0], b.lat1_writes[1], pc);
