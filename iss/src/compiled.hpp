@@ -135,15 +135,49 @@ template <bool Commit, bool Jump> [[gnu::always_inline]] inline void cfinish(Cor
     }
 }
 
-// What a bundle's end does about the ring: probe the next cycle's slot when writes are pending
-// (kProbe), nothing (kNoRing: the generator proved that no write lands then), or land the slot
-// (kRing: it proved that one does; gen_compiled_runs.cpp has the proof).
-enum Land { kProbe, kNoRing, kRing };
+// The ring slot of `cycle` when the generator knows what it holds: writes to registers R..., in
+// the order they were pushed (cland_ring with its loop and the file test done at compile time).
+template <uint32_t W0, uint32_t W1, uint16_t... R> [[gnu::always_inline]] inline void cland_known(Core& c, uint64_t cycle) {
+    RingSlot& s = c.ring[cycle & c.mask];
+    uint32_t i = 0;
+    ((c.r[R] = s.w[i++].value), ...);
+    constexpr uint32_t count = sizeof...(R), ring_float = (0u + ... + (R / isa::kMaxRegs));
+    c.pending -= count;
+    s.n = 0;
+    c.last_ring_cycle = cycle;
+    c.last_ring = {count - ring_float, ring_float};
+    if constexpr (count != ring_float) {
+        --c.write_adjust[0][W0];
+        ++c.write_adjust[0][W0 + count - ring_float];
+    }
+    if constexpr (ring_float != 0) {
+        --c.write_adjust[1][W1];
+        ++c.write_adjust[1][W1 + ring_float];
+    }
+}
+
+// What the end of bundle j does about the ring: probe the next cycle's slot when writes are
+// pending (Probe), nothing (NoRing: the generator proved that no write lands then), or land the
+// slot (Ring: it proved that it holds exactly writes to R...; gen_compiled_runs.cpp has the proof).
+struct Probe {
+    template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] static void after(Core& c, const Counts& n, uint32_t j) {
+        if (c.pending) [[unlikely]]
+            cland<W0, W1>(c, n, j);
+    }
+};
+struct NoRing {
+    template <uint32_t W0, uint32_t W1> static void after(Core&, const Counts&, uint32_t) {}
+};
+template <uint16_t... R> struct Ring {
+    template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] static void after(Core& c, const Counts& n, uint32_t j) {
+        cland_known<W0, W1, R...>(c, n.cycle(j + 1));
+    }
+};
 
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its
-// lat1_writes).
-template <bool Commit, bool Events, bool Gate, Land L, uint32_t W0, uint32_t W1>
+// lat1_writes; Land: what it does about the ring).
+template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class Land>
 [[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle) {
     if constexpr (Events)
         if (c.event) [[unlikely]]
@@ -154,12 +188,7 @@ template <bool Commit, bool Events, bool Gate, Land L, uint32_t W0, uint32_t W1>
         if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]]
             return stop(c, n, bundle);
     cfinish<Commit, false>(c, bundle, bundle + 1);
-    if constexpr (L == kRing) {
-        cland_ring<W0, W1>(c, n.cycle(bundle + 1));
-    } else if constexpr (L == kProbe) {
-        if (c.pending) [[unlikely]]
-            cland<W0, W1>(c, n, bundle);
-    }
+    Land::template after<W0, W1>(c, n, bundle);
     return true;
 }
 

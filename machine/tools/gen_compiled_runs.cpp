@@ -18,11 +18,13 @@
 #include "kernels/sources.hpp"
 
 #include <fmt/core.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -122,8 +124,9 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
         for (uint32_t pc = first + 1; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
         out += "    default: __builtin_unreachable();\n    }\n";
         auto label = [first](uint32_t pc) { return fmt::format("{}{}", pc == first ? 'f' : 'b', pc); };
-        // Bundle pc's code; `lands`: the ends after which writes pushed by the copy land (fast copy).
-        auto bundle_code = [&](uint32_t pc, bool fast, std::set<uint32_t>& lands) {
+        // Bundle pc's code; `lands`: by bundle end, the registers of the writes pushed by the copy
+        // that land then, in push order (fast copy).
+        auto bundle_code = [&](uint32_t pc, bool fast, std::map<uint32_t, std::vector<uint16_t>>& lands) {
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             std::set<uint32_t> targets; // constant branch targets inside this run
@@ -144,7 +147,7 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                 // The kinds whose semantics put a result (handlers.hpp); a load only if it does not fault.
                 if (ring && (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink ||
                              k == isa::Kind::Recv))
-                    lands.insert(pc + d.latency - 1);
+                    lands[pc + d.latency - 1].push_back(d.dst);
                 out += fmt::format("    op<{}, {}>(c, {}, {}, {}, {}, 0x{:x}u, {}, {}, {}); // {}\n", int(d.instr.opcode),
                                    iss::detail::op_direct(d), d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
@@ -153,9 +156,11 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                const char* land = !fast || pc + 1 - first < max_lat ? "kProbe" : lands.count(pc) ? "kRing" : "kNoRing";
+                const std::string land = !fast || pc + 1 - first < max_lat ? "Probe"
+                                         : lands.count(pc)                  ? fmt::format("Ring<{}>", fmt::join(lands[pc], ", "))
+                                                                            : "NoRing";
                 out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events,
-                                   t.gate, land, b.lat1_writes[0], b.lat1_writes[1], pc);
+                                   t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc);
             } else if (const iss::DecodedOp* j = constant_jump(prog, pc)) {
                 // Taken to j->imm, or (a branch) not taken to pc + 1: stops where jump() would.
                 const bool cond = j->instr.info().kind == isa::Kind::Branch;
@@ -187,7 +192,7 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             return t.kind;
         };
         // The copy entered at `first`, up to its first bundle that does not go straight on.
-        std::set<uint32_t> lands, none;
+        std::map<uint32_t, std::vector<uint16_t>> lands, none;
         out += fmt::format("f{}:\n", first);
         for (uint32_t pc = first;; ++pc) {
             if (pc == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
