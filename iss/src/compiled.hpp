@@ -5,10 +5,12 @@
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
-// known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> then<kJump + flags>, stop() kExit.
+// known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> and jump_to<> then<kJump + flags>,
+// stop() kExit.
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
-// ends through chain.hpp's finish<> (execution counts by pass), and a run goes into a FIFO bundle
-// only when gate_at_issue passes.
+// ends as chain.hpp's finish<> ends it (cfinish, jump_to: execution counts by pass; the counts in
+// Counts), its ring slot lands as land_ring lands it, and a run goes into a FIFO bundle only when
+// gate_at_issue passes.
 // It returns true when control goes on to another run (core.pc is the next bundle, not issued
 // yet: run_compiled enters that run) and false when it stops in bundle core.pc with its ops
 // executed, which EngineLoop::run_plain and loop() then finish as after a chain.
@@ -141,7 +143,7 @@ template <uint32_t W0, uint32_t W1, uint16_t... R> [[gnu::always_inline]] inline
     RingSlot& s = c.ring[cycle & c.mask];
     uint32_t i = 0;
     ((c.r[R] = s.w[i++].value), ...);
-    constexpr uint32_t count = sizeof...(R), ring_float = (0u + ... + (R / isa::kMaxRegs));
+    constexpr uint32_t count = sizeof...(R), ring_float = (0u + ... + ((R >> 7) & 1u)); // as land_ring counts
     c.pending -= count;
     s.n = 0;
     c.last_ring_cycle = cycle;

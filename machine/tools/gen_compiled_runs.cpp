@@ -6,7 +6,8 @@
 // Each KERNEL@MACHINE is assembled as a machine run assembles it (machine::assemble_kernel on the
 // embedded sources) and written to OUTDIR/<id>.cpp; OUTDIR/register.cpp registers them all. Run by
 // the build (machine/CMakeLists.txt), never by hand. The generated code calls only the helpers of
-// iss/src/compiled.hpp (op<>, end<>, jump<>, stop), so the semantics stay those of isa::kOps.
+// iss/src/compiled.hpp (Counts, op<>, end<>, jump<>, jump_to<>, stop, leave), so the semantics stay
+// those of isa::kOps.
 #include "compiled_runs.hpp"
 
 #include "machine/runner.hpp"
@@ -106,14 +107,16 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                                   "#include \"compiled.hpp\"\n#include \"iss/compiled.hpp\"\n\n"
                                   "namespace nesshi::iss::detail {{\nnamespace {{\n",
                                   spec);
-    // Ring landings (compiled.hpp's Land). A run entered at its first bundle f in cycle C issues
-    // bundle f + o in cycle C + o until its first control bundle; the end of bundle j lands
-    // cycle C + (j + 1 - f). A write landing then was pushed in cycle C' = C + (j + 1 - f) - L,
-    // L <= max_lat: when C' >= C, by bundle f + (C' - C) of this entry, whose pushes the
-    // generator knows (a push that does not happen is a faulting load's, whose bundle stops the
-    // run); when C' < C, before the entry, possible only while j + 1 - f < max_lat. So past the
-    // first max_lat - 1 ends the entry at f lands exactly what its own bundles pushed; entries
-    // anywhere else (and gotos) run a second copy of the run that probes at every end.
+    // Ring landings (compiled.hpp's Probe, NoRing, Ring). A run entered at its first bundle f (by
+    // the entry switch or a goto) in cycle C issues bundle f + o in cycle C + o until its first
+    // control bundle (a stall stops it); the end of bundle j lands cycle C + (j + 1 - f). A write
+    // landing then was pushed in cycle C' = C + (j + 1 - f) - L, L <= max_lat: when C' >= C, by
+    // bundle f + (C' - C) of this entry, whose pushes the generator knows (a push that does not
+    // happen is a faulting load's, whose bundle stops the run); when C' < C, before the entry,
+    // possible only while j + 1 - f < max_lat. So past the
+    // first max_lat - 1 ends the entry at f lands exactly what its own bundles pushed, in the
+    // order they pushed it (bundle, then op order); entries anywhere else (by the switch or a
+    // goto) run a second copy of the run that probes at every end.
     uint32_t max_lat = 1;
     for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
     for (uint32_t r = 0; r < starts.size(); ++r) {

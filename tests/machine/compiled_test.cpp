@@ -63,6 +63,7 @@ struct Pair {
     machine::KernelRunner a, b;
     std::vector<std::unique_ptr<iss::SetAssocCache>> caches;
     std::mt19937 steps{11};
+    uint64_t fixed_step = 0; // when not 0, every step is this many bundles
     uint64_t compared = 0;
 
     Pair(std::shared_ptr<const iss::Program> p, bool cache) : prog(p), a(p), b(p) {
@@ -89,7 +90,7 @@ struct Pair {
     iss::Status run() {
         static constexpr std::array<uint64_t, 12> kSteps{1, 2, 3, 4, 5, 7, 11, 20, 64, 300, 5000, 1};
         for (;;) {
-            const uint64_t n = kSteps[steps() % kSteps.size()];
+            const uint64_t n = fixed_step ? fixed_step : kSteps[steps() % kSteps.size()];
             const iss::Status sa = a.proc->step(n, 1'000'000);
             const iss::Status sb = b.proc->step(n, 1'000'000);
             ++compared;
@@ -240,6 +241,27 @@ TEST_CASE("compiled runs: every built-in kernel in lock-step with the interprete
     WARN(fmt::format("compiled runs entered in lock-step: {} of {}; not reached:{}", hit, total, unreached));
     CHECK(iss::compiled_count() == 8);
     CHECK(hit * 10 >= total * 7);
+}
+
+// Steps of one size, each size from 1 to 40 bundles: a run entered at its first bundle (its copy
+// with static ring landings, compiled.hpp's Ring) stops at every offset, also between a push and
+// its landing, and the next step enters the same run in the middle.
+TEST_CASE("compiled runs: stopped at every offset of their runs", "[compiled]") {
+    for (uint64_t step = 1; step <= 40; ++step) {
+        INFO("steps of " << step);
+        for (const std::string& spec : {kIntersect[0], kIntersect[2]}) {
+            Pair p(program(spec), false);
+            p.fixed_step = step;
+            std::mt19937 rng(step);
+            CHECK(drive_intersect(p, rng, 3, false) == iss::Status::Blocked);
+        }
+        Pair q(program(kDda[0]), false);
+        q.fixed_step = step;
+        std::mt19937 rng(step);
+        const machine::OccupancyGrid g = machine::random_grid(8, 0.05, rng);
+        q.load(kernels::os_image(g.g, g.occ));
+        drive_dda(q, rng, 3);
+    }
 }
 
 TEST_CASE("compiled runs: a program one immediate away from a compiled one runs interpreted", "[compiled]") {
