@@ -43,12 +43,22 @@ inline constexpr int kReturn = 0, kNext = 1, kExit = 2, kEnd = 3, kJump = 11;
 inline constexpr int kEndCommit = 1, kEndEvents = 2, kEndGate = 4; // flags added to kEnd (kJump: commit only)
 inline constexpr int kNumTails = kJump + 2;
 
-// The ring writes landing in this cycle, inside a run (the bundle before is owed its histogram
-// credit); land_ring_then: then the next bundle's first op. Out of line and reached by tail
-// calls, so that the handlers need no stack frame, and land_then's test of an empty slot needs
-// none either.
-[[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) {
-    RingSlot& s = c.ring[c.cycle & c.mask];
+// The hot state of a chain: the current cycle and c.left travel as the handlers' last two
+// arguments (ThreadedHandler), so that a bundle's end neither loads nor stores them; the Core's
+// copies are stale inside a chain and written at a stop (stop_at) and before anything that
+// reads them (a channel call: a host's channel may read its processor's cycle()).
+[[gnu::always_inline]] inline void stop_at(Core& c, uint32_t bundle, uint64_t cycle, uint64_t left) {
+    c.pc = bundle;
+    c.cycle = cycle;
+    c.left = left;
+}
+
+// The ring writes landing in cycle `cycle`, inside a run (the bundle before is owed its
+// histogram credit); land_ring_then: then the next bundle's first op. Out of line and reached by
+// tail calls, so that the handlers need no stack frame, and land_then's test of an empty slot
+// needs none either. The chain's state stays in the registers it came in (the extras go last).
+[[gnu::always_inline]] inline void land_ring_at(Core& c, uint32_t prev_bundle, uint64_t cycle) {
+    RingSlot& s = c.ring[cycle & c.mask];
     const uint32_t count = s.n;
     uint32_t ring_float = 0;
     for (uint32_t i = 0; i < count; ++i) {
@@ -59,7 +69,7 @@ inline constexpr int kNumTails = kJump + 2;
     c.pending -= count;
     s.n = 0;
     const uint32_t ring[2] = {count - ring_float, ring_float};
-    c.last_ring_cycle = c.cycle;
+    c.last_ring_cycle = cycle;
     c.last_ring = {ring[0], ring[1]};
     const auto& prev = c.bundles[prev_bundle].lat1_writes;
     for (int f = 0; f < 2; ++f) {
@@ -68,23 +78,23 @@ inline constexpr int kNumTails = kJump + 2;
         ++c.write_adjust[f][prev[f] + ring[f]];
     }
 }
-[[gnu::noinline]] inline void land_ring_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
-    land_ring(c, prev_bundle);
-    return next.tfn(c, next);
+[[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) { land_ring_at(c, prev_bundle, c.cycle); }
+[[gnu::noinline]] inline void land_ring_then(Core& c, const DecodedOp& next, uint64_t cycle, uint64_t left,
+                                             uint32_t prev_bundle) {
+    land_ring_at(c, prev_bundle, cycle);
+    return next.tfn(c, next, cycle, left);
 }
 
 // The end of a bundle inside a run with ring writes pending: most cycles land none of them.
-[[gnu::noinline]] inline void land_then(Core& c, const DecodedOp& next, uint32_t prev_bundle) {
-    if (c.ring[c.cycle & c.mask].n) return land_ring_then(c, next, prev_bundle);
-    return next.tfn(c, next);
+[[gnu::noinline]] inline void land_then(Core& c, const DecodedOp& next, uint64_t cycle, uint64_t left,
+                                        uint32_t prev_bundle) {
+    if (c.ring[cycle & c.mask].n) return land_ring_then(c, next, cycle, left, prev_bundle);
+    return next.tfn(c, next, cycle, left);
 }
 
-// The end of bundle `bundle` once the chain goes on to bundle `to`: what the general loop's
-// turn does after the handlers (commit, counts, the cycle, the budget), short of landing the
-// next cycle's ring writes. A bundle's execution is counted by pass (Processor::flush_passes):
-// nothing to count when the chain falls through; a jump ends a pass after `bundle` and begins
-// one at `to`. Compiled runs (compiled.hpp) end their bundles with it too.
-template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish(Core& c, uint32_t bundle, uint32_t to) {
+// The counts at the end of bundle `bundle` once the chain goes on to bundle `to` (finish short
+// of the cycle and the budget).
+template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish_counts(Core& c, uint32_t bundle, uint32_t to) {
     if constexpr (Commit) c.land_direct();
     if constexpr (Jump) {
         ++c.leave[bundle + 1];
@@ -96,17 +106,27 @@ template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish(Core
         c.jump_from = bundle; // the bundle before `to`, should the chain stop there
         c.jump_to = to;
     }
+}
+
+// The end of bundle `bundle` once the chain goes on to bundle `to`: what the general loop's
+// turn does after the handlers (commit, counts, the cycle, the budget), short of landing the
+// next cycle's ring writes. A bundle's execution is counted by pass (Processor::flush_passes):
+// nothing to count when the chain falls through; a jump ends a pass after `bundle` and begins
+// one at `to`. Compiled runs (compiled.hpp) end their bundles with it too.
+template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish(Core& c, uint32_t bundle, uint32_t to) {
+    finish_counts<Commit, Jump>(c, bundle, to);
     ++c.cycle;
     --c.left;
 }
 
-// finish, then the ring writes landing now and `to`'s first op.
-template <bool Commit, bool Jump> [[gnu::always_inline]] inline void step(Core& c, const DecodedOp& d, uint32_t to) {
-    finish<Commit, Jump>(c, d.bundle, to);
+// finish in the chain's registers, then the ring writes landing now and `to`'s first op.
+template <bool Commit, bool Jump>
+[[gnu::always_inline]] inline void step(Core& c, const DecodedOp& d, uint32_t to, uint64_t cycle, uint64_t left) {
+    finish_counts<Commit, Jump>(c, d.bundle, to);
     const DecodedOp& n = Jump ? c.ops[c.bundles[to].first] : (&d)[1]; // ops are in bundle order
     if (c.pending) [[unlikely]]
-        return land_then(c, n, d.bundle);
-    return n.tfn(c, n);
+        return land_then(c, n, cycle + 1, left - 1, d.bundle);
+    return n.tfn(c, n, cycle + 1, left - 1);
 }
 
 // A FIFO bundle's fast gate at the current cycle: for each channel and direction it uses (in
@@ -134,52 +154,45 @@ inline bool gate_passes(const Core& c, const DecodedBundle& b) {
 
 // The end of a bundle whose successor `to` is a FIFO bundle. Out of line (the gate calls the
 // channels) and reached by a tail call. When the gate does not pass, the chain stops here.
-template <bool Commit, bool Jump> [[gnu::noinline]] void step_gated(Core& c, const DecodedOp& d, uint32_t to) {
-    if (!gate_at_issue(c, to)) [[unlikely]] {
-        c.pc = d.bundle;
-        return;
-    }
-    return step<Commit, Jump>(c, d, to);
+template <bool Commit, bool Jump>
+[[gnu::noinline]] void step_gated(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left, uint32_t to) {
+    c.cycle = cycle + 1; // to's issue cycle, for the channels
+    if (!gate_passes(c, c.bundles[to])) [[unlikely]]
+        return stop_at(c, d.bundle, cycle, left);
+    return step<Commit, Jump>(c, d, to, cycle, left);
 }
 
-template <int T> [[gnu::always_inline]] inline void then(Core& c, const DecodedOp& d) {
+template <int T>
+[[gnu::always_inline]] inline void then(Core& c, const DecodedOp& d, [[maybe_unused]] uint64_t cycle,
+                                        [[maybe_unused]] uint64_t left) {
     if constexpr (T == kReturn) {
         return;
     } else if constexpr (T == kNext) {
         const DecodedOp& n = (&d)[1];
-        return n.tfn(c, n);
+        return n.tfn(c, n, cycle, left);
     } else if constexpr (T == kExit) {
-        c.pc = d.bundle;
+        return stop_at(c, d.bundle, cycle, left);
     } else if constexpr (T >= kJump) {
         constexpr bool commit = (T - kJump) & kEndCommit;
         const uint32_t ev = c.event;
-        if ((ev & ~uint32_t{kTaken}) || c.left == 0) [[unlikely]] { // loop() handles them (and the limits)
-            c.pc = d.bundle;
-            return;
-        }
+        if ((ev & ~uint32_t{kTaken}) || left == 0) [[unlikely]] // loop() handles them (and the limits)
+            return stop_at(c, d.bundle, cycle, left);
         const uint32_t to = ev ? c.next_pc : d.bundle + 1;
-        if (to >= c.nb) [[unlikely]] { // a bad pc: loop() again
-            c.pc = d.bundle;
-            return;
-        }
-        if (c.bundles[to].slow) return step_gated<commit, true>(c, d, to);
-        return step<commit, true>(c, d, to);
+        if (to >= c.nb) [[unlikely]] // a bad pc: loop() again
+            return stop_at(c, d.bundle, cycle, left);
+        if (c.bundles[to].slow) return step_gated<commit, true>(c, d, cycle, left, to);
+        return step<commit, true>(c, d, to, cycle, left);
     } else {
         constexpr bool commit = (T - kEnd) & kEndCommit; // the bundle queues latency-1 writes
         constexpr bool events = (T - kEnd) & kEndEvents; // it has a load or store (fault, stall)
         constexpr bool gate = (T - kEnd) & kEndGate;     // the next bundle is a FIFO bundle
-        if constexpr (events) {
-            if (c.event) [[unlikely]] {
-                c.pc = d.bundle;
-                return;
-            }
-        }
-        if (c.left == 0) [[unlikely]] { // the budget, the cycle limit or the chain's cap
-            c.pc = d.bundle;
-            return;
-        }
-        if constexpr (gate) return step_gated<commit, false>(c, d, d.bundle + 1);
-        else return step<commit, false>(c, d, d.bundle + 1);
+        if constexpr (events)
+            if (c.event) [[unlikely]]
+                return stop_at(c, d.bundle, cycle, left);
+        if (left == 0) [[unlikely]] // the budget, the cycle limit or the chain's cap
+            return stop_at(c, d.bundle, cycle, left);
+        if constexpr (gate) return step_gated<commit, false>(c, d, cycle, left, d.bundle + 1);
+        else return step<commit, false>(c, d, d.bundle + 1, cycle, left);
     }
 }
 

@@ -88,6 +88,10 @@ struct Core {
     void push(const DecodedOp& d, uint32_t v) { push(d.dst, d.latency, d.index, v); }
     // The same with the op's fields given (compiled runs pass constants).
     [[gnu::always_inline]] void push(uint16_t dst, uint32_t latency, uint32_t op, uint32_t v) {
+        push_at(cycle, dst, latency, op, v);
+    }
+    // The same issued in cycle `now` (a threaded run keeps its cycle out of the Core, chain.hpp).
+    [[gnu::always_inline]] void push_at(uint64_t now, uint16_t dst, uint32_t latency, uint32_t op, uint32_t v) {
         if (latency == 1) {
             uint32_t i = nwb++;
             wb_reg[i] = dst;
@@ -95,7 +99,7 @@ struct Core {
             wb_op[i] = op;
             return;
         }
-        RingSlot& s = ring[(cycle + latency) & mask];
+        RingSlot& s = ring[(now + latency) & mask];
         s.w[s.n++] = RingWrite{dst, v, op};
         ++pending;
     }

@@ -51,10 +51,12 @@ template <size_t O, isa::Field F, class Fields>
 
 // Direct: the result has latency 1 and no later operation of the bundle reads its register, so
 // it can be written in place (the load-time decoder proves this per operation). Otherwise the
-// write is queued and lands after every operation of the bundle has read its sources.
-template <bool Direct, class Fields> [[gnu::always_inline]] inline void put(Core& c, const Fields& f, uint32_t v) {
+// write is queued (issued in cycle `now`) and lands after every operation of the bundle has read
+// its sources.
+template <bool Direct, class Fields>
+[[gnu::always_inline]] inline void put(Core& c, const Fields& f, uint32_t v, uint64_t now) {
     if constexpr (Direct) c.r[f.dst()] = v;
-    else c.push(f.dst(), f.latency(), f.index(), v);
+    else c.push_at(now, f.dst(), f.latency(), f.index(), v);
 }
 
 // A loaded value of row O, extended to 32 bits.
@@ -67,20 +69,24 @@ template <size_t O> constexpr uint32_t extend(uint32_t v) {
 
 // A load or store the TLB does not serve: the checked access (range, alignment, stalls). Out of
 // line and reached by a tail call, so that the hit path of the handler needs no stack frame;
-// it ends as the handler would (its Tail T, chain.hpp).
-template <size_t O, bool Direct, int T> [[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint32_t addr) {
+// it ends as the handler would (its Tail T and the chain's state, chain.hpp).
+template <size_t O, bool Direct, int T>
+[[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left, uint32_t addr) {
     const uint64_t v = c.load_checked(d, addr, isa::kOps[O].mem_bytes);
-    if (v != Core::kLoadFailed) put<Direct>(c, FromRecord{d}, extend<O>(uint32_t(v)));
-    return then<T>(c, d);
+    if (v != Core::kLoadFailed) put<Direct>(c, FromRecord{d}, extend<O>(uint32_t(v)), T == kReturn ? c.cycle : cycle);
+    return then<T>(c, d, cycle, left);
 }
-template <size_t O, int T> [[gnu::noinline]] void store_miss(Core& c, const DecodedOp& d, uint32_t addr, uint32_t v) {
+template <size_t O, int T>
+[[gnu::noinline]] void store_miss(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left, uint32_t addr, uint32_t v) {
     c.store_checked(d, addr, isa::kOps[O].mem_bytes, v);
-    return then<T>(c, d);
+    return then<T>(c, d, cycle, left);
 }
 
 // Row O's semantics on an op's fields (FromRecord, or a compiled run's constants), then its Tail
-// T: kReturn for the dispatch loop and compiled runs, the others for threaded runs (chain.hpp).
-template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inline void semantics(Core& c, const Fields& f) {
+// T: kReturn for the dispatch loop and compiled runs (the cycle is the Core's), the others for
+// threaded runs, which give the chain's cycle and budget (chain.hpp).
+template <size_t O, bool Direct, int T, class Fields>
+[[gnu::always_inline]] inline void semantics(Core& c, const Fields& f, uint64_t cycle, uint64_t left) {
     using isa::Field;
     using isa::Kind;
     constexpr const isa::OpInfo& info = isa::kOps[O];
@@ -88,20 +94,21 @@ template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inl
     const uint32_t a = src<O, Field::Rs1>(c, f);
     const uint32_t b = src<O, Field::Rs2>(c, f);
     const uint32_t cc = src<O, Field::Rs3>(c, f);
-    auto put = [&](uint32_t v) { detail::put<Direct>(c, f, v); };
+    auto now = [&] { return T == kReturn ? c.cycle : cycle; };
+    auto put = [&](uint32_t v) { detail::put<Direct>(c, f, v, now()); };
     if constexpr (info.kind == Kind::Compute) {
         put(eval(a, b, cc, f.imm()));
     } else if constexpr (info.kind == Kind::Load) {
         const uint32_t addr = eval(a, b, cc, f.imm());
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return load_miss<O, Direct, T>(c, f.record(c), addr);
+            return load_miss<O, Direct, T>(c, f.record(c), cycle, left, addr);
         uint32_t v = 0;
         std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes); // little-endian host assumed, as in PagedMemory
         put(extend<O>(v));
     } else if constexpr (info.kind == Kind::Store) {
         const uint32_t addr = eval(a, b, cc, f.imm());
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return store_miss<O, T>(c, f.record(c), addr, b);
+            return store_miss<O, T>(c, f.record(c), cycle, left, addr, b);
         std::memcpy(c.mem->tlb_data(addr), &b, info.mem_bytes); // little-endian host assumed, as in PagedMemory
     } else if constexpr (info.kind == Kind::Branch) {
         if (eval(a, b, cc, f.imm())) {
@@ -121,46 +128,58 @@ template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inl
     } else if constexpr (info.kind == Kind::Recv) {
         // The FIFO gate (the engine's, or the chain's fast one) has checked that the channel
         // exists and holds a word.
+        if constexpr (T != kReturn) c.cycle = cycle; // for a host's channel
         put(c.channels[f.record(c).chan]->pop());
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
-        c.channels[f.record(c).chan]->push(a, c.cycle);
+        if constexpr (T != kReturn) c.cycle = cycle;
+        c.channels[f.record(c).chan]->push(a, now());
         ++*c.words_sent;
     } else if constexpr (info.kind == Kind::Halt) {
         c.event |= kHalt;
     } else {
         static_assert(info.kind == Kind::Nop);
     }
-    return then<T>(c, f.record(c));
+    return then<T>(c, f.record(c), cycle, left);
+}
+// The same for the dispatch loop and compiled runs (kReturn).
+template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inline void semantics(Core& c, const Fields& f) {
+    static_assert(T == kReturn);
+    return semantics<O, Direct, T>(c, f, 0, 0);
 }
 
-// The handler of row O.
-template <size_t O, bool Direct, int T> void exec(Core& c, const DecodedOp& d) {
-    return semantics<O, Direct, T>(c, FromRecord{d});
+// The handler of row O: for the dispatch loop (kReturn), or a threaded one.
+template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
+    return semantics<O, Direct, kReturn>(c, FromRecord{d});
+}
+template <size_t O, bool Direct, int T> void texec(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left) {
+    return semantics<O, Direct, T>(c, FromRecord{d}, cycle, left);
 }
 
+template <bool Direct, size_t... I> constexpr std::array<Handler, sizeof...(I)> make_table(std::index_sequence<I...>) {
+    return {&exec<I, Direct>...};
+}
 template <bool Direct, int T, size_t... I>
-constexpr std::array<Handler, sizeof...(I)> make_table(std::index_sequence<I...>) {
-    return {&exec<I, Direct, T>...};
+constexpr std::array<ThreadedHandler, sizeof...(I)> make_ttable(std::index_sequence<I...>) {
+    return {&texec<I, Direct, T>...};
 }
 template <bool Direct, int T>
-inline constexpr std::array<Handler, isa::kNumOps> kTable = make_table<Direct, T>(std::make_index_sequence<isa::kNumOps>{});
+inline constexpr std::array<ThreadedHandler, isa::kNumOps> kTable =
+    make_ttable<Direct, T>(std::make_index_sequence<isa::kNumOps>{});
 
-inline constexpr std::array<Handler, isa::kNumOps> kHandlers = kTable<false, kReturn>;
-inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers = kTable<true, kReturn>;
+inline constexpr std::array<Handler, isa::kNumOps> kHandlers = make_table<false>(std::make_index_sequence<isa::kNumOps>{});
+inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers = make_table<true>(std::make_index_sequence<isa::kNumOps>{});
 
-// The threaded handler of `opcode` with Tail `tail`.
-inline Handler threaded_handler(uint32_t opcode, bool direct, int tail) {
+// The threaded handler of `opcode` with Tail `tail` (not kReturn).
+inline ThreadedHandler threaded_handler(uint32_t opcode, bool direct, int tail) {
     static_assert(kNumTails == 13);
-    static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kPlain = {
-        kTable<false, 0>, kTable<false, 1>, kTable<false, 2>,  kTable<false, 3>,  kTable<false, 4>,
-        kTable<false, 5>, kTable<false, 6>, kTable<false, 7>,  kTable<false, 8>,  kTable<false, 9>,
-        kTable<false, 10>, kTable<false, 11>, kTable<false, 12>};
-    static constexpr std::array<std::array<Handler, isa::kNumOps>, kNumTails> kDirect = {
-        kTable<true, 0>, kTable<true, 1>, kTable<true, 2>,  kTable<true, 3>,  kTable<true, 4>,
-        kTable<true, 5>, kTable<true, 6>, kTable<true, 7>,  kTable<true, 8>,  kTable<true, 9>,
-        kTable<true, 10>, kTable<true, 11>, kTable<true, 12>};
-    return (direct ? kDirect : kPlain)[tail][opcode];
+    static constexpr std::array<std::array<ThreadedHandler, isa::kNumOps>, kNumTails - 1> kPlain = {
+        kTable<false, 1>, kTable<false, 2>,  kTable<false, 3>,  kTable<false, 4>,  kTable<false, 5>,  kTable<false, 6>,
+        kTable<false, 7>, kTable<false, 8>,  kTable<false, 9>,  kTable<false, 10>, kTable<false, 11>, kTable<false, 12>};
+    static constexpr std::array<std::array<ThreadedHandler, isa::kNumOps>, kNumTails - 1> kDirect = {
+        kTable<true, 1>, kTable<true, 2>,  kTable<true, 3>,  kTable<true, 4>,  kTable<true, 5>,  kTable<true, 6>,
+        kTable<true, 7>, kTable<true, 8>,  kTable<true, 9>,  kTable<true, 10>, kTable<true, 11>, kTable<true, 12>};
+    return (direct ? kDirect : kPlain)[tail - 1][opcode];
 }
 
 } // namespace nesshi::iss::detail

@@ -174,7 +174,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
             detail::run_compiled(c);
         } else {
             const DecodedOp& head = c.ops[bundles[c.pc].first];
-            head.tfn(c, head);
+            head.tfn(c, head, c.cycle, c.left);
         }
         const uint32_t pc = c.pc;
         ++c.leave[pc]; // ...and the last one ends before the bundle the chain stops in (loop() counts it)

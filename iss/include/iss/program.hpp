@@ -22,6 +22,9 @@ struct Core;
 struct DecodedOp;
 // One operation's semantics, specialised per opcode at compile time (see src/handlers.hpp).
 using Handler = void (*)(Core& core, const DecodedOp& op);
+// The same inside a threaded run (src/chain.hpp): the run's cycle and budget (Core::cycle, left)
+// travel in argument registers from handler to handler, and reach the Core only at a stop.
+using ThreadedHandler = void (*)(Core& core, const DecodedOp& op, uint64_t cycle, uint64_t left);
 
 // Register operands are flat indices into the 256-entry register array: r0..r127 are 0..127,
 // f0..f127 are 128..255. Index kNoReg (256) names a scratch slot for unused operands.
@@ -31,7 +34,7 @@ inline constexpr uint16_t kNoReg = kNumRegs;
 struct DecodedOp {
     Handler fn = nullptr;              // fast engine: may write a latency-1 result in place
     Handler fn_buffered = nullptr;     // checked/traced engines: every write goes through the queue
-    Handler tfn = nullptr;             // fast engine inside a run: fn, then the rest of the run (threaded)
+    ThreadedHandler tfn = nullptr;     // fast engine inside a run: fn, then the rest of the run (threaded)
     uint16_t dst = kNoReg;             // destination (flat index) or kNoReg
     uint16_t a = kNoReg, b = kNoReg, c = kNoReg; // sources by field Rs1, Rs2, Rs3
     uint32_t imm = 0;
