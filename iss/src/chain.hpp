@@ -79,17 +79,17 @@ inline constexpr int kNumTails = kJump + 2;
     }
 }
 [[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) { land_ring_at(c, prev_bundle, c.cycle); }
-[[gnu::noinline]] inline void land_ring_then(Core& c, const DecodedOp& next, uint64_t cycle, uint64_t left,
+[[gnu::noinline]] inline void land_ring_then(Core& c, const ThreadedOp& next, uint64_t cycle, uint64_t left,
                                              uint32_t prev_bundle) {
     land_ring_at(c, prev_bundle, cycle);
-    return next.tfn(c, next, cycle, left);
+    return next.fn(c, next, cycle, left);
 }
 
 // The end of a bundle inside a run with ring writes pending: most cycles land none of them.
-[[gnu::noinline]] inline void land_then(Core& c, const DecodedOp& next, uint64_t cycle, uint64_t left,
+[[gnu::noinline]] inline void land_then(Core& c, const ThreadedOp& next, uint64_t cycle, uint64_t left,
                                         uint32_t prev_bundle) {
     if (c.ring[cycle & c.mask].n) return land_ring_then(c, next, cycle, left, prev_bundle);
-    return next.tfn(c, next, cycle, left);
+    return next.fn(c, next, cycle, left);
 }
 
 // The counts at the end of bundle `bundle` once the chain goes on to bundle `to` (finish short
@@ -121,12 +121,12 @@ template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish(Core
 
 // finish in the chain's registers, then the ring writes landing now and `to`'s first op.
 template <bool Commit, bool Jump>
-[[gnu::always_inline]] inline void step(Core& c, const DecodedOp& d, uint32_t to, uint64_t cycle, uint64_t left) {
+[[gnu::always_inline]] inline void step(Core& c, const ThreadedOp& d, uint32_t to, uint64_t cycle, uint64_t left) {
     finish_counts<Commit, Jump>(c, d.bundle, to);
-    const DecodedOp& n = Jump ? c.ops[c.bundles[to].first] : (&d)[1]; // ops are in bundle order
+    const ThreadedOp& n = Jump ? c.tops[c.bundles[to].first] : (&d)[1]; // ops are in bundle order
     if (c.pending) [[unlikely]]
         return land_then(c, n, cycle + 1, left - 1, d.bundle);
-    return n.tfn(c, n, cycle + 1, left - 1);
+    return n.fn(c, n, cycle + 1, left - 1);
 }
 
 // A FIFO bundle's fast gate at the current cycle: for each channel and direction it uses (in
@@ -155,21 +155,22 @@ inline bool gate_passes(const Core& c, const DecodedBundle& b) {
 // The end of a bundle whose successor `to` is a FIFO bundle. Out of line (the gate calls the
 // channels) and reached by a tail call. When the gate does not pass, the chain stops here.
 template <bool Commit, bool Jump>
-[[gnu::noinline]] void step_gated(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left, uint32_t to) {
+[[gnu::noinline]] void step_gated(Core& c, const ThreadedOp& d, uint64_t cycle, uint64_t left, uint32_t to) {
     c.cycle = cycle + 1; // to's issue cycle, for the channels
     if (!gate_passes(c, c.bundles[to])) [[unlikely]]
         return stop_at(c, d.bundle, cycle, left);
     return step<Commit, Jump>(c, d, to, cycle, left);
 }
 
-template <int T>
-[[gnu::always_inline]] inline void then(Core& c, const DecodedOp& d, [[maybe_unused]] uint64_t cycle,
+// R: DecodedOp for kReturn (the dispatch loop's handlers, compiled runs), ThreadedOp otherwise.
+template <int T, class R>
+[[gnu::always_inline]] inline void then(Core& c, const R& d, [[maybe_unused]] uint64_t cycle,
                                         [[maybe_unused]] uint64_t left) {
     if constexpr (T == kReturn) {
         return;
     } else if constexpr (T == kNext) {
-        const DecodedOp& n = (&d)[1];
-        return n.tfn(c, n, cycle, left);
+        const ThreadedOp& n = (&d)[1];
+        return n.fn(c, n, cycle, left);
     } else if constexpr (T == kExit) {
         return stop_at(c, d.bundle, cycle, left);
     } else if constexpr (T >= kJump) {

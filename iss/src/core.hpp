@@ -70,6 +70,7 @@ struct Core {
     std::array<uint64_t*, 2> write_adjust{};
     const DecodedBundle* bundles = nullptr;
     const DecodedOp* ops = nullptr;
+    const ThreadedOp* tops = nullptr; // Program::threaded()
     const FifoNeed* needs = nullptr; // Program::fifo_needs
     uint32_t nb = 0;
     uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle

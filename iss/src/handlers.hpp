@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 namespace nesshi::iss::detail {
@@ -27,17 +28,22 @@ constexpr bool uses_field(const isa::OpInfo& info, isa::Field f) {
     return false;
 }
 
-// The fields of an operation that its semantics read: from its record (the handlers), or given
-// as constants (compiled runs, compiled.hpp, where record() is only asked on rare paths).
-struct FromRecord {
-    const DecodedOp& d;
+// The fields of an operation that its semantics read: from its record (R: DecodedOp for the
+// dispatch loop's handlers, ThreadedOp for threaded ones, whose cold fields are in c.ops), or
+// given as constants (compiled runs, compiled.hpp, where record() is only asked on rare paths).
+template <class R> struct FromRecord {
+    const R& d;
     uint16_t dst() const { return d.dst; }
     uint16_t reg(isa::Field f) const { return f == isa::Field::Rs1 ? d.a : f == isa::Field::Rs2 ? d.b : d.c; }
     uint32_t imm() const { return d.imm; }
     uint32_t latency() const { return d.latency; }
     uint32_t index() const { return d.index; }
     uint32_t bundle() const { return d.bundle; }
-    const DecodedOp& record(const Core&) const { return d; }
+    const DecodedOp& record(const Core& c) const {
+        if constexpr (std::is_same_v<R, DecodedOp>) return d;
+        else return c.ops[d.index];
+    }
+    const R& op() const { return d; } // what a threaded tail goes on from
 };
 
 // Source F of row O, or 0 when the row does not read it. The choice is made at compile time:
@@ -70,16 +76,22 @@ template <size_t O> constexpr uint32_t extend(uint32_t v) {
 // A load or store the TLB does not serve: the checked access (range, alignment, stalls). Out of
 // line and reached by a tail call, so that the hit path of the handler needs no stack frame;
 // it ends as the handler would (its Tail T and the chain's state, chain.hpp).
-template <size_t O, bool Direct, int T>
-[[gnu::noinline]] void load_miss(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left, uint32_t addr) {
-    const uint64_t v = c.load_checked(d, addr, isa::kOps[O].mem_bytes);
-    if (v != Core::kLoadFailed) put<Direct>(c, FromRecord{d}, extend<O>(uint32_t(v)), T == kReturn ? c.cycle : cycle);
+template <size_t O, bool Direct, int T, class R>
+[[gnu::noinline]] void load_miss(Core& c, const R& d, uint64_t cycle, uint64_t left, uint32_t addr) {
+    const FromRecord<R> f{d};
+    const uint64_t v = c.load_checked(f.record(c), addr, isa::kOps[O].mem_bytes);
+    if (v != Core::kLoadFailed) put<Direct>(c, f, extend<O>(uint32_t(v)), T == kReturn ? c.cycle : cycle);
     return then<T>(c, d, cycle, left);
 }
-template <size_t O, int T>
-[[gnu::noinline]] void store_miss(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left, uint32_t addr, uint32_t v) {
-    c.store_checked(d, addr, isa::kOps[O].mem_bytes, v);
+template <size_t O, int T, class R>
+[[gnu::noinline]] void store_miss(Core& c, const R& d, uint64_t cycle, uint64_t left, uint32_t addr, uint32_t v) {
+    c.store_checked(FromRecord<R>{d}.record(c), addr, isa::kOps[O].mem_bytes, v);
     return then<T>(c, d, cycle, left);
+}
+// What a miss and the tail go on from: the record (kReturn), or the threaded op.
+template <int T, class Fields> [[gnu::always_inline]] inline decltype(auto) tail_record(const Core& c, const Fields& f) {
+    if constexpr (T == kReturn) return f.record(c);
+    else return f.op();
 }
 
 // Row O's semantics on an op's fields (FromRecord, or a compiled run's constants), then its Tail
@@ -101,14 +113,14 @@ template <size_t O, bool Direct, int T, class Fields>
     } else if constexpr (info.kind == Kind::Load) {
         const uint32_t addr = eval(a, b, cc, f.imm());
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return load_miss<O, Direct, T>(c, f.record(c), cycle, left, addr);
+            return load_miss<O, Direct, T>(c, tail_record<T>(c, f), cycle, left, addr);
         uint32_t v = 0;
         std::memcpy(&v, c.mem->tlb_data(addr), info.mem_bytes); // little-endian host assumed, as in PagedMemory
         put(extend<O>(v));
     } else if constexpr (info.kind == Kind::Store) {
         const uint32_t addr = eval(a, b, cc, f.imm());
         if (!c.mem->tlb_hit<info.mem_bytes>(addr)) [[unlikely]]
-            return store_miss<O, T>(c, f.record(c), cycle, left, addr, b);
+            return store_miss<O, T>(c, tail_record<T>(c, f), cycle, left, addr, b);
         std::memcpy(c.mem->tlb_data(addr), &b, info.mem_bytes); // little-endian host assumed, as in PagedMemory
     } else if constexpr (info.kind == Kind::Branch) {
         if (eval(a, b, cc, f.imm())) {
@@ -140,7 +152,7 @@ template <size_t O, bool Direct, int T, class Fields>
     } else {
         static_assert(info.kind == Kind::Nop);
     }
-    return then<T>(c, f.record(c), cycle, left);
+    return then<T>(c, tail_record<T>(c, f), cycle, left);
 }
 // The same for the dispatch loop and compiled runs (kReturn).
 template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inline void semantics(Core& c, const Fields& f) {
@@ -150,10 +162,10 @@ template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inl
 
 // The handler of row O: for the dispatch loop (kReturn), or a threaded one.
 template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
-    return semantics<O, Direct, kReturn>(c, FromRecord{d});
+    return semantics<O, Direct, kReturn>(c, FromRecord<DecodedOp>{d});
 }
-template <size_t O, bool Direct, int T> void texec(Core& c, const DecodedOp& d, uint64_t cycle, uint64_t left) {
-    return semantics<O, Direct, T>(c, FromRecord{d}, cycle, left);
+template <size_t O, bool Direct, int T> void texec(Core& c, const ThreadedOp& d, uint64_t cycle, uint64_t left) {
+    return semantics<O, Direct, T>(c, FromRecord<ThreadedOp>{d}, cycle, left);
 }
 
 template <bool Direct, size_t... I> constexpr std::array<Handler, sizeof...(I)> make_table(std::index_sequence<I...>) {

@@ -173,8 +173,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
         if (c.compiled) { // compiled runs (issue 16 step 6, compiled.hpp): same contract as the chain
             detail::run_compiled(c);
         } else {
-            const DecodedOp& head = c.ops[bundles[c.pc].first];
-            head.tfn(c, head, c.cycle, c.left);
+            const ThreadedOp& head = c.tops[bundles[c.pc].first];
+            head.fn(c, head, c.cycle, c.left);
         }
         const uint32_t pc = c.pc;
         ++c.leave[pc]; // ...and the last one ends before the bundle the chain stops in (loop() counts it)
@@ -384,6 +384,7 @@ template <bool Checked, bool Traced> struct EngineLoop {
         c.leave = p.pass_leave_.data();
         c.taken = k.taken.data();
         c.ops = prog.ops().data();
+        c.tops = prog.threaded().data();
         c.nb = prog.size();
         c.write_adjust = {k.write_adjust[0].data(), k.write_adjust[1].data()};
         c.bundles = prog.bundles().data();

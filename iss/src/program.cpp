@@ -156,6 +156,9 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
             d.tfn = detail::threaded_handler(d.instr.opcode, d.fn == detail::kDirectHandlers[d.instr.opcode], tail);
         }
     }
+    threaded_.reserve(ops_.size());
+    for (const DecodedOp& d : ops_)
+        threaded_.push_back(ThreadedOp{d.tfn, d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle});
 
     // Channels: ids are 32-bit and sparse (a program may use channels 0 and 500000000), so each
     // send/recv gets the dense index of its id, and a processor keeps one slot per channel used.

@@ -20,21 +20,32 @@ namespace nesshi::iss {
 
 struct Core;
 struct DecodedOp;
+struct ThreadedOp;
 // One operation's semantics, specialised per opcode at compile time (see src/handlers.hpp).
 using Handler = void (*)(Core& core, const DecodedOp& op);
 // The same inside a threaded run (src/chain.hpp): the run's cycle and budget (Core::cycle, left)
 // travel in argument registers from handler to handler, and reach the Core only at a stop.
-using ThreadedHandler = void (*)(Core& core, const DecodedOp& op, uint64_t cycle, uint64_t left);
+using ThreadedHandler = void (*)(Core& core, const ThreadedOp& op, uint64_t cycle, uint64_t left);
 
 // Register operands are flat indices into the 256-entry register array: r0..r127 are 0..127,
 // f0..f127 are 128..255. Index kNoReg (256) names a scratch slot for unused operands.
 inline constexpr uint16_t kNumRegs = 2 * isa::kMaxRegs;
 inline constexpr uint16_t kNoReg = kNumRegs;
 
+// An op as a threaded run reads it (Program::threaded(), indexed as Program::ops): its handler
+// and the fields the hot paths read, in 32 bytes rather than DecodedOp's 72, so that a kernel's
+// runs stay in the L1 cache; the rest (channel, instr) is found through `index`.
+struct ThreadedOp {
+    ThreadedHandler fn = nullptr;      // DecodedOp::tfn
+    uint16_t dst = kNoReg, a = kNoReg, b = kNoReg, c = kNoReg;
+    uint32_t imm = 0, latency = 1, index = 0, bundle = 0;
+};
+static_assert(sizeof(ThreadedOp) == 32);
+
 struct DecodedOp {
     Handler fn = nullptr;              // fast engine: may write a latency-1 result in place
     Handler fn_buffered = nullptr;     // checked/traced engines: every write goes through the queue
-    ThreadedHandler tfn = nullptr;     // fast engine inside a run: fn, then the rest of the run (threaded)
+    ThreadedHandler tfn = nullptr;     // fast engine inside a run: fn, then the rest of the run (as ThreadedOp::fn)
     uint16_t dst = kNoReg;             // destination (flat index) or kNoReg
     uint16_t a = kNoReg, b = kNoReg, c = kNoReg; // sources by field Rs1, Rs2, Rs3
     uint32_t imm = 0;
@@ -95,6 +106,7 @@ class Program {
     const isa::ObjectFile& object() const { return object_; }
     const std::vector<DecodedBundle>& bundles() const { return bundles_; }
     const std::vector<DecodedOp>& ops() const { return ops_; }
+    const std::vector<ThreadedOp>& threaded() const { return threaded_; } // the ops' threaded form
     const std::vector<Region>& regions() const { return regions_; }
     // The channel ids the program's send/recv operations use, ascending, each once.
     const std::vector<uint32_t>& channel_ids() const { return channel_ids_; }
@@ -128,6 +140,7 @@ class Program {
     isa::ObjectFile object_;
     std::vector<DecodedBundle> bundles_;
     std::vector<DecodedOp> ops_;
+    std::vector<ThreadedOp> threaded_;
     std::vector<Region> regions_;
     std::vector<uint32_t> channel_ids_;
     std::vector<FifoNeed> fifo_needs_;
