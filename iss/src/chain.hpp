@@ -61,21 +61,26 @@ inline constexpr int kNumTails = kJump + 2;
     RingSlot& s = c.ring[cycle & c.mask];
     const uint32_t count = s.n;
     uint32_t ring_float = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        const RingWrite w = s.w[i];
-        c.r[w.reg] = w.value;
-        ring_float += (w.reg >> 7) & 1;
+    for (const RingWrite *w = s.w.data(), *e = w + count; w != e; ++w) { // no copy: GCC kept one on the stack
+        c.r[w->reg] = w->value;
+        ring_float += (w->reg >> 7) & 1;
     }
     c.pending -= count;
     s.n = 0;
-    const uint32_t ring[2] = {count - ring_float, ring_float};
+    const uint32_t ring_int = count - ring_float;
     c.last_ring_cycle = cycle;
-    c.last_ring = {ring[0], ring[1]};
+    c.last_ring = {ring_int, ring_float};
+    // The credit moves per file by hand: a loop over a local pair kept the pair on the stack.
     const auto& prev = c.bundles[prev_bundle].lat1_writes;
-    for (int f = 0; f < 2; ++f) {
-        if (!ring[f]) continue;
-        --c.write_adjust[f][prev[f]];
-        ++c.write_adjust[f][prev[f] + ring[f]];
+    if (ring_int) {
+        uint64_t* adjust = c.write_adjust[0];
+        --adjust[prev[0]];
+        ++adjust[prev[0] + ring_int];
+    }
+    if (ring_float) {
+        uint64_t* adjust = c.write_adjust[1];
+        --adjust[prev[1]];
+        ++adjust[prev[1] + ring_float];
     }
 }
 [[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) { land_ring_at(c, prev_bundle, c.cycle); }
