@@ -85,15 +85,17 @@ inline constexpr int kNumTails = kJump + 2;
 }
 [[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) { land_ring_at(c, prev_bundle, c.cycle); }
 [[gnu::noinline]] inline void land_ring_then(Core& c, const ThreadedOp& next, uint64_t cycle, uint64_t left,
-                                             uint32_t prev_bundle) {
-    land_ring_at(c, prev_bundle, cycle);
+                                             const ThreadedOp& prev) {
+    land_ring_at(c, prev.bundle, cycle);
     return next.fn(c, next, cycle, left);
 }
 
 // The end of a bundle inside a run with ring writes pending: most cycles land none of them.
+// `prev`: the last op of the bundle before, whose bundle is read only when writes land (so the
+// bundle's end need not load it).
 [[gnu::noinline]] inline void land_then(Core& c, const ThreadedOp& next, uint64_t cycle, uint64_t left,
-                                        uint32_t prev_bundle) {
-    if (c.ring[cycle & c.mask].n) return land_ring_then(c, next, cycle, left, prev_bundle);
+                                        const ThreadedOp& prev) {
+    if (c.ring[cycle & c.mask].n) return land_ring_then(c, next, cycle, left, prev);
     return next.fn(c, next, cycle, left);
 }
 
@@ -130,7 +132,7 @@ template <bool Commit, bool Jump>
     finish_counts<Commit, Jump>(c, d.bundle, to);
     const ThreadedOp& n = Jump ? c.tops[c.bundles[to].first] : (&d)[1]; // ops are in bundle order
     if (c.pending) [[unlikely]]
-        return land_then(c, n, cycle + 1, left - 1, d.bundle);
+        return land_then(c, n, cycle + 1, left - 1, d);
     return n.fn(c, n, cycle + 1, left - 1);
 }
 
