@@ -57,7 +57,29 @@ inline constexpr int kNumTails = kJump + 2;
 // histogram credit); land_ring_then: then the next bundle's first op. Out of line and reached by
 // tail calls, so that the handlers need no stack frame, and land_then's test of an empty slot
 // needs none either. The chain's state stays in the registers it came in (the extras go last).
-[[gnu::always_inline]] inline void land_ring_at(Core& c, uint32_t prev_bundle, uint64_t cycle) {
+// ring_landed: what follows the stores once `count` writes (`ring_float` of them to float
+// registers) landed from slot s; w0, w1: the bundle before's lat1_writes. Compiled runs call it
+// with constants when the generator knows the slot (compiled.hpp cland_known).
+[[gnu::always_inline]] inline void ring_landed(Core& c, RingSlot& s, uint64_t cycle, uint32_t count,
+                                               uint32_t ring_float, uint32_t w0, uint32_t w1) {
+    c.pending -= count;
+    s.n = 0;
+    const uint32_t ring_int = count - ring_float;
+    c.last_ring_cycle = cycle;
+    c.last_ring = {ring_int, ring_float};
+    // The credit moves per file by hand: a loop over a local pair kept the pair on the stack.
+    if (ring_int) {
+        uint64_t* adjust = c.write_adjust[0];
+        --adjust[w0];
+        ++adjust[w0 + ring_int];
+    }
+    if (ring_float) {
+        uint64_t* adjust = c.write_adjust[1];
+        --adjust[w1];
+        ++adjust[w1 + ring_float];
+    }
+}
+[[gnu::always_inline]] inline void land_ring_at(Core& c, uint64_t cycle, uint32_t w0, uint32_t w1) {
     RingSlot& s = c.ring[cycle & c.mask];
     const uint32_t count = s.n;
     uint32_t ring_float = 0;
@@ -65,23 +87,11 @@ inline constexpr int kNumTails = kJump + 2;
         c.r[w->reg] = w->value;
         ring_float += (w->reg >> 7) & 1;
     }
-    c.pending -= count;
-    s.n = 0;
-    const uint32_t ring_int = count - ring_float;
-    c.last_ring_cycle = cycle;
-    c.last_ring = {ring_int, ring_float};
-    // The credit moves per file by hand: a loop over a local pair kept the pair on the stack.
+    ring_landed(c, s, cycle, count, ring_float, w0, w1);
+}
+[[gnu::always_inline]] inline void land_ring_at(Core& c, uint32_t prev_bundle, uint64_t cycle) {
     const auto& prev = c.bundles[prev_bundle].lat1_writes;
-    if (ring_int) {
-        uint64_t* adjust = c.write_adjust[0];
-        --adjust[prev[0]];
-        ++adjust[prev[0] + ring_int];
-    }
-    if (ring_float) {
-        uint64_t* adjust = c.write_adjust[1];
-        --adjust[prev[1]];
-        ++adjust[prev[1] + ring_float];
-    }
+    land_ring_at(c, cycle, prev[0], prev[1]);
 }
 [[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) { land_ring_at(c, prev_bundle, c.cycle); }
 [[gnu::noinline]] inline void land_ring_then(Core& c, const ThreadedOp& next, uint64_t cycle, uint64_t left,

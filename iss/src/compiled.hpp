@@ -8,7 +8,7 @@
 // known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> and jump_to<> then<kJump + flags>,
 // stop() kExit.
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
-// ends as chain.hpp's finish<> ends it (cfinish, jump_to: execution counts by pass; the counts in
+// ends as chain.hpp's finish<> ends it (finish_counts, jump_to: execution counts by pass; the counts in
 // Counts), its ring slot lands as land_ring lands it, and a run goes into a FIFO bundle only when
 // gate_at_issue passes.
 // It returns true when control goes on to another run (core.pc is the next bundle, not issued
@@ -74,26 +74,7 @@ struct Counts {
 // The ring writes landing at `cycle`, once bundle j of a run has ended: land_ring (chain.hpp)
 // with j's lat1_writes given as constants W0, W1 (its write_adjust credit).
 template <uint32_t W0, uint32_t W1> [[gnu::noinline]] void cland_ring(Core& c, uint64_t cycle) {
-    RingSlot& s = c.ring[cycle & c.mask];
-    const uint32_t count = s.n;
-    uint32_t ring_float = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        const RingWrite& w = s.w[i];
-        c.r[w.reg] = w.value;
-        ring_float += (w.reg >> 7) & 1;
-    }
-    c.pending -= count;
-    s.n = 0;
-    c.last_ring_cycle = cycle;
-    c.last_ring = {count - ring_float, ring_float};
-    if (count != ring_float) {
-        --c.write_adjust[0][W0];
-        ++c.write_adjust[0][W0 + count - ring_float];
-    }
-    if (ring_float) {
-        --c.write_adjust[1][W1];
-        ++c.write_adjust[1][W1 + ring_float];
-    }
+    land_ring_at(c, cycle, W0, W1);
 }
 // The same when the ring's slot for the cycle after bundle j holds writes.
 template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline void cland(Core& c, const Counts& n, uint32_t j) {
@@ -122,21 +103,6 @@ template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline void cland(Cor
     return cgate_at(c, to);
 }
 
-// finish<> (chain.hpp) short of the counts.
-template <bool Commit, bool Jump> [[gnu::always_inline]] inline void cfinish(Core& c, uint32_t bundle, uint32_t to) {
-    if constexpr (Commit) c.land_direct();
-    if constexpr (Jump) {
-        ++c.leave[bundle + 1];
-        ++c.enter[to];
-        if (c.event) {
-            ++c.taken[bundle];
-            c.event = 0;
-        }
-        c.jump_from = bundle;
-        c.jump_to = to;
-    }
-}
-
 // The ring slot of `cycle` when the generator knows what it holds: writes to registers R..., in
 // the order they were pushed (cland_ring with its loop and the file test done at compile time).
 template <uint32_t W0, uint32_t W1, uint16_t... R> [[gnu::always_inline]] inline void cland_known(Core& c, uint64_t cycle) {
@@ -144,18 +110,7 @@ template <uint32_t W0, uint32_t W1, uint16_t... R> [[gnu::always_inline]] inline
     uint32_t i = 0;
     ((c.r[R] = s.w[i++].value), ...);
     constexpr uint32_t count = sizeof...(R), ring_float = (0u + ... + ((R >> 7) & 1u)); // as land_ring counts
-    c.pending -= count;
-    s.n = 0;
-    c.last_ring_cycle = cycle;
-    c.last_ring = {count - ring_float, ring_float};
-    if constexpr (count != ring_float) {
-        --c.write_adjust[0][W0];
-        ++c.write_adjust[0][W0 + count - ring_float];
-    }
-    if constexpr (ring_float != 0) {
-        --c.write_adjust[1][W1];
-        ++c.write_adjust[1][W1 + ring_float];
-    }
+    ring_landed(c, s, cycle, count, ring_float, W0, W1);
 }
 
 // What the end of bundle j does about the ring: probe the next cycle's slot when writes are
@@ -189,7 +144,7 @@ template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class L
     if constexpr (Gate)
         if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]]
             return stop(c, n, bundle);
-    cfinish<Commit, false>(c, bundle, bundle + 1);
+    finish_counts<Commit, false>(c, bundle, bundle + 1);
     Land::template after<W0, W1>(c, n, bundle);
     return true;
 }
@@ -208,7 +163,7 @@ template <bool Commit, uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline u
         stop(c, n, bundle);
         return kStopped;
     }
-    cfinish<Commit, true>(c, bundle, to);
+    finish_counts<Commit, true>(c, bundle, to);
     if (c.pending) [[unlikely]]
         cland<W0, W1>(c, n, bundle);
     return to;
