@@ -19,8 +19,9 @@
 // next_pc set by a taken control op); run_plain then ends the pass (++c.leave[c.pc]) and
 // settles land_next/lat1_owed/last_owed, and loop() finishes that bundle as any other.
 //
-// GCC 12 has no musttail: every call here is in tail position with the handler's own
-// signature, and no handler may keep an addressable local, so -O2 emits jumps
+// GCC 12 has no musttail: every call here is in tail position, its first arguments the
+// handler's own (the chain's state stays in the registers it came in; out-of-line helpers add
+// theirs after), and no handler may keep an addressable local, so -O2 emits jumps
 // (tests/iss/threaded_test.cpp runs a long run on a small stack to check it).
 #pragma once
 
