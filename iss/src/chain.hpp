@@ -47,7 +47,7 @@ inline constexpr int kNumTails = kJump + 2;
 // The hot state of a chain: the current cycle and c.left travel as the handlers' last two
 // arguments (ThreadedHandler), so that a bundle's end neither loads nor stores them; the Core's
 // copies are stale inside a chain and written at a stop (stop_at) and before anything that
-// reads them (a channel call: a host's channel may read its processor's cycle()).
+// reads them (a channel call or a cache model's access: a host's may read its processor's cycle()).
 [[gnu::always_inline]] inline void stop_at(Core& c, uint32_t bundle, uint64_t cycle, uint64_t left) {
     c.pc = bundle;
     c.cycle = cycle;
@@ -94,7 +94,6 @@ inline constexpr int kNumTails = kJump + 2;
     const auto& prev = c.bundles[prev_bundle].lat1_writes;
     land_ring_at(c, cycle, prev[0], prev[1]);
 }
-[[gnu::always_inline]] inline void land_ring(Core& c, uint32_t prev_bundle) { land_ring_at(c, prev_bundle, c.cycle); }
 [[gnu::noinline]] inline void land_ring_then(Core& c, const ThreadedOp& next, uint64_t cycle, uint64_t left,
                                              const ThreadedOp& prev) {
     land_ring_at(c, prev.bundle, cycle);
@@ -110,8 +109,11 @@ inline constexpr int kNumTails = kJump + 2;
     return next.fn(c, next, cycle, left);
 }
 
-// The counts at the end of bundle `bundle` once the chain goes on to bundle `to` (finish short
-// of the cycle and the budget).
+// The end of bundle `bundle` once the chain goes on to bundle `to`: what the general loop's
+// turn does after the handlers (commit, counts), short of the cycle and the budget (the chain's
+// registers, or a compiled run's Counts) and of landing the next cycle's ring writes. A bundle's
+// execution is counted by pass (Processor::flush_passes): nothing to count when the chain falls
+// through; a jump ends a pass after `bundle` and begins one at `to`.
 template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish_counts(Core& c, uint32_t bundle, uint32_t to) {
     if constexpr (Commit) c.land_direct();
     if constexpr (Jump) {
@@ -126,18 +128,8 @@ template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish_coun
     }
 }
 
-// The end of bundle `bundle` once the chain goes on to bundle `to`: what the general loop's
-// turn does after the handlers (commit, counts, the cycle, the budget), short of landing the
-// next cycle's ring writes. A bundle's execution is counted by pass (Processor::flush_passes):
-// nothing to count when the chain falls through; a jump ends a pass after `bundle` and begins
-// one at `to`. Compiled runs (compiled.hpp) end their bundles with it too.
-template <bool Commit, bool Jump> [[gnu::always_inline]] inline void finish(Core& c, uint32_t bundle, uint32_t to) {
-    finish_counts<Commit, Jump>(c, bundle, to);
-    ++c.cycle;
-    --c.left;
-}
-
-// finish in the chain's registers, then the ring writes landing now and `to`'s first op.
+// finish_counts, the next cycle and budget in the chain's registers, then the ring writes landing
+// now and `to`'s first op.
 template <bool Commit, bool Jump>
 [[gnu::always_inline]] inline void step(Core& c, const ThreadedOp& d, uint32_t to, uint64_t cycle, uint64_t left) {
     finish_counts<Commit, Jump>(c, d.bundle, to);

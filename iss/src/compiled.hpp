@@ -1,6 +1,6 @@
 // What compiled runs (iss/compiled.hpp) are made of: the generated code of a straight run keeps
-// its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands for each
-// operation (after Counts::put_cycle when the op reads c.cycle) and one of end/jump/stop/leave
+// its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands and its
+// issue cycle (Counts::cycle) for each operation and one of end/jump/stop/leave
 // for each bundle's end, and nothing else of the engine, so that the engine can change behind these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
@@ -8,8 +8,8 @@
 // known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> and jump_to<> then<kJump + flags>,
 // stop() kExit.
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
-// ends as chain.hpp's finish<> ends it (finish_counts, jump_to: execution counts by pass; the counts in
-// Counts), its ring slot lands as land_ring lands it, and a run goes into a FIFO bundle only when
+// ends as the chain ends it (chain.hpp finish_counts, or jump_to: execution counts by pass; the counts in
+// Counts), its ring slot lands as land_ring_at lands it, and a run goes into a FIFO bundle only when
 // gate_at_issue passes.
 // It returns true when control goes on to another run (core.pc is the next bundle, not issued
 // yet: run_compiled enters that run) and false when it stops in bundle core.pc with its ops
@@ -44,11 +44,11 @@ struct Constants {
     const DecodedOp& record(const Core& c) const { return c.ops[index_]; } // misses, FIFO channels
 };
 
-// Row O with its operands given: the handlers' semantics, ending as kReturn.
+// Row O with its operands given, issued in `cycle` (Counts::cycle): the handlers' semantics, ending as kReturn.
 template <size_t O, bool Direct>
-[[gnu::always_inline]] inline void op(Core& c, uint16_t dst, uint16_t ra, uint16_t rb, uint16_t rc, uint32_t imm,
-                                      uint32_t lat, uint32_t index, uint32_t bundle) {
-    semantics<O, Direct, kReturn>(c, Constants{dst, ra, rb, rc, imm, lat, index, bundle});
+[[gnu::always_inline]] inline void op(Core& c, uint64_t cycle, uint16_t dst, uint16_t ra, uint16_t rb, uint16_t rc,
+                                      uint32_t imm, uint32_t lat, uint32_t index, uint32_t bundle) {
+    semantics<O, Direct, kReturn>(c, Constants{dst, ra, rb, rc, imm, lat, index, bundle}, cycle, 0);
 }
 
 // The cycle and the budget inside a run, kept in the generated function's locals rather than
@@ -56,8 +56,8 @@ template <size_t O, bool Direct>
 // control goes straight on: the budget left in bundle j is k - j, its cycle end - (k - j) (end:
 // the cycle at which the budget reaches 0), so a bundle's end tests k against its index and
 // updates nothing; a goto from bundle j to bundle t adds t - (j + 1) to k. Written back at every
-// exit; the cycle also before anything that reads c.cycle (put_cycle: a ring push, a channel, a
-// gate). Nothing inside a run reads c.left.
+// exit; the cycle also before anything a host provides may read it (semantics<> puts it before
+// a channel or a cache model, put_cycle before a gate). Nothing inside a run reads c.left.
 struct Counts {
     uint64_t k, end;
     explicit Counts(const Core& c) : k(c.left + c.pc), end(c.cycle + c.left) {}

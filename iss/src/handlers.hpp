@@ -79,12 +79,14 @@ template <size_t O> constexpr uint32_t extend(uint32_t v) {
 template <size_t O, bool Direct, int T, class R>
 [[gnu::noinline]] void load_miss(Core& c, const R& d, uint64_t cycle, uint64_t left, uint32_t addr) {
     const FromRecord<R> f{d};
+    c.cycle = cycle; // a host's cache model may ask its processor's cycle()
     const uint64_t v = c.load_checked(f.record(c), addr, isa::kOps[O].mem_bytes);
-    if (v != Core::kLoadFailed) put<Direct>(c, f, extend<O>(uint32_t(v)), T == kReturn ? c.cycle : cycle);
+    if (v != Core::kLoadFailed) put<Direct>(c, f, extend<O>(uint32_t(v)), cycle);
     return then<T>(c, d, cycle, left);
 }
 template <size_t O, int T, class R>
 [[gnu::noinline]] void store_miss(Core& c, const R& d, uint64_t cycle, uint64_t left, uint32_t addr, uint32_t v) {
+    c.cycle = cycle;
     c.store_checked(FromRecord<R>{d}.record(c), addr, isa::kOps[O].mem_bytes, v);
     return then<T>(c, d, cycle, left);
 }
@@ -95,8 +97,10 @@ template <int T, class Fields> [[gnu::always_inline]] inline decltype(auto) tail
 }
 
 // Row O's semantics on an op's fields (FromRecord, or a compiled run's constants), then its Tail
-// T: kReturn for the dispatch loop and compiled runs (the cycle is the Core's), the others for
-// threaded runs, which give the chain's cycle and budget (chain.hpp).
+// T: kReturn for the dispatch loop and compiled runs, the others for threaded runs. `cycle` is
+// the op's issue cycle, which a run keeps out of c.cycle (chain.hpp, compiled.hpp Counts): it is
+// written there before anything a host provides (a channel, a cache model) may ask for it;
+// `left`, the chain's budget, only goes on to its tail.
 template <size_t O, bool Direct, int T, class Fields>
 [[gnu::always_inline]] inline void semantics(Core& c, const Fields& f, uint64_t cycle, uint64_t left) {
     using isa::Field;
@@ -106,8 +110,7 @@ template <size_t O, bool Direct, int T, class Fields>
     const uint32_t a = src<O, Field::Rs1>(c, f);
     const uint32_t b = src<O, Field::Rs2>(c, f);
     const uint32_t cc = src<O, Field::Rs3>(c, f);
-    auto now = [&] { return T == kReturn ? c.cycle : cycle; };
-    auto put = [&](uint32_t v) { detail::put<Direct>(c, f, v, now()); };
+    auto put = [&](uint32_t v) { detail::put<Direct>(c, f, v, cycle); };
     if constexpr (info.kind == Kind::Compute) {
         put(eval(a, b, cc, f.imm()));
     } else if constexpr (info.kind == Kind::Load) {
@@ -140,12 +143,12 @@ template <size_t O, bool Direct, int T, class Fields>
     } else if constexpr (info.kind == Kind::Recv) {
         // The FIFO gate (the engine's, or the chain's fast one) has checked that the channel
         // exists and holds a word.
-        if constexpr (T != kReturn) c.cycle = cycle; // for a host's channel
+        c.cycle = cycle; // for a host's channel
         put(c.channels[f.record(c).chan]->pop());
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
-        if constexpr (T != kReturn) c.cycle = cycle;
-        c.channels[f.record(c).chan]->push(a, now());
+        c.cycle = cycle;
+        c.channels[f.record(c).chan]->push(a, cycle);
         ++*c.words_sent;
     } else if constexpr (info.kind == Kind::Halt) {
         c.event |= kHalt;
@@ -154,15 +157,9 @@ template <size_t O, bool Direct, int T, class Fields>
     }
     return then<T>(c, tail_record<T>(c, f), cycle, left);
 }
-// The same for the dispatch loop and compiled runs (kReturn).
-template <size_t O, bool Direct, int T, class Fields> [[gnu::always_inline]] inline void semantics(Core& c, const Fields& f) {
-    static_assert(T == kReturn);
-    return semantics<O, Direct, T>(c, f, 0, 0);
-}
-
 // The handler of row O: for the dispatch loop (kReturn), or a threaded one.
 template <size_t O, bool Direct> void exec(Core& c, const DecodedOp& d) {
-    return semantics<O, Direct, kReturn>(c, FromRecord<DecodedOp>{d});
+    return semantics<O, Direct, kReturn>(c, FromRecord<DecodedOp>{d}, c.cycle, c.left);
 }
 template <size_t O, bool Direct, int T> void texec(Core& c, const ThreadedOp& d, uint64_t cycle, uint64_t left) {
     return semantics<O, Direct, T>(c, FromRecord<ThreadedOp>{d}, cycle, left);

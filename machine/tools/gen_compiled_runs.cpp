@@ -133,7 +133,6 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             std::set<uint32_t> targets; // constant branch targets inside this run
-            bool cycle_put = false;     // c.cycle holds the bundle's cycle (Counts)
             for (uint32_t i = b.first; i < b.first + b.count; ++i) {
                 const iss::DecodedOp& d = prog.ops()[i];
                 const isa::Kind k = d.instr.info().kind;
@@ -142,17 +141,12 @@ std::string program_code(const iss::Program& prog, const std::string& spec, cons
                     d.imm < end)
                     targets.insert(d.imm);
                 const bool ring = !iss::detail::op_direct(d) && d.latency > 1;
-                // A ring push (its slot), a channel (a host's may ask its processor's cycle()).
-                if (!cycle_put && (ring || k == isa::Kind::Send || k == isa::Kind::Recv)) {
-                    out += fmt::format("    n.put_cycle(c, {});\n", pc);
-                    cycle_put = true;
-                }
                 // The kinds whose semantics put a result (handlers.hpp); a load only if it does not fault.
                 if (ring && (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink ||
                              k == isa::Kind::Recv))
                     lands[pc + d.latency - 1].push_back(d.dst);
-                out += fmt::format("    op<{}, {}>(c, {}, {}, {}, {}, 0x{:x}u, {}, {}, {}); // {}\n", int(d.instr.opcode),
-                                   iss::detail::op_direct(d), d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
+                out += fmt::format("    op<{}, {}>(c, n.cycle({}), {}, {}, {}, {}, 0x{:x}u, {}, {}, {}); // {}\n", int(d.instr.opcode),
+                                   iss::detail::op_direct(d), pc, d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
             }
             const Tail t = tail_of(prog, pc);

@@ -1,6 +1,7 @@
-// Compiled runs (iss/compiled.hpp) against the threaded interpreter, in lock-step: every built-in
-// kernel on grids and primitive workloads, with and without caches (memory stalls) and a bad voxel
-// (a memory fault), two processors compared after every step of a varying number of bundles.
+// Compiled runs (iss/compiled.hpp) and the threaded interpreter against the general loop, in
+// lock-step: every built-in kernel on grids and primitive workloads, with and without caches
+// (memory stalls, and the cycle a cache model sees) and a bad voxel (a memory fault), three
+// processors compared after every step of a varying number of bundles.
 #include "machine/synthetic_inputs.hpp"
 #include "machine/runner.hpp"
 
@@ -57,33 +58,67 @@ std::string differ(const iss::Processor& a, const iss::Processor& b) {
     return {};
 }
 
-// Two runners of one program, A with compiled runs and B without, fed alike and stepped alike.
+// A cache that also hashes its processor's cycle() at every access: a host's model may ask for
+// it, and every engine must then give the access's issue cycle (runs keep it out of the core).
+struct CycleCache : iss::CacheModel {
+    iss::SetAssocCache inner{iss::CacheGeometry{2048, 32, 2, 9}};
+    const iss::Processor* proc = nullptr;
+    uint64_t accesses = 0, hash = 0;
+    uint32_t access(uint32_t addr, uint32_t bytes, bool write) override {
+        ++accesses;
+        hash = hash * 1099511628211ull + proc->cycle();
+        return inner.access(addr, bytes, write);
+    }
+};
+
+// A tracer makes the fast engine take the general loop, one bundle per turn (no runs at all).
+struct NullTracer : iss::Tracer {
+    void on_cycle(const iss::Program&, const iss::CycleEvent&) override {}
+};
+
+// Three runners of one program, fed alike and stepped alike: A with compiled runs, B threaded
+// without them, G on the general loop (the reference both are held to).
 struct Pair {
     std::shared_ptr<const iss::Program> prog;
-    machine::KernelRunner a, b;
-    std::vector<std::unique_ptr<iss::SetAssocCache>> caches;
+    machine::KernelRunner a, b, g;
+    NullTracer tracer;
+    std::vector<std::unique_ptr<CycleCache>> caches; // per memory: A's, B's, G's
     std::mt19937 steps{11};
     uint64_t fixed_step = 0; // when not 0, every step is this many bundles
     uint64_t compared = 0;
+    std::vector<uint32_t> out1, out2; // what the three sent up to the last run()'s return
 
-    Pair(std::shared_ptr<const iss::Program> p, bool cache) : prog(p), a(p), b(p) {
+    Pair(std::shared_ptr<const iss::Program> p, bool cache) : prog(p), a(p), b(p), g(p) {
         b.proc->set_compiled_runs(false);
+        g.proc->set_compiled_runs(false);
+        g.proc->set_tracer(&tracer);
         REQUIRE(a.proc->compiled_runs());
         REQUIRE_FALSE(b.proc->compiled_runs());
         if (cache)
             for (const auto& m : prog->machine().memories)
-                for (machine::KernelRunner* r : {&a, &b}) {
-                    caches.push_back(std::make_unique<iss::SetAssocCache>(iss::CacheGeometry{2048, 32, 2, 9}));
+                for (machine::KernelRunner* r : {&a, &b, &g}) {
+                    caches.push_back(std::make_unique<CycleCache>());
+                    caches.back()->proc = r->proc.get();
                     r->proc->attach_cache(m.name, caches.back().get());
                 }
+    }
+    std::string differ_caches() const {
+        for (size_t i = 0; i < caches.size(); i += 3)
+            for (size_t j : {i + 1, i + 2})
+                if (caches[i]->accesses != caches[j]->accesses || caches[i]->hash != caches[j]->hash)
+                    return fmt::format("the cycles a cache model saw ({} accesses vs {})", caches[i]->accesses,
+                                       caches[j]->accesses);
+        return {};
     }
     void load(const kernels::MemImage& m) {
         a.load(m);
         b.load(m);
+        g.load(m);
     }
     template <class Words> void feed(const Words& w) {
         a.feed(w);
         b.feed(w);
+        g.feed(w);
     }
     // Until both wait for input (or halt or fault), in steps of 1 to 5000 bundles: small ones stop
     // runs at every offset, also between a ring push and its landing (compiled.hpp's Land).
@@ -93,16 +128,26 @@ struct Pair {
             const uint64_t n = fixed_step ? fixed_step : kSteps[steps() % kSteps.size()];
             const iss::Status sa = a.proc->step(n, 1'000'000);
             const iss::Status sb = b.proc->step(n, 1'000'000);
+            const iss::Status sg = g.proc->step(n, 1'000'000);
             ++compared;
-            const std::string d = differ(*a.proc, *b.proc);
-            if (!d.empty()) FAIL(fmt::format("{}: compiled and interpreted differ after step {} ({} bundles): {}",
-                                             prog->object().files.empty() ? "" : prog->object().files[0], compared, n, d));
+            const char* file = prog->object().files.empty() ? "" : prog->object().files[0].c_str();
+            for (const auto& [name, d] : {std::pair{"compiled and the general loop", differ(*a.proc, *g.proc)},
+                                          std::pair{"threaded and the general loop", differ(*b.proc, *g.proc)},
+                                          std::pair{"the engines", differ_caches()}})
+                if (!d.empty())
+                    FAIL(fmt::format("{}: {} differ after step {} ({} bundles): {}", file, name, compared, n, d));
+            REQUIRE(sg == sb);
             REQUIRE(sa == sb);
             if (sa == iss::Status::Faulted || sa == iss::Status::Halted ||
                 (sa == iss::Status::Blocked && a.proc->blocked_channel() == 0)) {
-                REQUIRE(a.proc->memory().hash() == b.proc->memory().hash());
-                REQUIRE(a.out1.drain_all() == b.out1.drain_all());
-                REQUIRE(a.out2.drain_all() == b.out2.drain_all());
+                REQUIRE(a.proc->memory().hash() == g.proc->memory().hash());
+                REQUIRE(b.proc->memory().hash() == g.proc->memory().hash());
+                out1 = g.out1.drain_all();
+                out2 = g.out2.drain_all();
+                REQUIRE(a.out1.drain_all() == out1);
+                REQUIRE(b.out1.drain_all() == out1);
+                REQUIRE(a.out2.drain_all() == out2);
+                REQUIRE(b.out2.drain_all() == out2);
                 return sa;
             }
         }
@@ -124,8 +169,7 @@ void drive_dda(Pair& p, std::mt19937& rng, int rays) {
         p.feed(nr.words());
         for (;;) {
             REQUIRE(p.run() == iss::Status::Blocked);
-            auto w = p.a.out1.drain_all();
-            p.a.out2.drain_all();
+            const std::vector<uint32_t> w = p.out1;
             if (w.empty()) break;
             p.feed(std::array<std::uint32_t, 1>{w[0]});
         }

@@ -60,7 +60,8 @@ class PagedMemory {
     std::vector<std::unique_ptr<uint8_t[]>> pages_;
 };
 
-// Optional timing model for a region: extra stall cycles of one access (0 = hit).
+// Optional timing model for a region: extra stall cycles of one access (0 = hit). During an
+// access its processor's cycle() is the access's issue cycle, in every engine.
 class CacheModel {
   public:
     virtual ~CacheModel() = default;
