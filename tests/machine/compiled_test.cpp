@@ -289,22 +289,28 @@ TEST_CASE("compiled runs: every built-in kernel in lock-step with the interprete
 
 // Steps of one size, each size from 1 to 40 bundles: a run entered at its first bundle (its copy
 // with static ring landings, compiled.hpp's Ring) stops at every offset, also between a push and
-// its landing, and the next step enters the same run in the middle.
+// its landing, and the next step enters the same run in the middle. Every built-in kernel, with
+// caches (stalls, and the cycle a cache model sees) at every other size.
 TEST_CASE("compiled runs: stopped at every offset of their runs", "[compiled]") {
     for (uint64_t step = 1; step <= 40; ++step) {
-        INFO("steps of " << step);
-        for (const std::string& spec : {kIntersect[0], kIntersect[2]}) {
-            Pair p(program(spec), false);
+        const bool cache = step % 2 == 0;
+        INFO("steps of " << step << (cache ? " with caches" : ""));
+        for (const std::string& spec : kIntersect) {
+            INFO(spec);
+            Pair p(program(spec), cache);
             p.fixed_step = step;
             std::mt19937 rng(step);
             CHECK(drive_intersect(p, rng, 3, false) == iss::Status::Blocked);
         }
-        Pair q(program(kDda[0]), false);
-        q.fixed_step = step;
-        std::mt19937 rng(step);
-        const machine::OccupancyGrid g = machine::random_grid(8, 0.05, rng);
-        q.load(kernels::os_image(g.g, g.occ));
-        drive_dda(q, rng, 3);
+        for (const std::string& spec : kDda) {
+            INFO(spec);
+            Pair q(program(spec), cache);
+            q.fixed_step = step;
+            std::mt19937 rng(step);
+            const machine::OccupancyGrid g = machine::random_grid(8, 0.05, rng);
+            q.load(kernels::os_image(g.g, g.occ));
+            drive_dda(q, rng, 3);
+        }
     }
 }
 
