@@ -28,7 +28,9 @@ std::optional<std::string> check(const std::string& text, const isa::Machine& m,
                          [&](const isa::ObjectFile& a, const isa::ObjectFile& b) { return iss::run_differential(a, b, m, d); });
 }
 
-const char* kSaxpy = R"(# machine: os
+// A loop over two 64-word arrays xs and ys (r1 their offset, f0 = 2.5), its body given.
+std::string two_array_loop(const char* body) {
+    return std::string(R"(# machine: os
         .data 0x1000
 xs:     .space 256
 ys:     .space 256
@@ -37,15 +39,18 @@ ys:     .space 256
         li r9, 64
         fli f0, 2.5
         .pipeline r9
-        flw %x, xs(r1)
+)") + body + R"(        addi r1, r1, 4
+        .endpipeline
+        halt
+)";
+}
+
+const std::string kSaxpy = two_array_loop(R"(        flw %x, xs(r1)
         flw %y, ys(r1)
         fmul %t, f0, %x
         fadd %s, %t, %y
         fsw %s, ys(r1)
-        addi r1, r1, 4
-        .endpipeline
-        halt
-)";
+)");
 
 } // namespace
 
@@ -117,24 +122,12 @@ TEST_CASE("random loops from the operation table pipeline and verify on every pr
 // iteration's fadd after the fdiv lands. Landing order alone (the fdiv hoisted two cycles above
 // the fadd, both landing in order) gave code the assembler refuses at every II.
 TEST_CASE("a longer write is not hoisted above a dead shorter write of the same register", "[unit][sched][pipeline]") {
-    const char* text = R"(# machine: os
-        .data 0x1000
-xs:     .space 256
-ys:     .space 256
-        .text
-        li r1, 0
-        li r9, 64
-        fli f0, 2.5
-        .pipeline r9
-        flw %x, xs(r1)
+    const std::string text = two_array_loop(R"(        flw %x, xs(r1)
         flw %y, ys(r1)
         fadd f5, %x, %y
         fdiv f5, %x, f0
         fsw f5, ys(r1)
-        addi r1, r1, 4
-        .endpipeline
-        halt
-)";
+)");
     const isa::Machine m = isa::load_machine("os");
     sched::PipelineResult r;
     CHECK(check(text, m, &r) == std::nullopt);
