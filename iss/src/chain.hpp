@@ -153,20 +153,11 @@ inline bool gate_passes(const Core& c, const DecodedBundle& b) {
     return true;
 }
 
-// The fast gate of FIFO bundle `to`, the successor of the bundle just executed, asked at `to`'s
-// issue cycle, the one the general gate sees (a host's channel may read its processor's cycle()).
-[[gnu::always_inline]] inline bool gate_at_issue(Core& c, uint32_t to) {
-    ++c.cycle;
-    const bool go = gate_passes(c, c.bundles[to]);
-    --c.cycle;
-    return go;
-}
-
 // The end of a bundle whose successor `to` is a FIFO bundle. Out of line (the gate calls the
 // channels) and reached by a tail call. When the gate does not pass, the chain stops here.
 template <bool Commit, bool Jump>
 [[gnu::noinline]] void step_gated(Core& c, const ThreadedOp& d, uint64_t cycle, uint64_t left, uint32_t to) {
-    c.cycle = cycle + 1; // to's issue cycle, for the channels
+    c.cycle = cycle + 1; // asked at to's issue cycle, the one the general gate sees (for the channels)
     if (!gate_passes(c, c.bundles[to])) [[unlikely]]
         return stop_at(c, d.bundle, cycle, left);
     return step<Commit, Jump>(c, d, to, cycle, left);

@@ -10,7 +10,7 @@
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
 // ends as the chain ends it (chain.hpp finish_counts, or jump_to: execution counts by pass; the counts in
 // Counts), its ring slot lands as land_ring_at lands it, and a run goes into a FIFO bundle only when
-// gate_at_issue passes.
+// its fast gate (chain.hpp gate_passes) passes at its issue cycle.
 // It returns true when control goes on to another run (core.pc is the next bundle, not issued
 // yet: run_compiled enters that run) and false when it stops in bundle core.pc with its ops
 // executed, which EngineLoop::run_plain and loop() then finish as after a chain.
@@ -95,11 +95,11 @@ template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline void cland(Cor
     return true;
 }
 
-// The gate of FIFO bundle `to` before a compiled run goes into it from bundle `bundle`
-// (gate_at_issue, out of line).
-[[gnu::noinline]] inline bool cgate_at(Core& c, uint32_t to) { return gate_at_issue(c, to); }
+// The gate of FIFO bundle `to` before a compiled run goes into it from bundle `bundle`: asked at
+// to's issue cycle, as step_gated asks it (chain.hpp), out of line.
+[[gnu::noinline]] inline bool cgate_at(Core& c, uint32_t to) { return gate_passes(c, c.bundles[to]); }
 [[gnu::always_inline]] inline bool cgate(Core& c, const Counts& n, uint32_t bundle, uint32_t to) {
-    n.put_cycle(c, bundle);
+    n.put_cycle(c, bundle + 1);
     return cgate_at(c, to);
 }
 
@@ -194,8 +194,5 @@ template <bool Commit, bool Taken, bool Gate, uint32_t W0, uint32_t W1>
         cland<W0, W1>(c, n, bundle);
     return true;
 }
-
-// For the generator: what the engine's form of the program says of an op and a bundle.
-inline bool op_direct(const DecodedOp& d) { return d.fn == kDirectHandlers[d.instr.opcode]; }
 
 } // namespace nesshi::iss::detail

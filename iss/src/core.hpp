@@ -86,12 +86,8 @@ struct Core {
         mask = size - 1;
     }
 
-    void push(const DecodedOp& d, uint32_t v) { push(d.dst, d.latency, d.index, v); }
-    // The same with the op's fields given (compiled runs pass constants).
-    [[gnu::always_inline]] void push(uint16_t dst, uint32_t latency, uint32_t op, uint32_t v) {
-        push_at(cycle, dst, latency, op, v);
-    }
-    // The same issued in cycle `now` (a threaded run keeps its cycle out of the Core, chain.hpp).
+    // A result issued in cycle `now` (runs keep their cycle out of the Core, chain.hpp): latency 1
+    // queued for the bundle's end, longer into the ring.
     [[gnu::always_inline]] void push_at(uint64_t now, uint16_t dst, uint32_t latency, uint32_t op, uint32_t v) {
         if (latency == 1) {
             uint32_t i = nwb++;

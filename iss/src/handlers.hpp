@@ -178,6 +178,8 @@ inline constexpr std::array<ThreadedHandler, isa::kNumOps> kTable =
 
 inline constexpr std::array<Handler, isa::kNumOps> kHandlers = make_table<false>(std::make_index_sequence<isa::kNumOps>{});
 inline constexpr std::array<Handler, isa::kNumOps> kDirectHandlers = make_table<true>(std::make_index_sequence<isa::kNumOps>{});
+// Whether the decoder let op d write its result in place (Program, the compiled-run generator).
+inline bool op_direct(const DecodedOp& d) { return d.fn == kDirectHandlers[d.instr.opcode]; }
 
 // The threaded handler of `opcode` with Tail `tail` (not kReturn).
 inline ThreadedHandler threaded_handler(uint32_t opcode, bool direct, int tail) {

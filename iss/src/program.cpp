@@ -144,7 +144,7 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
             const isa::Kind k = d.instr.info().kind;
             halt |= k == isa::Kind::Halt;
             if (k == isa::Kind::Load || k == isa::Kind::Store) flags |= detail::kEndEvents;
-            if (d.dst != kNoReg && d.latency == 1 && d.fn != detail::kDirectHandlers[d.instr.opcode])
+            if (d.dst != kNoReg && d.latency == 1 && !detail::op_direct(d))
                 flags |= detail::kEndCommit;
         }
         for (uint32_t i = b.first; i < b.first + b.count; ++i) {
@@ -153,7 +153,7 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
                              : b.control && !halt && jumps ? detail::kJump + (flags & detail::kEndCommit)
                              : b.run == 1                  ? detail::kExit
                                                            : detail::kEnd + flags;
-            d.tfn = detail::threaded_handler(d.instr.opcode, d.fn == detail::kDirectHandlers[d.instr.opcode], tail);
+            d.tfn = detail::threaded_handler(d.instr.opcode, detail::op_direct(d), tail);
         }
     }
     threaded_.reserve(ops_.size());
@@ -204,7 +204,7 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         for (const FifoNeed& g : fifo_needs_) add(g.slot), add(g.need), add(g.recv);
         for (const DecodedOp& d : ops_) {
             add(d.instr.opcode), add(d.dst), add(d.a), add(d.b), add(d.c), add(d.imm), add(d.latency);
-            add(d.index), add(d.bundle), add(d.chan), add(d.need), add(d.fn == detail::kDirectHandlers[d.instr.opcode]);
+            add(d.index), add(d.bundle), add(d.chan), add(d.need), add(detail::op_direct(d));
         }
         hash_ = h.value();
         compiled_ = find_compiled(hash_, size());
