@@ -25,13 +25,15 @@ struct PipelineArgs {
     std::string input, machine, out, sequential;
     int ii = 0;
     double exact = 0;
-    bool verify = false, quiet = false;
+    bool no_verify = false, quiet = false;
 };
 
 constexpr int kWhileRuns = 64; // random data sets for a while loop: each exits somewhere else
 
-void verify_while_loop(const PipelineArgs& a, const std::string& text, const isa::Machine& m, const sched::PipelineOptions& po,
-                       iss::DiffOptions d, const sched::PipelineResult& r) {
+// Runs the region's sequential meaning and its pipelined code on random data (memory, registers
+// and FIFO words) and returns what was checked, or throws on the first difference.
+std::string verify_while_loop(const PipelineArgs& a, const std::string& text, const isa::Machine& m, const sched::PipelineOptions& po,
+                              iss::DiffOptions d, const sched::PipelineResult& r) {
     d.observe = {r.iteration_register};
     const sched::WhileVerification v = sched::verify_while(
         text, a.input, m, po, kWhileRuns,
@@ -46,26 +48,12 @@ void verify_while_loop(const PipelineArgs& a, const std::string& text, const isa
     if (v.failure) throw base::Error(base::SourceLoc(a.input), fmt::format("verification failed: {}", *v.failure));
     std::string exits;
     for (std::uint32_t e : v.exits) exits += (exits.empty() ? "" : ", ") + std::to_string(e);
-    fmt::print(stderr, "{}: verified: the pipelined loop equals the sequential one (memory and registers) on {} random data "
-                       "sets, exiting after {} iterations; {} of its {} exit paths taken\n",
-               a.input, kWhileRuns, exits, v.paths.size(), v.path_count);
+    return fmt::format("equals the sequential one (memory, registers and FIFO words) on {} random data sets, exiting after {} "
+                       "iterations; {} of its {} exit paths taken", kWhileRuns, exits, v.paths.size(), v.path_count);
 }
 
-void run_pipeline(const PipelineArgs& a) {
-    refuse_stdout("--sequential", a.sequential, "stdout holds the pipelined code or its report; give a file");
-    check_outputs({a.out, a.sequential});
-    const std::string text = base::read_file(a.input);
-    const isa::Machine m = source_machine(a.machine, text);
-    sched::PipelineOptions po;
-    po.ii = a.ii;
-    po.exact_seconds = a.exact;
-    const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
-    const bool to_file = !a.out.empty() && a.out != "-"; // -o -: stdout, as without -o
-    if (to_file) base::write_file(a.out, r.pipelined);
-    if (!a.sequential.empty()) base::write_file(a.sequential, r.linear);
-    if (!a.quiet) fmt::print("{}", to_file ? r.report : r.pipelined);
-    base::flush_stdout();
-    if (!a.verify) return;
+std::string verify_loop(const PipelineArgs& a, const std::string& text, const isa::Machine& m, const sched::PipelineOptions& po,
+                        const sched::PipelineResult& r) {
     iss::DiffOptions d;
     d.registers = r.source_registers;
     if (r.is_while) return verify_while_loop(a, text, m, po, d, r);
@@ -77,13 +65,35 @@ void run_pipeline(const PipelineArgs& a) {
     if (diff) throw base::Error(base::SourceLoc(a.input), fmt::format("verification failed: {}", *diff));
     std::string list;
     for (std::uint32_t t : trips) list += (list.empty() ? "" : ", ") + std::to_string(t);
-    fmt::print(stderr, "{}: verified: the pipelined loop equals the sequential one (memory and registers) for trip "
-                       "counts {}\n", a.input, list);
+    return fmt::format("equals the sequential one (memory, registers and FIFO words) on random data for trip counts {}", list);
+}
+
+void run_pipeline(const PipelineArgs& a) {
+    refuse_stdout("--sequential", a.sequential, "stdout holds the pipelined code or its report; give a file");
+    check_outputs({a.out, a.sequential});
+    const std::string text = base::read_file(a.input);
+    const isa::Machine m = source_machine(a.machine, text);
+    sched::PipelineOptions po;
+    po.ii = a.ii;
+    po.exact_seconds = a.exact;
+    const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
+    // Verified before anything is written: code that differs from its meaning is never output.
+    const std::string verdict = a.no_verify ? std::string("not run (--no-verify)") : verify_loop(a, text, m, po, r);
+    const std::string report = r.report + fmt::format("#   verification: {}\n", verdict);
+    const std::string pipelined = fmt::format("# machine: {}\n", m.reference()) + report + r.code;
+    const bool to_file = !a.out.empty() && a.out != "-"; // -o -: stdout, as without -o
+    if (to_file) base::write_file(a.out, pipelined);
+    if (!a.sequential.empty()) base::write_file(a.sequential, r.linear);
+    if (!to_file) fmt::print("{}", pipelined); // the data: printed even with -q
+    else if (!a.quiet) fmt::print("{}", report);
+    base::flush_stdout();
+    if (!a.no_verify) fmt::print(stderr, "{}: verified: the pipelined loop {}\n", a.input, verdict);
 }
 
 } // namespace
 
 void add_pipeline(CLI::App& app) {
+    static const std::string kVerifyHelp = "Verify (the default; kept for old scripts)";
     auto* cmd = app.add_subcommand("pipeline", "Software-pipeline the .pipeline region of a linear-assembly file");
     auto a = std::make_shared<PipelineArgs>();
     cmd->add_option("input", a->input, "Linear assembly (.sa): a .pipeline TRIP (or .pipeline while) ... .endpipeline region")->required();
@@ -95,9 +105,11 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("--exact", a->exact, "When the II is above the MII, branch and bound over the smaller IIs for up to SECONDS; "
                                          "the report says whether the II is proven optimal")
         ->check(between(0.0, 86400.0));
-    cmd->add_flag("--verify", a->verify, "Run sequential and pipelined code on random data for several trip counts "
-                                         "and compare memory and registers");
-    cmd->add_flag("-q,--quiet", a->quiet, "Print nothing but errors and the verification result");
+    cmd->add_flag("--no-verify", a->no_verify, "Skip the verification: by default the sequential and pipelined code run on "
+                                               "random data (memory, FIFO words) for several trip counts and must agree in "
+                                               "memory, registers and words sent, or nothing is written")
+        ->excludes(cmd->add_flag("--verify", kVerifyHelp));
+    cmd->add_flag("-q,--quiet", a->quiet, "Print no report (code on stdout is still printed), only errors and the verification result");
     cmd->callback([a] { run_pipeline(*a); });
 }
 

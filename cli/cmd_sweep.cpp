@@ -23,6 +23,8 @@ struct SweepArgs {
     int threads = 0;
     std::string shard; // "I/N"
     bool quiet = false;
+    std::size_t max_cells = paper::kSweepMaxCells;
+    std::uint64_t max_cycles = 0;
 };
 
 std::string axis_help() {
@@ -37,6 +39,11 @@ void run_sweep_command(const SweepArgs& a) {
     const paper::SweepSpec spec = paper::load_sweep_spec(a.spec);
     paper::SweepOptions o;
     o.out_dir = a.out;
+    o.max_cells = a.max_cells;
+    o.max_cycles = a.max_cycles;
+    if (!a.quiet && paper::cluster().reports() && paper::sweep_cell_count(spec) <= a.max_cells)
+        fmt::print(stderr, "sweep: {} cells ({}); looking for stored ones in {}/cells\n", paper::sweep_cell_count(spec),
+                   paper::sweep_product(spec), a.out);
     o.threads = a.threads;
     if (!a.shard.empty()) std::tie(o.shard, o.shards) = parse_shard(a.shard);
     if (!a.quiet)
@@ -74,6 +81,11 @@ void add_sweep(CLI::App& app) {
     cmd->add_option("--out", a->out, "output folder (default sweep-out): cells/, results.csv, results.jsonl, chart.svg");
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--shard", a->shard, kShardHelp);
+    cmd->add_option("--max-cells", a->max_cells, fmt::format("refuse a spec of more cells than this (default {})", paper::kSweepMaxCells))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-cycles", a->max_cycles, fmt::format("cycle limit per PE of a cell with no max_cycles axis; a cell "
+                                                               "past it fails alone (default {} per pixel)", paper::kSweepCyclesPerPixel))
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress");
     cmd->callback([a] { run_sweep_command(*a); });
 }

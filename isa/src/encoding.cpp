@@ -41,7 +41,7 @@ RegOperands register_operands(const Instr& in) {
         else if (o.kind == OperandKind::FloatReg)
             out.items[out.count++] = {RegFile::Float, field_value(in, o.field), o.is_dest};
         else if (o.kind == OperandKind::Mem)
-            out.items[out.count++] = {RegFile::Int, in.rs1, false};
+            out.items[out.count++] = {RegFile::Int, in.rs1, false, true};
     }
     return out;
 }

@@ -358,6 +358,11 @@ int Machine::slot_index(std::string_view slot_name) const {
     return -1;
 }
 
+std::string Machine::reference() const {
+    constexpr std::string_view builtin = "builtin:";
+    return source.rfind(builtin, 0) == 0 ? source.substr(builtin.size()) : source;
+}
+
 uint32_t Machine::max_latency() const {
     uint32_t m = 1;
     for (auto l : latency) m = std::max(m, l);

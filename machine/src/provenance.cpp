@@ -74,7 +74,8 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
     for (const auto& [k, v] : stored) keys[k] |= 1;
     for (const auto& [k, v] : current) keys[k] |= 2;
     for (const auto& [k, sides] : keys) {
-        if (k == "tool") continue;
+        // A cycle limit changes no result that finished under it; the others all do.
+        if (k == "tool" || k == "options.max_cycles") continue;
         const std::string a = value(stored, k), b = value(current, k);
         if (a != b) d.push_back(fmt::format("{}: {} -> {}", k, a, b));
     }

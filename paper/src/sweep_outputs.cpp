@@ -3,6 +3,7 @@
 #include "paper/sweep.hpp"
 
 #include "report_format.hpp"
+#include "sweep_metric.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -19,21 +20,6 @@ namespace nesshi::paper {
 namespace {
 
 using nlohmann::json;
-
-// The metric at a dotted path ("cycles.os.processing"); nullopt when absent or not a number.
-std::optional<json> metric(const json& doc, const std::string& path) {
-    const json* j = &doc;
-    for (std::size_t start = 0;;) {
-        const std::size_t dot = path.find('.', start);
-        const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-        if (!j->is_object() || !j->contains(key)) return std::nullopt;
-        j = &j->at(key);
-        if (dot == std::string::npos) break;
-        start = dot + 1;
-    }
-    if (!j->is_number()) return std::nullopt;
-    return *j;
-}
 
 std::optional<long long> integer(const std::string& v) {
     long long x = 0;
@@ -64,6 +50,20 @@ std::vector<json> parsed(const std::vector<std::string>& texts) {
 
 } // namespace
 
+std::optional<json> sweep_metric(const json& doc, const std::string& path) {
+    const json* j = &doc;
+    for (std::size_t start = 0;;) {
+        const std::size_t dot = path.find('.', start);
+        const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+        if (!j->is_object() || !j->contains(key)) return std::nullopt;
+        j = &j->at(key);
+        if (dot == std::string::npos) break;
+        start = dot + 1;
+    }
+    if (!j->is_number()) return std::nullopt;
+    return *j;
+}
+
 std::string sweep_csv(const SweepSpec& s, const std::vector<SweepCell>& cells, const std::vector<std::string>& texts) {
     std::vector<std::string> header = {"cell"};
     for (const SweepAxis& a : s.axes) header.push_back(a.name);
@@ -80,7 +80,7 @@ std::string sweep_csv(const SweepSpec& s, const std::vector<SweepCell>& cells, c
         std::vector<std::string> row = {cells[c].id};
         row.insert(row.end(), cells[c].values.begin(), cells[c].values.end());
         for (const std::string& m : s.metrics) {
-            const auto v = metric(docs[c], m);
+            const auto v = sweep_metric(docs[c], m);
             row.push_back(v ? v->dump() : "");
         }
         line(row);
@@ -97,7 +97,7 @@ std::vector<std::string> sweep_jsonl(const SweepSpec& s, const std::vector<Sweep
         nlohmann::ordered_json row = nlohmann::ordered_json::object();
         row["cell"] = cells[c].id;
         for (std::size_t i = 0; i < s.axes.size(); ++i) row[s.axes[i].name] = typed(cells[c].values[i]);
-        for (const std::string& m : s.metrics) row[m] = metric(docs[c], m).value_or(json());
+        for (const std::string& m : s.metrics) row[m] = sweep_metric(docs[c], m).value_or(json());
         rows.push_back(row.dump());
     }
     return rows;
@@ -138,7 +138,7 @@ std::string sweep_chart_svg(const SweepSpec& s, const std::vector<SweepCell>& ce
     double ymax = 0, ymin = std::numeric_limits<double>::infinity(); // ymin: the least positive value
     for (std::size_t c = 0; c < cells.size(); ++c) {
         if (docs[c].is_null()) continue;
-        const auto v = metric(docs[c], y);
+        const auto v = sweep_metric(docs[c], y);
         if (!v) continue;
         std::string name;
         for (std::size_t i = 0; i < s.axes.size(); ++i)

@@ -7,7 +7,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <limits>
 
 namespace nesshi::paper {
 
@@ -35,11 +37,18 @@ std::string simulate(const SweepRunInputs& in) {
 } // namespace
 
 SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
+    if (const std::size_t n = sweep_cell_count(s); n > o.max_cells)
+        throw PaperError(base::SourceLoc(s.file),
+                         fmt::format("{} cells ({}): more than {} (allow them with --max-cells {}, or sweep fewer values)",
+                                     n == std::numeric_limits<std::size_t>::max() ? std::string("too many") : fmt::format("{}", n),
+                                     sweep_product(s), o.max_cells, n));
+    const bool limit_axis = std::any_of(s.axes.begin(), s.axes.end(), [](const SweepAxis& a) { return a.name == "max_cycles"; });
     const std::vector<SweepCell> cells = sweep_cells(s);
     std::vector<Cell> jobs;
     for (const SweepCell& c : cells) {
         Cell job;
-        const SweepRunInputs in = sweep_inputs(s, c);
+        SweepRunInputs in = sweep_inputs(s, c);
+        if (o.max_cycles && !limit_axis) in.machine.max_cycles = o.max_cycles;
         job.name = describe(s, c);
         job.file = (fs::path(o.out_dir) / "cells" / (c.id + ".json")).string();
         job.provenance = provenance_of(in);

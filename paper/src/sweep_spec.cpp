@@ -4,12 +4,17 @@
 #include "base/hash.hpp"
 #include "base/read_file.hpp"
 #include "rt/grid.hpp"
+#include "rt/render.hpp"
+#include "rt/scene.hpp"
+#include "sweep_metric.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
 #include <charconv>
+#include <limits>
 
 namespace nesshi::paper {
 
@@ -85,6 +90,7 @@ const std::vector<std::pair<std::string, std::string>>& sweep_axis_names() {
         {"ic_machine", "machine of the IC stage: preset or TOML"},
         {"seq_machine", "machine of models S and M, and SC prices"},
         {"kernels", "kernel source folder"},
+        {"max_cycles", "cycle limit per PE: a cell past it fails alone (default 2,000,000 per pixel)"},
     };
     return k;
 }
@@ -100,6 +106,42 @@ const std::vector<std::string>& default_sweep_metrics() {
         "host.wall_seconds"};
     return k;
 }
+
+const nlohmann::json& sweep_metric_schema() {
+    static const nlohmann::json schema = [] {
+        const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 2);
+        rt::RenderOptions ro;
+        ro.width = ro.height = 1;
+        machine::Options mo;
+        mo.cache.enabled = true;
+        mo.dynamic_balance = true;
+        mo.ray_slots = 1;
+        machine::Result r;
+        r.machine.s_cycles = 1;
+        r.machine.os_kernel.scheduled = true;
+        return nlohmann::json::parse(machine::stats_json(prep, ro, mo, r));
+    }();
+    return schema;
+}
+
+
+namespace {
+
+// Every metric names a number some cell's stats JSON has: a typo is an error at its line, not an
+// empty column.
+void check_metric_paths(const SweepSpec& s, const toml::table& t, const std::string& file) {
+    const toml::array* listed = t["metrics"].as_array();
+    for (std::size_t i = 0; i < s.metrics.size(); ++i) {
+        const std::string& m = s.metrics[i];
+        if (sweep_metric(sweep_metric_schema(), m)) continue;
+        const toml::node* at = listed && i < listed->size() ? listed->get(i) : t["chart"]["y"].node();
+        throw PaperError(at ? where(file, at->source()) : base::SourceLoc(file),
+                         fmt::format("unknown metric '{}': no number of the stats JSON is there (a dotted path such as "
+                                     "cycles.os.processing; `nesshi render --stats-json` shows them all)", m));
+    }
+}
+
+} // namespace
 
 SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
     toml::table t;
@@ -168,17 +210,39 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
         throw PaperError(base::SourceLoc(file), fmt::format("chart x '{}' is not one of the spec's axes", s.chart_x));
     if (!s.chart_y.empty() && std::find(s.metrics.begin(), s.metrics.end(), s.chart_y) == s.metrics.end())
         s.metrics.push_back(s.chart_y);
-    for (const SweepCell& c : sweep_cells(s)) { // every value checked before anything runs
-        try {
-            (void)sweep_inputs(s, c);
-        } catch (const PaperError& e) {
-            throw PaperError(base::SourceLoc(file), e.message());
+    // Every value checked before anything runs, each alone (the other axes at their first value):
+    // a value's meaning does not depend on the other axes, and the product may be huge.
+    for (std::size_t i = 0; i < s.axes.size(); ++i)
+        for (const std::string& v : s.axes[i].values) {
+            SweepCell c;
+            for (const SweepAxis& a : s.axes) c.values.push_back(a.values.front());
+            c.values[i] = v;
+            try {
+                (void)sweep_inputs(s, c);
+            } catch (const PaperError& e) {
+                throw PaperError(where(file, t["axes"][s.axes[i].name].node()->source()), e.message());
+            }
         }
-    }
+    check_metric_paths(s, t, file);
     return s;
 }
 
 SweepSpec load_sweep_spec(const std::string& file) { return parse_sweep_spec(base::read_file(file), file); }
+
+std::size_t sweep_cell_count(const SweepSpec& s) {
+    std::size_t n = 1;
+    for (const SweepAxis& a : s.axes)
+        n = a.values.size() && n > std::numeric_limits<std::size_t>::max() / a.values.size() ? std::numeric_limits<std::size_t>::max()
+                                                                                              : n * a.values.size();
+    return n;
+}
+
+std::string sweep_product(const SweepSpec& s) {
+    std::vector<std::string> f;
+    for (const SweepAxis& a : s.axes)
+        if (a.values.size() > 1) f.push_back(fmt::format("{} {}", a.name, a.values.size()));
+    return f.empty() ? std::string("one value per axis") : fmt::format("{}", fmt::join(f, " x "));
+}
 
 std::vector<SweepCell> sweep_cells(const SweepSpec& s) {
     std::vector<SweepCell> cells{SweepCell{}};
@@ -205,7 +269,7 @@ SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c) {
     in.render.width = in.render.height = 512;
     in.render.threads = 1;
     in.machine.threads = 1; // cells run concurrently instead
-    bool slots_named = false, window_named = false;
+    bool slots_named = false, window_named = false, limit_named = false;
     for (std::size_t i = 0; i < s.axes.size(); ++i) {
         const std::string& a = s.axes[i].name;
         const std::string& v = c.values[i];
@@ -236,7 +300,11 @@ SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c) {
         else if (a == "ic_machine") mo.ic_machine = v;
         else if (a == "seq_machine") mo.seq_machine = v;
         else if (a == "kernels") mo.kernels_dir = v;
+        else if (a == "max_cycles") { mo.max_cycles = number<std::uint64_t>(a, v, 1, std::uint64_t{1} << 62); limit_named = true; }
     }
+    if (!limit_named)
+        in.machine.max_cycles = kSweepCyclesPerPixel * static_cast<std::uint64_t>(in.render.width) *
+                                static_cast<std::uint64_t>(in.render.height);
     // Any cache_* axis means a cache, unless `cache = false` says otherwise.
     const bool cache_axes = std::any_of(s.axes.begin(), s.axes.end(), [](const SweepAxis& x) {
         return x.name.rfind("cache_", 0) == 0 || x.name == "miss_cycles";

@@ -17,6 +17,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 
 namespace nesshi::sched {
 
@@ -176,8 +177,16 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
     const int n = static_cast<int>(instrs.size());
     std::vector<BlockOp> ops;
     for (const isa::Instr& in : instrs) ops.push_back(describe(m, in));
+    for (int j = 0; j + 1 < n; ++j)
+        if (ops[static_cast<std::size_t>(j)].barrier)
+            throw std::invalid_argument(fmt::format("list_schedule: '{}' is op {} of {}; a block's control operation comes last",
+                                                    instrs[static_cast<std::size_t>(j)].info().mnemonic, j + 1, n));
     const auto preds = dependences(ops);
     const std::vector<int> prio = priorities(m, ops, preds);
+    // Every op is ready by the sum of all latencies plus one cycle each; a cycle past that means
+    // an op no bundle can take (an op no slot accepts on this machine), not a slow schedule.
+    int horizon = 1;
+    for (const BlockOp& op : ops) horizon += op.latency + 1;
 
     std::vector<int> cycle_of(static_cast<std::size_t>(n), -1);
     std::vector<std::vector<int>> bundles;
@@ -191,7 +200,9 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
             reads.push_back({});
         }
         if (!progress) { // nothing more fits in this cycle
-            ++c;
+            if (++c > horizon)
+                throw std::invalid_argument(fmt::format("list_schedule: {} of {} ops placed after {} cycles; the rest fit no "
+                                                        "bundle of machine '{}'", done, n, c, m.name));
             progress = true;
             continue;
         }
@@ -482,6 +493,12 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
                     throw base::Error(base::SourceLoc(filename, b.begin_line), "an op of this block did not assemble to one operation");
                 instrs.push_back(it->second);
             }
+            for (std::size_t k = 0; k + 1 < instrs.size(); ++k)
+                if (describe(m, instrs[k]).barrier)
+                    throw base::Error(base::SourceLoc(filename, source_line[static_cast<std::size_t>(b.lines[k])]),
+                                      fmt::format("'{}' before the end of a '#pack' block: a block is straight-line code, "
+                                                  "its one control operation (a branch or halt) is its last",
+                                                  instrs[k].info().mnemonic));
             const auto bundles = list_schedule(m, instrs);
             for (const auto& bundle : bundles) {
                 if (bundle.empty()) {

@@ -349,6 +349,21 @@ bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
         return true;
     }
     const Induction* ind = g.induction_of(a.base);
+    if (!ind) {
+        // A base the loop writes other than by an induction step (a virtual register is renamed
+        // every iteration; a physical one may be loaded or computed): its value in another
+        // iteration is unknown, and in this one it is the same only when no write of it lies
+        // between the two ops (an op reads before its own write lands).
+        std::vector<int> writers;
+        for (int k = 0; k < static_cast<int>(g.nodes.size()); ++k)
+            for (const isa::RegOperand& o : isa::register_operands(g.nodes[static_cast<std::size_t>(k)].instr))
+                if (o.write && o.file == isa::RegFile::Int && o.reg == a.base) writers.push_back(k);
+        if (!writers.empty()) {
+            if (d > 0) return true;
+            const int lo = std::min(x, y), hi = std::max(x, y);
+            if (std::any_of(writers.begin(), writers.end(), [&](int w) { return lo <= w && w < hi; })) return true;
+        }
+    }
     // Same base, not stepped: the same addresses every iteration.
     const std::int64_t step = ind ? ind->step : 0;
     auto addr = [&](int op, const Node& n, int iter) {
@@ -434,7 +449,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
         const Node& nd = g.nodes[static_cast<std::size_t>(i)];
         const isa::RegOperands ops = isa::register_operands(nd.instr);
         for (const isa::RegOperand& o : ops) // reads first: an op reads before its own write lands
-            if (!o.write && !(nd.adjusted && o.file == isa::RegFile::Int && o.reg == nd.base && nd.instr.rs1 == o.reg))
+            if (!o.write && !(nd.adjusted && o.base)) // only the base: a data operand keeps its edges
                 by_reg[{static_cast<int>(o.file), o.reg}].push_back({i, false});
         for (const isa::RegOperand& o : ops)
             if (o.write) by_reg[{static_cast<int>(o.file), o.reg}].push_back({i, true});
@@ -1596,7 +1611,10 @@ PipelineResult pipeline_impl(std::string_view text, std::string_view filename, c
         res.linear = before + kRegionBegin + "\n" + loop + kRegionEnd + "\n" + after;
         return res;
     }
-    res.linear = before + force_trip_line(r, opts, m) + loop + after;
+    // Both files say first which machine they are for (a `# machine:` line of the source's is replaced).
+    const std::string header = fmt::format("# machine: {}\n", m.reference());
+    const std::string code_before = assembler::header_machine(before).empty() ? before : before.substr(before.find('\n') + 1);
+    res.linear = header + code_before + force_trip_line(r, opts, m) + loop + after;
     const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region", opts);
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
     std::uint32_t b0 = 0;
@@ -1782,7 +1800,8 @@ PipelineResult pipeline_impl(std::string_view text, std::string_view filename, c
     rep += mrt_text(g, r, *sched, m);
     res.report = rep;
 
-    res.pipelined = rep + before + force_trip_line(r, opts, m) + emitted + after;
+    res.code = code_before + force_trip_line(r, opts, m) + emitted + after;
+    res.pipelined = header + rep + res.code;
     return res;
 }
 

@@ -2,6 +2,7 @@
 #include "paper/sweep.hpp"
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -72,6 +73,46 @@ TEST_CASE("Sweep spec: bad input is a located error", "[unit][sweep]") {
     CHECK_THAT(error_of("[axes\n"), Catch::StartsWith("s.toml:1:"));
     CHECK_THAT(error_of("[axes]\nsize = 8\n[chart]\ny_scale = \"cubic\"\n"), Catch::Contains("y_scale is \"linear\" or \"log\""));
     CHECK(parse_sweep_spec("[axes]\nsize = 8\n[chart]\ny_scale = \"log\"\n", "s.toml").chart_log_y);
+}
+
+// Findings S1-S3 of the robustness campaign (issue 24).
+TEST_CASE("Sweep spec: unknown metric paths are located errors", "[unit][sweep]") {
+    for (const char* bad : {"no.such.path", "", ".", "cycles..total", "cycles.os", "cycles.total."}) {
+        INFO(bad);
+        CHECK_THAT(error_of(fmt::format("metrics = [\"cycles.total\", \"{}\"]\n[axes]\nsize = 8\n", bad)),
+                   Catch::StartsWith("s.toml:1:28: error: unknown metric '" + std::string(bad) + "'"));
+    }
+    CHECK_THAT(error_of("[axes]\nsize = 8\n[chart]\ny = \"cycles.totl\"\n"),
+               Catch::StartsWith("s.toml:4:5: error: unknown metric 'cycles.totl'"));
+    for (const char* good : {"cycles.s_cycles", "machine.cache.misses", "machine.kernels.os.nops_inserted", "host.wall_seconds",
+                             "detail.os.taken_branches", "machine.ray_slots"}) {
+        INFO(good);
+        CHECK(error_of(fmt::format("metrics = [\"{}\"]\n[axes]\nsize = 8\n", good)) == "no error");
+    }
+}
+
+TEST_CASE("Sweep spec: a huge product is refused by name before any cell is planned", "[unit][sweep]") {
+    std::string axes = "[axes]\n";
+    for (const char* a : {"size", "pes", "window", "fifo_latency"}) {
+        axes += std::string(a) + " = [";
+        for (int v = 1; v <= 30; ++v) axes += (v > 1 ? ", " : "") + std::to_string(v);
+        axes += "]\n";
+    }
+    const SweepSpec s = parse_sweep_spec(axes, "s.toml"); // each value checked alone: fast
+    CHECK(sweep_cell_count(s) == 810'000);
+    CHECK(sweep_product(s) == "size 30 x pes 30 x window 30 x fifo_latency 30");
+    SweepOptions o;
+    o.out_dir = "unused";
+    CHECK_THROWS_WITH(run_sweep(s, o), Catch::StartsWith("s.toml: error: 810000 cells (size 30 x pes 30 x window 30 x "
+                                                         "fifo_latency 30): more than 10000 (allow them with --max-cells 810000"));
+}
+
+TEST_CASE("Sweep spec: every cell has a cycle limit, from the pixels or a max_cycles axis", "[unit][sweep]") {
+    const SweepSpec s = parse_sweep_spec("[axes]\nsize = [4, 8]\n", "s.toml");
+    CHECK(sweep_inputs(s, sweep_cells(s)[1]).machine.max_cycles == kSweepCyclesPerPixel * 64);
+    const SweepSpec l = parse_sweep_spec("[axes]\nsize = 4\nmax_cycles = [1000, 5000]\n", "s.toml");
+    CHECK(sweep_inputs(l, sweep_cells(l)[1]).machine.max_cycles == 5000);
+    CHECK_THAT(error_of("[axes]\nmax_cycles = 0\n"), Catch::Contains("max_cycles = 0: must be a whole number from 1"));
 }
 
 TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a chart per series", "[unit][sweep]") {

@@ -178,6 +178,24 @@ TEST_CASE("malformed blocks are errors with a location", "[unit][sched][block]")
                       Catch::Contains("t.pk:5:9: error: f1 is read before its new value lands"));
 }
 
+// Findings Q1 (two branches in a block: the scheduler never returned) and Q2 (an op after a
+// branch or halt moved into its bundle) of the robustness campaign (issue 24).
+TEST_CASE("a control operation anywhere but last in a block is an error at its line", "[unit][sched][block]") {
+    const isa::Machine m = isa::load_machine("os");
+    CHECK_THROWS_WITH(sched::pack_source("#pack begin\n        li r1, 4\n        jr r13\n        jr r13\n#pack end\n", "t.pk", m),
+                      Catch::StartsWith("t.pk:3: error: 'jr' before the end of a '#pack' block"));
+    CHECK_THROWS_WITH(sched::pack_source("#pack begin\n        jr r13\n        addi r1, r1, 4\n#pack end\n", "t.pk", m),
+                      Catch::StartsWith("t.pk:2: error: 'jr' before the end"));
+    CHECK_THROWS_WITH(sched::pack_source("\n#pack begin\n        halt\n        li r1, 1\n#pack end\n", "t.pk", m),
+                      Catch::StartsWith("t.pk:3: error: 'halt' before the end"));
+    // list_schedule itself refuses such a block rather than loop.
+    const std::vector<isa::Instr> two = {instr(m, "jr r13"), instr(m, "jr r13")};
+    CHECK_THROWS_AS(sched::list_schedule(m, two), std::invalid_argument);
+    // Last is fine, and it stays last.
+    const sched::PackResult ok = sched::pack_source("#pack begin\n        li r1, 4\n        jr r13\n#pack end\n", "t.pk", m);
+    CHECK(ok.text.find("jr r13") != std::string::npos);
+}
+
 TEST_CASE("random blocks: the bundles compute what the sequential block computes", "[unit][sched][block]") {
     std::vector<std::string> regs;
     for (int k = 1; k <= 6; ++k) regs.push_back(fmt::format("f{}", k));

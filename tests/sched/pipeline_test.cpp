@@ -156,3 +156,80 @@ TEST_CASE("exact search: branch and bound finds the II the heuristic missed and 
     CHECK(hurried.ii == 8);
     CHECK(hurried.report.find("best found, bound not proven: II 7 undecided") != std::string::npos);
 }
+
+// Findings P1 and P2 of the robustness campaign (issue 24): both gave wrong code with exit 0.
+TEST_CASE("a load and a store through a virtual base may alias in every other iteration", "[unit][sched][pipeline]") {
+    // Each iteration stores the element the next one loads, through %p = r1 + r10: the memory
+    // recurrence (load, fmul, fadd, store, next load) bounds the II. A virtual register is renamed
+    // per iteration, so %p differs between iterations; it was taken as one address.
+    const std::string text = R"(# machine: os-real
+        .data 0x1000
+xs:     .space 256
+        .text
+        li r1, 0
+        li r10, xs
+        li r9, 60
+        fli f0, 2.0
+        .pipeline r9
+        add %p, r1, r10
+        flw %x, 0(%p)
+        fmul %y, %x, f0
+        fadd %z, %y, f0
+        fsw %z, 4(%p)
+        addi r1, r1, 4
+        .endpipeline
+        halt
+)";
+    const isa::Machine m = isa::load_machine("os-real");
+    sched::PipelineResult r;
+    CHECK(check(text, m, &r) == std::nullopt);
+    const auto lat = [&](isa::OpClass c) { return int(m.latency[int(c)]); };
+    CHECK(r.rec_mii == lat(isa::OpClass::Load) + lat(isa::OpClass::FMul) + lat(isa::OpClass::FAdd) + 1);
+}
+
+TEST_CASE("an induction register stored as data keeps its register edges", "[unit][sched][pipeline]") {
+    // `sw r1, ys(r1)`: only the base operand of an access on an induction register is adjusted;
+    // the stored value is this iteration's r1, not a later one's.
+    const std::string text = two_array_loop(R"(        flw %x, xs(r1)
+        fmul %y, %x, f0
+        fsw %y, ys(r1)
+        sw r1, xs(r1)
+)");
+    for (const char* name : {"os", "os-real"}) {
+        INFO(name);
+        CHECK(check(text, isa::load_machine(name)) == std::nullopt);
+    }
+}
+
+TEST_CASE("the pipelined file names its machine on its first line", "[unit][sched][pipeline]") {
+    // Finding P3: the report came first, so `nesshi sim out.s` ran os-real code on os.
+    const sched::PipelineResult r = sched::pipeline_source(kSaxpy, "t.sa", isa::load_machine("os-real"), {});
+    CHECK(r.pipelined.rfind("# machine: os-real\n# SOFTWARE PIPELINE INFORMATION", 0) == 0);
+    CHECK(r.linear.rfind("# machine: os-real\n", 0) == 0);
+    CHECK(r.pipelined.find("# machine: os\n") == std::string::npos); // the source's line is replaced
+    CHECK(r.pipelined == "# machine: os-real\n" + r.report + r.code);
+}
+
+TEST_CASE("loops with FIFO words verify: random words in, the words sent compared", "[unit][sched][pipeline]") {
+    // Finding P4: every recv/send loop failed verification with "recv uses channel 0".
+    const std::string text = R"(# machine: os
+        .data 0x1000
+ys:     .space 256
+        .text
+        li r1, 0
+        li r9, 40
+        fli f0, 1.5
+        .pipeline r9
+        frecv %a, 0
+        fmul %b, %a, f0
+        fsw %b, ys(r1)
+        fsend 1, %b
+        addi r1, r1, 4
+        .endpipeline
+        halt
+)";
+    for (const char* name : {"os", "os-real"}) {
+        INFO(name);
+        CHECK(check(text, isa::load_machine(name)) == std::nullopt);
+    }
+}

@@ -41,6 +41,7 @@ struct RegOperand {
     RegFile file;
     uint8_t reg;
     bool write;
+    bool base = false; // a memory operand's base register (a read)
 };
 
 // Every register an operation reads or writes, in operand order; a memory operand's base

@@ -59,6 +59,9 @@ struct Machine {
     const MemoryDesc* memory_at(uint32_t addr, uint32_t bytes) const;
     int slot_index(std::string_view slot_name) const; // -1 when absent
     uint32_t max_latency() const;
+    // What load_machine takes to give this machine back: the preset's name, else its file (a
+    // `# machine:` line names it so).
+    std::string reference() const;
     // A hash of everything that affects assembly or timing; objects record it.
     uint64_t fingerprint() const;
     // Every field, source and description included (compare fingerprints to ignore those).

@@ -22,6 +22,7 @@ struct DiffOptions {
     std::vector<std::string> registers;  // compared after both halt ("r1", "f5")
     std::uint64_t max_cycles = 10'000'000;
     std::vector<std::string> observe;    // registers of the first program read back, not compared
+    std::size_t fifo_words = 4096;       // random words on every channel the programs receive from; what they send is compared
 };
 
 // Runs both to halt; returns the first difference ("mem[0x1024]: 3.5 (0x40600000) vs ...",

@@ -24,6 +24,7 @@
 #include "paper/cell_engine.hpp"
 #include "paper/paper.hpp"
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <utility>
@@ -47,7 +48,7 @@ struct SweepSpec {
 
 // The axes a spec may name (scene, size, grid, model, pes, balance, epoch, window, ray_slots,
 // fifo_capacity, fifo_latency, quantum, cache, cache_size, cache_ways, cache_line, miss_cycles,
-// resident, os_machine, ic_machine, seq_machine, kernels), with a line of help each.
+// resident, os_machine, ic_machine, seq_machine, kernels, max_cycles), with a line of help each.
 const std::vector<std::pair<std::string, std::string>>& sweep_axis_names();
 // Axes whose value 0 means "no limit" (fifo_capacity): a chart puts it last, as "unbounded".
 bool sweep_axis_zero_unbounded(std::string_view axis);
@@ -57,8 +58,18 @@ const std::vector<std::string>& default_sweep_metrics();
 // Parses and checks a spec: unknown keys and axes, values of the wrong type, an empty list, a
 // chart axis that is not an axis, each as a located error (file:line:col). Every value is checked
 // by building each cell's options, so a bad value is reported before anything runs.
+// A metric path that no stats JSON has (a typo, an empty component) is a located error too.
 SweepSpec parse_sweep_spec(const std::string& text, const std::string& file);
 SweepSpec load_sweep_spec(const std::string& file);
+
+// How many cells the axes' product holds (saturating), and the product as text ("size 30 x grid 30").
+std::size_t sweep_cell_count(const SweepSpec& s);
+std::string sweep_product(const SweepSpec& s);
+// A sweep of more cells is refused unless SweepOptions::max_cells allows it.
+inline constexpr std::size_t kSweepMaxCells = 10'000;
+// A cell's cycle limit per PE when no max_cycles axis names one: far above any scene's need (the
+// paper's largest cells take about 420,000 per pixel), so only a kernel that never ends meets it.
+inline constexpr std::uint64_t kSweepCyclesPerPixel = 2'000'000;
 
 // One cell: a value per axis, in the spec's axis order.
 struct SweepCell {
@@ -86,6 +97,8 @@ struct SweepProgress : CellEngineProgress {
 // without running anything.
 struct SweepOptions : CellSpread {
     std::string out_dir = "sweep-out";
+    std::size_t max_cells = kSweepMaxCells;
+    std::uint64_t max_cycles = 0; // per PE, for cells with no max_cycles axis; 0: kSweepCyclesPerPixel x pixels
     std::function<void(const SweepProgress&)> progress;
 };
 

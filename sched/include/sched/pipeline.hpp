@@ -68,8 +68,9 @@ struct PipelineOptions {
 
 struct PipelineResult {
     std::string linear;    // the region as a sequential loop (the reference meaning), whole file
-    std::string pipelined; // the region software-pipelined, whole file
+    std::string pipelined; // the region software-pipelined, whole file: its `# machine:` line, report, code
     std::string report;    // the text block (also the pipelined file's header comment)
+    std::string code;      // the pipelined file after its machine line and report
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
     int stages = 0, unroll = 1;
     int min_pipelined_trip = 0;          // smaller trip counts run the sequential copy only
