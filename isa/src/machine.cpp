@@ -380,6 +380,12 @@ uint64_t Machine::fingerprint() const {
     return base::fnv1a64(s);
 }
 
+bool Machine::same_as(const Machine& other) const {
+    Machine renamed = other;
+    renamed.name = name;
+    return renamed.fingerprint() == fingerprint();
+}
+
 bool is_preset(std::string_view name) { return !preset_text(name).empty(); }
 
 std::vector<std::string_view> preset_names() {

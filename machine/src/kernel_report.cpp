@@ -5,6 +5,7 @@
 #include "workloads.hpp"
 
 #include "isa/encoding.hpp"
+#include "isa/machine.hpp"
 #include "iss/stats.hpp"
 #include "sched/bounds.hpp"
 
@@ -237,7 +238,10 @@ KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachin
     Runs runs(sources, machines);
     for (const KernelMetric& k : kernel_metrics()) {
         const WorkloadRun& run = runs.get(k.workload, k.machine);
-        if (machines.of(k.machine) != k.machine) r.machines[k.machine] = run.run->prog->machine().name;
+        if (machines.of(k.machine) != k.machine) {
+            const std::string given = isa::load_machine(machines.of(k.machine)).name, &used = run.run->prog->machine().name;
+            r.machines[k.machine] = given == used ? given : fmt::format("{} (the preset {} under another name)", given, used);
+        }
         r.rows.push_back(measure_row(k, run));
     }
     return r;

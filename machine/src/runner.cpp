@@ -14,15 +14,17 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <string_view>
+#include <vector>
 
 namespace nesshi::machine {
 
 namespace {
 
-// Whether `m` is the machine the scheduled kernel `text` names on its first line (same fingerprint).
+// Whether `m` is the machine the scheduled kernel `text` names on its first line (under any name).
 bool scheduled_for(std::string_view text, const isa::Machine& m) {
     const std::string name = assembler::header_machine(text);
-    return !name.empty() && isa::is_preset(name) && isa::load_machine(name).fingerprint() == m.fingerprint();
+    return !name.empty() && isa::is_preset(name) && isa::load_machine(name).same_as(m);
 }
 
 // Scheduling a kernel for another machine costs about 0.1 s, and a sweep or the paper asks for the
@@ -45,10 +47,24 @@ std::map<std::string, Scheduled>& schedule_cache() {
     return cache;
 }
 
+// The preset `m` is under another name (a file that only inherits it, a copy), else `m` itself: the
+// preset's kernels, compiled runs and statistics, byte for byte.
+const isa::Machine& canonical(const isa::Machine& m) {
+    static const std::vector<isa::Machine> presets = [] {
+        std::vector<isa::Machine> v;
+        for (std::string_view name : isa::preset_names()) v.push_back(isa::load_machine(name));
+        return v;
+    }();
+    for (const isa::Machine& p : presets)
+        if (p.same_as(m)) return p;
+    return m;
+}
+
 } // namespace
 
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
-                                                    const isa::Machine& m, KernelBuild* build) {
+                                                    const isa::Machine& given, KernelBuild* build) {
+    const isa::Machine& m = canonical(given);
     KernelBuild b;
     b.machine = m.name;
     // Named "kernels/<path>" in diagnostics and line tables, so its "../abi.inc" is "kernels/abi.inc".
@@ -96,7 +112,15 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
                 });
                 const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
                 std::string around = pr.text;
+                int region_nops = 0;
                 if (region) { // the blocks are bundled now: the file assembles around the region
+                    // Bundled blocks end sooner than their sequential text did, so a value they
+                    // leave in flight can reach hand code that was legal before (around a back
+                    // edge too): legalize once more with the region still sequential, so the
+                    // pipeliner's own assembly of the sequential meaning is legal.
+                    const sched::Legalized seq = sched::legalize(around, name, assembles);
+                    around = seq.text;
+                    region_nops = seq.nops;
                     sched::PipelineOptions po;
                     po.read_file = opts.read_file;
                     around = sched::pipeline_source(sched::restore_region(around, src), name, m, po).pipelined;
@@ -105,7 +129,7 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
                 text = packed.text;
                 b.scheduled = true;
                 b.blocks = static_cast<int>(pr.blocks.size());
-                b.nops = hand.nops + packed.nops;
+                b.nops = hand.nops + region_nops + packed.nops;
             } catch (const base::Error& e) {
                 throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
                                          m.source + "):\n" + e.what());

@@ -549,7 +549,7 @@ std::vector<bool> machine_lines(const std::vector<std::string>& lines, std::stri
             const std::string name(trim(t.substr(std::string_view("#if machine").size())));
             if (name.empty() || !isa::is_preset(name))
                 throw base::Error(base::SourceLoc(filename, ln), fmt::format("'#if machine' names no preset machine ('{}')", name));
-            match = isa::load_machine(name).fingerprint() == m.fingerprint();
+            match = isa::load_machine(name).same_as(m);
             state = If;
             opened = ln;
             keep[i] = false;

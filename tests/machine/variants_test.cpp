@@ -71,6 +71,25 @@ TEST_CASE("os-real's pipelined voxel loop renders native's image, ids and depths
     CHECK(real.render.stats.rays == native.stats.rays);
 }
 
+// Three plausible slower OS machines whose kernel did not assemble ("f41 is read before its new
+// value lands ... around a back edge"): the bundled blocks left a value in flight that hand code
+// read, found only once the region was put back.
+TEST_CASE("Slower OS variants render native's image: hazards the bundled blocks create are legalized", "[unit][machine]") {
+    const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
+    const rt::RenderOptions opt = small(16);
+    const rt::RenderResult native = rt::render_native(prep, opt);
+    for (const char* file : {"os-slow-fpu.toml", "os-real-nobubble.toml", "os-real-fpu4.toml"}) {
+        INFO(file);
+        machine::Options mo = model(machine::Model::V);
+        mo.os_machine = kData + "/" + file;
+        machine::Result r;
+        REQUIRE_NOTHROW(r = machine::render(prep, opt, mo));
+        CHECK(r.render.id_buffer == native.id_buffer);
+        CHECK(r.render.image.rgb == native.image.rgb);
+        CHECK(r.render.t_buffer == native.t_buffer);
+    }
+}
+
 TEST_CASE("A variant's kernel is scheduled from its .pk source, the preset's is the committed one", "[unit][machine]") {
     const kernels::SourceSet src = kernels::embedded();
     const auto preset = machine::assemble_kernel(src, "ic/intersect.s", "ic");

@@ -62,8 +62,11 @@ struct Machine {
     // What load_machine takes to give this machine back: the preset's name, else its file (a
     // `# machine:` line names it so).
     std::string reference() const;
-    // A hash of everything that affects assembly or timing; objects record it.
+    // A hash of everything that affects assembly or timing, and the name; objects record it.
     uint64_t fingerprint() const;
+    // The same machine under any name: equal fingerprints once the names are equal (a file that
+    // only inherits a preset is that preset, and gets its kernels).
+    bool same_as(const Machine& other) const;
     // Every field, source and description included (compare fingerprints to ignore those).
     bool operator==(const Machine&) const = default;
 };

@@ -29,6 +29,8 @@ namespace nesshi::machine {
 // and `sources` hold its source before scheduling ("os/dda.pk"), that source's straight-line
 // blocks are scheduled for `m` first (sched/block.hpp), and the hand-scheduled code between them
 // gets the nop bundles m's latencies need (sched/legalize.hpp). `build`, if given, says which.
+// A machine that is a preset under another name (Machine::same_as) is that preset: its kernels,
+// compiled runs and statistics.
 // Throws std::runtime_error with the diagnostics.
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const isa::Machine& m, KernelBuild* build = nullptr);
