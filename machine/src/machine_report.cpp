@@ -62,10 +62,12 @@ std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& o
                     {"sc", "modelled: counted operations x seq latencies (rt-host/src/machine/sc_cost.hpp)"}};
     if (mo.ray_slots) j["machine"]["ray_slots"] = mo.ray_slots; // limited rays in flight (0: all 4096)
     // Kernels scheduled for a machine other than their preset (absent when both are the committed ones).
-    if (m.os_kernel.scheduled || m.ic_kernel.scheduled) {
+    if (m.os_kernel.scheduled || m.ic_kernel.scheduled || !m.os_kernel.choice.empty() || !m.ic_kernel.choice.empty()) {
         auto build = [](const KernelBuild& b) {
-            return nlohmann::json{{"source", b.source}, {"machine", b.machine}, {"scheduled", b.scheduled},
-                                  {"blocks", b.blocks}, {"nops_inserted", b.nops}};
+            nlohmann::json j{{"source", b.source}, {"machine", b.machine}, {"scheduled", b.scheduled},
+                             {"blocks", b.blocks}, {"nops_inserted", b.nops}};
+            if (!b.choice.empty()) j["choice"] = b.choice;
+            return j;
         };
         j["machine"]["kernels"] = {{"os", build(m.os_kernel)}, {"ic", build(m.ic_kernel)}};
     }
@@ -110,10 +112,12 @@ std::string format_stats(const Stats& m) {
                                                                static_cast<double>(m.cache_accesses),
                          m.cache_accesses);
     o += "\n";
-    for (const auto& [stage, b] : {std::pair{"OS", &m.os_kernel}, std::pair{"IC", &m.ic_kernel}})
+    for (const auto& [stage, b] : {std::pair{"OS", &m.os_kernel}, std::pair{"IC", &m.ic_kernel}}) {
         if (b->scheduled)
             o += fmt::format("{} kernel: {} scheduled for {} ({} blocks; {} nop bundle{} in its hand-scheduled code for the latencies)\n",
                              stage, b->source, b->machine, b->blocks, b->nops, b->nops == 1 ? "" : "s");
+        if (!b->choice.empty()) o += fmt::format("{} kernel for {}: {}\n", stage, b->machine, b->choice);
+    }
     o += fmt::format("host: {:.2f} s, {:.1f} M bundles simulated, {:.1f} M bundles/s ({} thread{})\n", m.wall_seconds,
                      millions(m.simulated_bundles), m.bundles_per_second() / 1e6, m.threads, m.threads == 1 ? "" : "s");
     return o;

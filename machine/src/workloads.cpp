@@ -11,6 +11,8 @@
 #include "kernels/shape_record.hpp"
 #include "kernels/twins/dda.hpp"
 
+#include "iss/stats.hpp"
+
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -45,10 +47,8 @@ void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
     }
 }
 
-WorkloadRun grid_run(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, int n, double density,
-                     std::mt19937& rng) {
-    WorkloadRun w{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), machine)),
-                  kGridRays};
+WorkloadRun grid_run(const std::shared_ptr<const iss::Program>& prog, int n, double density, std::mt19937& rng) {
+    WorkloadRun w{std::make_unique<KernelRunner>(prog), kGridRays};
     const OccupancyGrid g = random_grid(n, density, rng);
     w.run->load(kernels::os_image(g.g, g.occ));
     w.run->run();
@@ -114,23 +114,45 @@ kernels::Shape random_cylinder(std::mt19937& rng) {
 
 bool is_grid(Workload w) { return w == Workload::EmptyGrid || w == Workload::SparseGrid; }
 
-DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine) {
+DdaRuns run_dda(const std::shared_ptr<const iss::Program>& prog) {
     std::mt19937 rng(5);
     DdaRuns r;
-    r.empty = grid_run(sources, role, machine, 40, 0.0, rng);
-    r.sparse = grid_run(sources, role, machine, 20, 0.03, rng);
+    r.empty = grid_run(prog, 40, 0.0, rng);
+    r.sparse = grid_run(prog, 20, 0.03, rng);
     return r;
 }
 
-// One voxel whose list holds the 40 shapes; rays from z = 20 aimed at the origin (or past it).
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine) {
+    return run_dda(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), machine));
+}
+
 WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w) {
+    return run_intersect(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), machine), w);
+}
+
+std::uint64_t workload_busy_cycles(const std::shared_ptr<const iss::Program>& prog, const std::string& path) {
+    auto busy = [](const WorkloadRun& w) {
+        const iss::Stats st = iss::compute_stats(*w.run->proc, 0);
+        return st.processing_cycles + st.communication_cycles;
+    };
+    if (path.find("dda") != std::string::npos) {
+        const DdaRuns d = run_dda(prog);
+        return busy(d.empty) + busy(d.sparse);
+    }
+    std::uint64_t sum = 0;
+    for (Workload w : {Workload::Triangles, Workload::Spheres, Workload::SpheresMissed, Workload::TwoSidedSpheres, Workload::Cylinders})
+        sum += busy(run_intersect(prog, w));
+    return sum;
+}
+
+// One voxel whose list holds the 40 shapes; rays from z = 20 aimed at the origin (or past it).
+WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workload w) {
     std::mt19937 rng(7);
     std::vector<kernels::Shape> shapes;
     for (int i = 0; i < kPrimitives; ++i) shapes.push_back(shape_of(w, rng));
     std::vector<std::vector<std::uint32_t>> lists(1);
     for (int i = 0; i < kPrimitives; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
-    WorkloadRun out{std::make_unique<KernelRunner>(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), machine)),
-                    kPrimitiveRays};
+    WorkloadRun out{std::make_unique<KernelRunner>(prog), kPrimitiveRays};
     KernelRunner& run = *out.run;
     const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
     run.load(im.resident);

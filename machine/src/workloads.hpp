@@ -4,7 +4,9 @@
 
 #include "machine/kernel_report.hpp"
 #include "machine/runner.hpp"
+#include "kernel_measure.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -26,6 +28,10 @@ DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, cons
 
 // The intersection kernel for `machine` on a primitive workload (seed 7).
 WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w);
+
+// The same on a program already assembled (its machine is the program's).
+DdaRuns run_dda(const std::shared_ptr<const iss::Program>& prog);
+WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workload w);
 
 bool is_grid(Workload w);
 

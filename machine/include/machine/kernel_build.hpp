@@ -13,6 +13,7 @@ struct KernelBuild {
     bool scheduled = false; // its straight-line blocks were scheduled for the machine
     int blocks = 0;         // how many
     int nops = 0;           // nop bundles inserted into its hand-scheduled code for the machine's latencies
+    std::string choice;     // when the committed kernel was also a candidate: which was kept, and the cycles of both
 };
 
 } // namespace nesshi::machine
