@@ -100,6 +100,7 @@ struct KernelRow {
     std::optional<double> paper;
     double ops = 0, ilp = 0, utilization = 0;
     double res_mii = 0, rec_mii = 0;   // 0: not computed
+    double bound() const { return res_mii > rec_mii ? res_mii : rec_mii; } // a loop row's bound; 0 for the others
     // What binds them (sched::ResBound/RecBound::binds, "..., / 2 iterations" when a pass holds
     // more); not printed in text() or json(), which keep their format.
     std::string res_binds, rec_binds;
