@@ -40,6 +40,13 @@ constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next 
     throw base::Error(base::SourceLoc(file, line), msg);
 }
 
+// A schedule whose copies of the virtual registers do not fit the register files: that schedule
+// fails, not the search (another op order or a larger II has shorter lifetimes).
+class RegisterPressure : public base::Error {
+  public:
+    using base::Error::Error;
+};
+
 char file_prefix(isa::RegFile f) { return f == isa::RegFile::Int ? 'r' : 'f'; }
 std::string reg_name(isa::RegFile f, int r) { return fmt::format("{}{}", file_prefix(f), r); }
 
@@ -1021,7 +1028,7 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     auto take = [&](isa::RegFile f, const std::string& what) {
         auto& p = pool[static_cast<int>(f)];
         if (p.empty())
-            fail(file, static_cast<int>(r.begin + 1),
+            throw RegisterPressure(base::SourceLoc(file, static_cast<int>(r.begin + 1)),
                  fmt::format("register pressure: no free {} register left for {} ({} has {} per file, the source names "
                              "{}, the tool has taken the other {} for the kernel's register copies)",
                              isa::kRegFileNames[static_cast<std::size_t>(f)], what, m.name,
@@ -1650,7 +1657,15 @@ PipelineResult pipeline_impl(std::string_view text, std::string_view filename, c
     using Clock = std::chrono::steady_clock;
     // A schedule is kept when its code also assembles.
     auto accept = [&](const Schedule& s) {
-        Allocation alloc = allocate(r, g, s, named, m, filename);
+        std::optional<Allocation> fitted;
+        try {
+            fitted = allocate(r, g, s, named, m, filename);
+        } catch (const RegisterPressure& e) {
+            const std::string what = e.what();
+            why_not = fmt::format("II {}: {}", s.ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
+            return false;
+        }
+        Allocation alloc = std::move(*fitted);
         const Emitter em(r, g, s, alloc, m);
         std::string code = r.is_while ? em.while_code("__sa") : em.code(r.trip, "__sa");
         assembler::AsmResult check =

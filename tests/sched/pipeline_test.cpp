@@ -233,3 +233,37 @@ ys:     .space 256
         CHECK(check(text, isa::load_machine(name)) == std::nullopt);
     }
 }
+
+// Issue 26, item 1: a schedule whose register copies do not fit was the end of the search; it is
+// one failed attempt, and a larger II (shorter lifetimes per pass) is tried next.
+TEST_CASE("register pressure at the MII moves the search to a larger II", "[unit][sched][pipeline]") {
+    const std::string text = R"(# machine: os-real
+        .data 0x1000
+xs:     .space 256
+ys:     .space 256
+zs:     .space 256
+        .text
+        li r1, 0
+        li r9, 60
+        .pipeline r9
+        flw %a, xs(r1)
+        flw %b, ys(r1)
+        fdiv %q, %a, %b
+        fmul %c, %a, %b
+        fadd %d, %q, %c
+        fsw %d, zs(r1)
+        addi r1, r1, 4
+        .endpipeline
+        halt
+)";
+    // os-real with 8 float registers: the 12-cycle divide in flight at II 3 needs more copies.
+    const isa::Machine m = isa::parse_machine("inherits = \"os-real\"\nname = \"fewregs\"\n[registers.float]\ncount = 8\n", "few.toml");
+    sched::PipelineResult r;
+    CHECK(check(text, m, &r) == std::nullopt);
+    CHECK(r.ii > r.mii);
+    CHECK(r.ii <= 7);
+    // --ii at an II that cannot fit still fails, naming the pressure.
+    sched::PipelineOptions at_mii;
+    at_mii.ii = r.mii;
+    CHECK_THROWS_WITH(sched::pipeline_source(text, "t.sa", m, at_mii), Catch::Contains("register pressure: no free FPRF register"));
+}
