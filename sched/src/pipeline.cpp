@@ -547,6 +547,27 @@ std::vector<DepEdge> dep_edges(const Graph& g) {
 bool feasible_ii(const Graph& g, int ii) { return ii_feasible(static_cast<int>(g.nodes.size()), dep_edges(g), ii); }
 int rec_mii(const Graph& g) { return recurrence_mii(static_cast<int>(g.nodes.size()), dep_edges(g)); }
 
+// The circuit that sets the RecMII, op by op with each edge's latency and why it is there, e.g.
+// "flw (line 11) -[2: true %x]-> fmul (line 12) ... : 9 cycles over 1 iteration"; "" when no
+// circuit binds above 1.
+std::string critical_circuit(const Graph& g, const Region& r, int rec) {
+    if (rec <= 1) return "";
+    const std::vector<int> circuit = positive_circuit(static_cast<int>(g.nodes.size()), dep_edges(g), rec - 1);
+    if (circuit.empty()) return "";
+    std::string out;
+    int latency = 0, distance = 0;
+    for (int k : circuit) {
+        const Edge& e = g.edges[static_cast<std::size_t>(k)];
+        const SrcOp& op = r.ops[static_cast<std::size_t>(e.from)];
+        out += fmt::format("{} (line {}) -[{}: {}]-> ", op.mnemonic, op.line, e.latency, e.why);
+        latency += e.latency;
+        distance += e.distance;
+    }
+    const SrcOp& first = r.ops[static_cast<std::size_t>(g.edges[static_cast<std::size_t>(circuit.front())].from)];
+    return out + fmt::format("{} (line {}): {} cycles over {} iteration{}", first.mnemonic, first.line, latency, distance,
+                             distance == 1 ? "" : "s");
+}
+
 // ---- modulo scheduling ------------------------------------------------------------------------
 
 struct Schedule {
@@ -1793,7 +1814,8 @@ PipelineResult pipeline_impl(std::string_view text, std::string_view filename, c
     else
         rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
     rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
-    rep += fmt::format("#   recurrence bound (RecMII)  {}\n", res.rec_mii);
+    const std::string circuit = critical_circuit(g, r, res.rec_mii);
+    rep += fmt::format("#   recurrence bound (RecMII)  {}{}\n", res.rec_mii, circuit.empty() ? "" : "  (" + circuit + ")");
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
     if (!exact_note.empty()) rep += "#   " + exact_note + "\n";
