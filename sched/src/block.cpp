@@ -17,6 +17,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 namespace nesshi::sched {
@@ -150,10 +151,14 @@ bool next_permutation_prefix(std::vector<int>& pick, int slots) {
 
 } // namespace
 
-std::vector<int> fifo_ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops) {
+std::vector<int> ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops) {
     const int slots = static_cast<int>(m.slots.size());
     const int k = static_cast<int>(ops.size());
     if (k > slots) return {};
+    std::vector<std::optional<std::pair<int, int>>> dst(static_cast<std::size_t>(k));
+    for (int i = 0; i < k; ++i)
+        for (const isa::RegOperand& o : isa::register_operands(ops[static_cast<std::size_t>(i)]))
+            if (o.write) dst[static_cast<std::size_t>(i)] = std::pair{static_cast<int>(o.file), o.reg};
     std::vector<int> pick(static_cast<std::size_t>(k));
     std::iota(pick.begin(), pick.end(), 0);
     do {
@@ -167,6 +172,11 @@ std::vector<int> fifo_ordered_slots(const isa::Machine& m, std::span<const isa::
                 ok = s > last_fifo;
                 last_fifo = s;
             }
+            // Two writes of one register in one bundle land in slot order (the later one in
+            // program order lands later, so it takes the higher slot).
+            for (int e = 0; e < i && ok; ++e)
+                ok = !(dst[static_cast<std::size_t>(i)] && dst[static_cast<std::size_t>(i)] == dst[static_cast<std::size_t>(e)]) ||
+                     pick[static_cast<std::size_t>(e)] < s;
         }
         if (ok) return pick;
     } while (next_permutation_prefix(pick, slots));
@@ -224,7 +234,7 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
             trial.insert(std::upper_bound(trial.begin(), trial.end(), j), j);
             std::vector<isa::Instr> trial_ops;
             for (int i : trial) trial_ops.push_back(instrs[static_cast<std::size_t>(i)]);
-            if (fifo_ordered_slots(m, trial_ops).empty()) continue;
+            if (ordered_slots(m, trial_ops).empty()) continue;
             auto r = reads[static_cast<std::size_t>(c)];
             for (const auto& s : op.srcs) ++r[static_cast<std::size_t>(s.first)];
             bool ports = true;
@@ -245,6 +255,14 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
         }
     }
     while (!bundles.empty() && bundles.back().empty()) bundles.pop_back();
+    // A block that falls through ends when its last result lands, as its sequential meaning does
+    // (a final branch or halt already waits for them all).
+    if (n > 0 && !ops.back().barrier) {
+        std::size_t lands = 0;
+        for (int j = 0; j < n; ++j)
+            lands = std::max(lands, static_cast<std::size_t>(cycle_of[static_cast<std::size_t>(j)] + ops[static_cast<std::size_t>(j)].latency));
+        while (bundles.size() < lands) bundles.emplace_back();
+    }
     return bundles;
 }
 
@@ -339,7 +357,7 @@ std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, 
             while (e < operands[k].size() && (std::isalnum(static_cast<unsigned char>(operands[k][e])) || operands[k][e] == '_')) ++e;
             const std::string name = operands[k].substr(pct, e - pct);
             const isa::Operand& desc = info.operands[k];
-            isa::RegFile f;
+            isa::RegFile f = isa::RegFile::Int; // (fail throws)
             if (desc.kind == isa::OperandKind::FloatReg) f = isa::RegFile::Float;
             else if (desc.kind == isa::OperandKind::IntReg || (desc.kind == isa::OperandKind::Mem && operands[k].find('(') < pct))
                 f = isa::RegFile::Int;
@@ -506,14 +524,16 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
                     continue;
                 }
                 std::vector<isa::Instr> ops;
-                bool fifo = false;
+                bool ordered = false; // FIFO words, or two writes of one register
+                std::set<std::pair<int, int>> written;
                 for (int i : bundle) {
                     ops.push_back(instrs[static_cast<std::size_t>(i)]);
-                    fifo = fifo || ops.back().info().cls == isa::OpClass::Fifo;
+                    const BlockOp d = describe(m, ops.back());
+                    ordered = ordered || d.channel || (d.dst && !written.insert(*d.dst).second);
                 }
                 std::vector<std::string> texts;
-                if (fifo && bundle.size() > 1) { // pin the slots: the words move in slot order
-                    const std::vector<int> slots = fifo_ordered_slots(m, ops);
+                if (ordered && bundle.size() > 1) { // pin the slots: the assembler takes slot order as program order
+                    const std::vector<int> slots = ordered_slots(m, ops);
                     std::vector<std::size_t> order(bundle.size());
                     std::iota(order.begin(), order.end(), 0);
                     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return slots[a] < slots[c]; });

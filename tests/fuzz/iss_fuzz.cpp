@@ -4,6 +4,7 @@
 // then run it in lock-step under a cycle limit, and the fast engine once more on its own.
 // Broken: a crash, a divergence, a dynamic rule broken by scheduled code, or a fast run that
 // ends elsewhere than the lock-step one.
+#include "bytes.hpp"
 #include "check.hpp"
 
 #include "assembler/assembler.hpp"
@@ -25,28 +26,12 @@
 #include <vector>
 
 using namespace nesshi;
+using fuzz::Bytes;
 
 namespace {
 
-constexpr std::uint64_t kCycleLimit = 2'000;
+constexpr std::uint64_t kCycleLimit = 500;
 constexpr int kBufferBytes = 512;
-
-// The input as a stream of choices; zeros once it runs out.
-class Bytes {
-  public:
-    Bytes(const std::uint8_t* d, std::size_t n) : d_(d), n_(n) {}
-    std::uint8_t next() { return i_ < n_ ? d_[i_++] : 0; }
-    std::uint32_t word() {
-        std::uint32_t w = 0;
-        for (int k = 0; k < 4; ++k) w = w << 8 | next();
-        return w;
-    }
-    bool done() const { return i_ >= n_; }
-
-  private:
-    const std::uint8_t* d_;
-    std::size_t n_, i_ = 0;
-};
 
 constexpr std::array<const char*, 10> kFloats = {"0.0", "-0.0", "1.5", "-3.25", "1e30", "-1e-30",
                                                  "1e-40", "3.4e38", "0.1", "7.0"};
@@ -95,11 +80,13 @@ std::string program(Bytes& in, const isa::Machine& m, bool& indirect) {
         (is_control(o.kind) ? control : body).push_back(&o);
     }
     Generator g{in, 1 + in.next() % 4};
-    std::string text = fmt::format("        .data 0x{:x}\nbuf:    .space {}\n        .text\n#pack begin\n        li r1, buf\n",
+    // The values, one op per bundle before the blocks (not a block: the list scheduler would
+    // assemble it with max_latency nops per op), then nops until every one has landed.
+    std::string text = fmt::format("        .data 0x{:x}\nbuf:    .space {}\n        .text\n        li r1, buf\n",
                                    m.memories.front().base, kBufferBytes);
     for (int r = 2; r < 10; ++r) text += fmt::format("        li r{}, {}\n", r, std::int32_t(in.word()));
     for (int f = 0; f < 10; ++f) text += fmt::format("        fli f{}, {}\n", f, kFloats[in.next() % kFloats.size()]);
-    text += "        jmp L0\n#pack end\n";
+    for (std::uint32_t n = 0; n < m.max_latency(); ++n) text += "        nop\n";
     for (int b = 0; b < g.blocks; ++b) {
         text += fmt::format("L{}:\n#pack begin\n", b);
         const int n = in.next() % 16;

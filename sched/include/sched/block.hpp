@@ -41,9 +41,9 @@ namespace nesshi::sched {
 // The bundles of one block: op indices, each bundle in program order; an empty bundle is a nop.
 std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> ops);
 
-// Slots for one bundle's ops (in program order) with FIFO words in ascending slot order: the
-// first such assignment in lexicographic order, or empty when none exists.
-std::vector<int> fifo_ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops);
+// Slots for one bundle's ops (in program order) with FIFO words, and writes of one register, in
+// ascending slot order: the first such assignment in lexicographic order, or empty when none exists.
+std::vector<int> ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops);
 
 struct BlockStats {
     int line = 0;    // of its `#pack begin`
