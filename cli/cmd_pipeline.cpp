@@ -78,7 +78,13 @@ void run_pipeline(const PipelineArgs& a) {
     po.exact_seconds = a.exact;
     const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
     // Verified before anything is written: code that differs from its meaning is never output.
-    const std::string verdict = a.no_verify ? std::string("not run (--no-verify)") : verify_loop(a, text, m, po, r);
+    std::string verdict = a.no_verify ? std::string("not run (--no-verify)") : "";
+    if (!a.no_verify && r.regions == 1) verdict = verify_loop(a, text, m, po, r);
+    for (int k = 0; !a.no_verify && r.regions > 1 && k < r.regions; ++k) { // one region at a time, the others sequential
+        sched::PipelineOptions one = po;
+        one.region = k;
+        verdict += fmt::format("{}region {}: {}", k ? "; " : "", k + 1, verify_loop(a, text, m, one, sched::pipeline_source(text, a.input, m, one)));
+    }
     const std::string report = r.report + fmt::format("#   verification: {}\n", verdict);
     const std::string pipelined = fmt::format("# machine: {}\n", m.reference()) + report + r.code;
     const bool to_file = !a.out.empty() && a.out != "-"; // -o -: stdout, as without -o
@@ -87,7 +93,7 @@ void run_pipeline(const PipelineArgs& a) {
     if (!to_file) fmt::print("{}", pipelined); // the data: printed even with -q
     else if (!a.quiet) fmt::print("{}", report);
     base::flush_stdout();
-    if (!a.no_verify) fmt::print(stderr, "{}: verified: the pipelined loop {}\n", a.input, verdict);
+    if (!a.no_verify) fmt::print(stderr, "{}: verified: the pipelined loop{} {}\n", a.input, r.regions > 1 ? "s:" : "", verdict);
 }
 
 } // namespace

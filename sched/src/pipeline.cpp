@@ -89,14 +89,40 @@ struct Region {
     int line_of_directives = 0;
 };
 
-Region parse_region(const std::vector<std::string>& lines, std::string_view file) {
-    Region r;
-    bool found = false, closed = false;
+bool opens_region(const std::string& code) {
+    return code.rfind(".pipeline", 0) == 0 && (code.size() == 9 || std::isspace(static_cast<unsigned char>(code[9])));
+}
+
+// The line indices of each region's .pipeline and .endpipeline, in file order.
+using Span = std::pair<std::size_t, std::size_t>;
+std::vector<Span> region_spans(const std::vector<std::string>& lines, std::string_view file) {
+    constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+    std::vector<Span> spans;
+    std::size_t open = kNone;
     for (std::size_t i = 0; i < lines.size(); ++i) {
         const std::string code = strip_comment(lines[i]);
         const int ln = static_cast<int>(i + 1);
-        if (code.rfind(".pipeline", 0) == 0 && (code.size() == 9 || std::isspace(static_cast<unsigned char>(code[9])))) {
-            if (found) fail(file, ln, "only one .pipeline region per file is supported");
+        if (opens_region(code)) {
+            if (open != kNone) fail(file, ln, fmt::format(".pipeline inside the region opened at line {} (regions do not nest)", open + 1));
+            open = i;
+        } else if (code == ".endpipeline") {
+            if (open == kNone) fail(file, ln, ".endpipeline without .pipeline");
+            spans.emplace_back(open, i);
+            open = kNone;
+        }
+    }
+    if (open != kNone) fail(file, static_cast<int>(open + 1), ".pipeline without .endpipeline");
+    if (spans.empty()) fail(file, 0, "no .pipeline region");
+    return spans;
+}
+
+Region parse_region(const std::vector<std::string>& lines, std::string_view file, Span span) {
+    Region r;
+    bool found = false, closed = false;
+    for (std::size_t i = span.first; i <= span.second; ++i) {
+        const std::string code = strip_comment(lines[i]);
+        const int ln = static_cast<int>(i + 1);
+        if (opens_region(code)) {
             found = true;
             r.begin = i;
             r.trip = trim(code.substr(9));
@@ -1476,32 +1502,27 @@ class Emitter {
 
 // ---- the sequential meaning -------------------------------------------------------------------
 
-std::string join_lines(const std::vector<std::string>& lines, std::size_t from, std::size_t to) {
-    std::string s;
-    for (std::size_t i = from; i < to && i < lines.size(); ++i) s += lines[i] + "\n";
-    return s;
-}
-
-std::string linear_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m) {
+std::string linear_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
+                        const std::string& uid) {
     const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
     std::string o;
-    o += fmt::format("        beqz {}, __sa_lin_end\n", r.trip);
-    o += "__sa_lin:\n";
+    o += fmt::format("        beqz {}, {}_lin_end\n", r.trip, uid);
+    o += uid + "_lin:\n";
     for (const SrcOp& op : r.ops) {
         o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
         for (std::uint32_t k = 1; k < m.latency_of(isa::kOps[op.opcode]); ++k) o += "        nop\n";
     }
     o += fmt::format("        addi {}, {}, -1\n", r.trip, r.trip);
     for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
-    o += fmt::format("        bnez {}, __sa_lin\n", r.trip);
-    o += "__sa_lin_end:\n";
+    o += fmt::format("        bnez {}, {}_lin\n", r.trip, uid);
+    o += uid + "_lin_end:\n";
     return o;
 }
 
 // A while loop's sequential meaning: the body up to its exit test, the test branching out, the
 // rest; `count` counts the iterations that do not exit (verification reads it, never compares it).
 std::string linear_while_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
-                              const std::string& count) {
+                              const std::string& count, const std::string& uid) {
     const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
     auto mv = [&](const std::string& to, const std::string& from) { // one copy, landed before the next op
         const bool f = from[0] == 'f';
@@ -1519,10 +1540,10 @@ std::string linear_while_loop(const Region& r, const std::vector<std::string>& p
         if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
     o += fmt::format("        li {}, 0\n", count);
     for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
-    o += "__sa_lin:\n";
+    o += uid + "_lin:\n";
     for (std::size_t k = 0; k < r.ops.size(); ++k) {
         SrcOp op = r.ops[k];
-        if (static_cast<int>(k) == r.exit_op) op.operands.back() = "__sa_lin_end";
+        if (static_cast<int>(k) == r.exit_op) op.operands.back() = uid + "_lin_end";
         o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
         for (std::uint32_t j = 1; j < m.latency_of(isa::kOps[op.opcode]); ++j) o += "        nop\n";
     }
@@ -1530,8 +1551,8 @@ std::string linear_while_loop(const Region& r, const std::vector<std::string>& p
     for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
     for (const auto& [name, c] : r.carry)
         if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
-    o += "        jmp __sa_lin\n";
-    o += "__sa_lin_end:\n";
+    o += fmt::format("        jmp {}_lin\n", uid);
+    o += uid + "_lin_end:\n";
     for (const auto& [name, c] : r.carry) o += mv(c.out, placeholder_of(name));
     for (const auto& [name, reg] : r.liveout) o += mv(reg, placeholder_of(name));
     return o;
@@ -1603,51 +1624,113 @@ std::string while_report(const Graph& g, const Region& r, const Schedule& s, con
     return o;
 }
 
-// linear_only: stop once the sequential meaning is written (its loop between the region markers).
-PipelineResult pipeline_impl(std::string_view text, std::string_view filename, const isa::Machine& m,
-                             const PipelineOptions& opts, bool linear_only) {
-    const std::vector<std::string> lines = split_lines(machine_sections(text, filename, m));
-    const Region r = parse_region(lines, filename);
-    check_named_in_range(lines, filename, m);
-    const std::set<std::pair<int, int>> named = named_registers(lines);
-    if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
-
-    // The sequential meaning, with each virtual register on a free register of its own.
-    std::vector<std::string> placeholder_name;
+// A region's sequential meaning: each virtual register on a free register of its own (the highest
+// the file does not name), a while loop's iterations counted in the lowest free one.
+struct Sequential {
+    std::vector<std::string> placeholder_name;      // per virtual
     std::map<std::pair<int, int>, int> placeholder; // (file, reg) -> virtual
-    {
-        std::vector<int> next = {static_cast<int>(m.regs[0].count) - 1, static_cast<int>(m.regs[1].count) - 1};
-        for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
-            const int f = static_cast<int>(r.virtuals[v].file);
-            while (next[static_cast<std::size_t>(f)] >= 0 && named.count({f, next[static_cast<std::size_t>(f)]})) --next[static_cast<std::size_t>(f)];
-            if (next[static_cast<std::size_t>(f)] < 0) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
-            placeholder[{f, next[static_cast<std::size_t>(f)]}] = static_cast<int>(v);
-            placeholder_name.push_back(reg_name(r.virtuals[v].file, next[static_cast<std::size_t>(f)]--));
-        }
+    std::string iteration_register;                 // a while loop's
+    std::string loop;                               // the text
+};
+
+Sequential sequential_meaning(const Region& r, const std::set<std::pair<int, int>>& named, const isa::Machine& m,
+                              std::string_view filename, const std::string& uid) {
+    if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
+    Sequential q;
+    std::vector<int> next = {static_cast<int>(m.regs[0].count) - 1, static_cast<int>(m.regs[1].count) - 1};
+    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+        const int f = static_cast<int>(r.virtuals[v].file);
+        while (next[static_cast<std::size_t>(f)] >= 0 && named.count({f, next[static_cast<std::size_t>(f)]})) --next[static_cast<std::size_t>(f)];
+        if (next[static_cast<std::size_t>(f)] < 0) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
+        q.placeholder[{f, next[static_cast<std::size_t>(f)]}] = static_cast<int>(v);
+        q.placeholder_name.push_back(reg_name(r.virtuals[v].file, next[static_cast<std::size_t>(f)]--));
     }
-    const std::string before = join_lines(lines, 0, r.begin), after = join_lines(lines, r.end + 1, lines.size());
-    PipelineResult res;
-    res.is_while = r.is_while;
     if (r.is_while) { // the lowest register neither named nor a placeholder counts iterations
-        for (int reg = 1; reg < static_cast<int>(m.regs[0].count) && res.iteration_register.empty(); ++reg)
-            if (!named.count({0, reg}) && !placeholder.count({0, reg})) res.iteration_register = reg_name(isa::RegFile::Int, reg);
-        if (res.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
+        for (int reg = 1; reg < static_cast<int>(m.regs[0].count) && q.iteration_register.empty(); ++reg)
+            if (!named.count({0, reg}) && !q.placeholder.count({0, reg})) q.iteration_register = reg_name(isa::RegFile::Int, reg);
+        if (q.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
     }
-    const std::string loop = r.is_while ? linear_while_loop(r, placeholder_name, m, res.iteration_register)
-                                        : linear_loop(r, placeholder_name, m);
+    q.loop = r.is_while ? linear_while_loop(r, q.placeholder_name, m, q.iteration_register, uid)
+                        : linear_loop(r, q.placeholder_name, m, uid);
+    return q;
+}
+
+// The labels of the region with this ordinal in its file: __sa_... for the first (as with one).
+std::string region_uid(int ordinal) { return ordinal == 0 ? "__sa" : fmt::format("__sa{}", ordinal); }
+
+// Which region of a file pipeline_impl schedules, and what it may take. The file's other regions
+// are written as their sequential meanings (the code around this one); `reusable` are registers
+// the file names that the tool may take anyway (the scratch registers of regions already
+// pipelined, live only inside them).
+struct Target {
+    std::size_t index = 0; // among the file's regions, in order
+    int ordinal = 0;       // for its labels (region_uid)
+    std::set<std::pair<int, int>> reusable;
+};
+
+struct Impl {
+    PipelineResult res;
+    std::string emitted; // the region's code alone
+    Span span;           // its lines in the file (after `#if machine` sections are resolved)
+};
+
+// How far pipeline_impl goes: the sequential meaning between the region markers (every region
+// between its own pair), the sequential meaning as a file, or the pipelined code.
+enum class Upto { Markers, Linear, Pipelined };
+
+Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::Machine& m, const PipelineOptions& opts,
+                   Upto upto, const Target& target = {}) {
+    const bool linear_only = upto == Upto::Markers;
+    const std::vector<std::string> lines = split_lines(machine_sections(text, filename, m));
+    const std::vector<Span> spans = region_spans(lines, filename);
+    if (target.index >= spans.size())
+        fail(filename, 0, fmt::format("no region {}: the file has {} .pipeline region{}", target.index + 1, spans.size(),
+                                      spans.size() == 1 ? "" : "s"));
+    const Region r = parse_region(lines, filename, spans[target.index]);
+    check_named_in_range(lines, filename, m);
+    std::set<std::pair<int, int>> named = named_registers(lines);
+    for (const auto& reg : target.reusable) named.erase(reg);
+
+    const Sequential q = sequential_meaning(r, named, m, filename, region_uid(target.ordinal));
+    const std::map<std::pair<int, int>, int>& placeholder = q.placeholder;
+    // The lines [from, to) with every other region as its sequential meaning.
+    auto around = [&](std::size_t from, std::size_t to) {
+        std::string o;
+        for (std::size_t i = from; i < to; ++i) {
+            const auto other = std::find_if(spans.begin(), spans.end(), [&](const Span& sp) { return sp.first == i; });
+            if (other == spans.end()) {
+                o += lines[i] + "\n";
+                continue;
+            }
+            const Region ro = parse_region(lines, filename, *other);
+            const int k = static_cast<int>(other - spans.begin()) - static_cast<int>(target.index) + target.ordinal;
+            const std::string seq = force_trip_line(ro, opts, m) + sequential_meaning(ro, named, m, filename, region_uid(k)).loop;
+            o += linear_only ? std::string(kRegionBegin) + "\n" + seq + kRegionEnd + "\n" : seq;
+            i = other->second;
+        }
+        return o;
+    };
+    const std::string before = around(0, r.begin), after = around(r.end + 1, lines.size());
+    Impl impl;
+    impl.span = spans[target.index];
+    PipelineResult& res = impl.res;
+    res.is_while = r.is_while;
+    res.iteration_register = q.iteration_register;
+    const std::string& loop = q.loop;
     if (linear_only) {
         res.linear = before + kRegionBegin + "\n" + loop + kRegionEnd + "\n" + after;
-        return res;
+        return impl;
     }
     // Both files say first which machine they are for (a `# machine:` line of the source's is replaced).
     const std::string header = fmt::format("# machine: {}\n", m.reference());
     const std::string code_before = assembler::header_machine(before).empty() ? before : before.substr(before.find('\n') + 1);
     res.linear = header + code_before + force_trip_line(r, opts, m) + loop + after;
+    if (upto == Upto::Linear) return impl;
     const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region", opts);
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
     std::uint32_t b0 = 0;
     for (const isa::Symbol& s : lin.symbols)
-        if (s.name == "__sa_lin" && s.kind == isa::SymbolKind::Code) b0 = s.value;
+        if (s.name == region_uid(target.ordinal) + "_lin" && s.kind == isa::SymbolKind::Code) b0 = s.value;
     std::vector<isa::Instr> instrs;
     for (const SrcOp& op : r.ops) {
         instrs.push_back(bundles[b0][0]);
@@ -1688,7 +1771,7 @@ PipelineResult pipeline_impl(std::string_view text, std::string_view filename, c
         }
         Allocation alloc = std::move(*fitted);
         const Emitter em(r, g, s, alloc, m);
-        std::string code = r.is_while ? em.while_code("__sa") : em.code(r.trip, "__sa");
+        std::string code = r.is_while ? em.while_code(region_uid(target.ordinal)) : em.code(r.trip, region_uid(target.ordinal));
         assembler::AsmResult check =
             assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, asm_options(opts));
         // A while loop starts with its first pass (the counted loop with its trip test): results
@@ -1839,35 +1922,86 @@ PipelineResult pipeline_impl(std::string_view text, std::string_view filename, c
 
     res.code = code_before + force_trip_line(r, opts, m) + emitted + after;
     res.pipelined = header + rep + res.code;
-    return res;
+    impl.emitted = force_trip_line(r, opts, m) + emitted;
+    return impl;
 }
 
 } // namespace
 
 PipelineResult pipeline_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                                const PipelineOptions& opts) {
-    return pipeline_impl(text, filename, m, opts, false);
+    std::vector<std::string> lines = split_lines(machine_sections(text, filename, m));
+    const std::size_t n = region_spans(lines, filename).size();
+    if (opts.region || n == 1) {
+        Target t;
+        t.index = opts.region.value_or(0);
+        t.ordinal = static_cast<int>(t.index);
+        PipelineResult r = pipeline_impl(text, filename, m, opts, Upto::Pipelined, t).res;
+        r.regions = static_cast<int>(n);
+        return r;
+    }
+    // Several regions: one after another, the last first (so each one's lines, and those before
+    // it, keep their numbers in reports and errors), each scheduled with the later ones as their
+    // pipelined code and the earlier ones as their sequential meanings; a region's scratch
+    // registers are free again for the next (they are live only inside it).
+    const std::string linear = pipeline_impl(text, filename, m, opts, Upto::Linear).res.linear; // every region sequential
+    PipelineResult all;
+    std::string reports;
+    Target t;
+    for (std::size_t k = n; k-- > 0;) {
+        t.index = k;
+        t.ordinal = static_cast<int>(k);
+        std::string current;
+        for (const std::string& l : lines) current += l + "\n";
+        Impl step = pipeline_impl(current, filename, m, opts, Upto::Pipelined, t);
+        all = step.res;
+        reports = step.res.report + reports;
+        for (const std::string& reg : step.res.scratch) {
+            isa::RegFile f;
+            int num = 0;
+            if (parse_reg(reg, f, num)) t.reusable.insert({static_cast<int>(f), num});
+        }
+        std::vector<std::string> spliced(lines.begin(), lines.begin() + static_cast<std::ptrdiff_t>(step.span.first));
+        for (const std::string& l : split_lines(step.emitted)) spliced.push_back(l);
+        spliced.insert(spliced.end(), lines.begin() + static_cast<std::ptrdiff_t>(step.span.second + 1), lines.end());
+        lines = std::move(spliced);
+    }
+    std::string code;
+    for (const std::string& l : lines) code += l + "\n";
+    if (!assembler::header_machine(code).empty()) code = code.substr(code.find('\n') + 1);
+    all.regions = static_cast<int>(n);
+    all.linear = linear;
+    all.report = reports;
+    all.code = code;
+    all.pipelined = fmt::format("# machine: {}\n", m.reference()) + reports + code;
+    return all;
 }
 
 std::string sequential_region(std::string_view text, std::string_view filename, const isa::Machine& m) {
-    return pipeline_impl(text, filename, m, {}, true).linear;
+    return pipeline_impl(text, filename, m, {}, Upto::Markers).res.linear;
 }
 
 std::string restore_region(std::string_view legalized, std::string_view original) {
-    const std::vector<std::string> lin = split_lines(legalized), src = split_lines(original);
+    // The original's regions, .pipeline to .endpipeline, in order: the k-th goes back between the
+    // k-th pair of markers.
+    std::vector<std::string> regions;
+    bool in_region = false;
+    for (const std::string& o : split_lines(original)) {
+        const std::string code = strip_comment(o);
+        if (opens_region(code)) {
+            in_region = true;
+            regions.emplace_back();
+        }
+        if (in_region) regions.back() += o + "\n";
+        if (code == ".endpipeline") in_region = false;
+    }
     std::string out;
     bool inside = false;
-    for (const std::string& l : lin) {
+    std::size_t next = 0;
+    for (const std::string& l : split_lines(legalized)) {
         if (l == kRegionBegin) {
             inside = true;
-            bool in_region = false; // the original's region lines, .pipeline to .endpipeline
-            for (const std::string& o : src) {
-                const std::string code = strip_comment(o);
-                if (code.rfind(".pipeline", 0) == 0 && (code.size() == 9 || std::isspace(static_cast<unsigned char>(code[9]))))
-                    in_region = true;
-                if (in_region) out += o + "\n";
-                if (code == ".endpipeline") in_region = false;
-            }
+            if (next < regions.size()) out += regions[next++];
             continue;
         }
         if (l == kRegionEnd) {

@@ -5,6 +5,8 @@
 
 #include "isa/machine.hpp"
 #include "isa/ops.hpp"
+#include "assembler/assembler.hpp"
+#include "base/read_file.hpp"
 #include "iss/differential.hpp"
 
 #include <catch2/catch.hpp>
@@ -266,4 +268,58 @@ zs:     .space 256
     sched::PipelineOptions at_mii;
     at_mii.ii = r.mii;
     CHECK_THROWS_WITH(sched::pipeline_source(text, "t.sa", m, at_mii), Catch::Contains("register pressure: no free FPRF register"));
+}
+
+TEST_CASE("a file with two regions: each pipelined and verified, the whole program equals its sequential meaning", "[unit][sched][pipeline]") {
+    // A counted loop, then a while loop over what it wrote (examples/linear/two_loops.sa).
+    const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/two_loops.sa");
+    for (const char* name : {"os", "os-real"}) {
+        INFO(name);
+        const isa::Machine m = isa::load_machine(name);
+        const sched::PipelineResult all = sched::pipeline_source(text, "t.sa", m, {});
+        CHECK(all.regions == 2);
+        // One report per region, naming the region's own lines in the file.
+        CHECK(all.report.find("lines 15-22") != std::string::npos);
+        CHECK(all.report.find("lines 28-38") != std::string::npos);
+        CHECK(all.code.find("__sa_kernel:") != std::string::npos);
+        CHECK(all.code.find("__sa1_kernel:") != std::string::npos);
+        CHECK(all.linear.find("        .pipeline") == std::string::npos);
+        // Both regions pipelined against both sequential, on random data.
+        const auto lin = assembler::assemble_string(all.linear, "t.sa", m, {});
+        const auto pip = assembler::assemble_string(all.pipelined, "t.sa", m, {});
+        REQUIRE(lin.ok);
+        REQUIRE(pip.ok);
+        iss::DiffOptions d;
+        d.registers = {"r1", "r2", "r9", "f0", "f5", "f6"};
+        CHECK_FALSE(iss::run_differential(lin.object, pip.object, m, d));
+        // Each region alone (the other sequential): the counted one at its verification trip counts.
+        sched::PipelineOptions first;
+        first.region = 0;
+        sched::PipelineResult r0;
+        CHECK_FALSE(check(text, m, &r0, first));
+        CHECK_FALSE(r0.is_while);
+        sched::PipelineOptions second;
+        second.region = 1;
+        const sched::PipelineResult r1 = sched::pipeline_source(text, "t.sa", m, second);
+        CHECK(r1.is_while);
+        CHECK(r1.code.find("        .pipeline") == std::string::npos);
+    }
+    sched::PipelineOptions none;
+    none.region = 2;
+    CHECK_THROWS_WITH(sched::pipeline_source(text, "t.sa", isa::load_machine("os"), none),
+                      "t.sa: error: no region 3: the file has 2 .pipeline regions");
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline r9\n.pipeline r9\n", "t.sa", isa::load_machine("os"), {}),
+                      Catch::Contains("t.sa:2: error: .pipeline inside the region opened at line 1"));
+}
+
+TEST_CASE("sequential_region writes every region between markers, restore_region puts each back", "[unit][sched][pipeline]") {
+    // machine::assemble_kernel legalizes the code around a kernel's regions this way.
+    const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/two_loops.sa");
+    const isa::Machine m = isa::load_machine("os-real");
+    const std::string seq = sched::sequential_region(text, "t.sa", m);
+    std::size_t markers = 0;
+    for (std::size_t at = seq.find(sched::kRegionBegin); at != std::string::npos; at = seq.find(sched::kRegionBegin, at + 1)) ++markers;
+    CHECK(markers == 2);
+    CHECK(seq.find("        .pipeline") == std::string::npos);
+    CHECK(sched::restore_region(seq, text) == text);
 }

@@ -31,8 +31,11 @@
 //
 // `.noalias rA, rB` inside the region declares that accesses based on rA and on rB never overlap.
 // Not yet: virtual registers carried from one iteration to the next of a counted loop (use a
-// physical register, as for an accumulator), branches inside the region other than a while loop's exit test, more
-// than one region per file.
+// physical register, as for an accumulator), branches inside the region other than a while loop's exit test.
+//
+// A file may hold several regions (not nested): each is pipelined in turn, in file order, with
+// the later ones standing as their sequential meanings; the scratch registers of one are free for
+// the next. Their labels are __sa_... for the first, __sa1_..., __sa2_... for the others.
 //
 //   sched::PipelineResult r = sched::pipeline_source(text, "loop.sa", isa::load_machine("os"), {});
 //   fmt::print("{}", r.pipelined);          // assembles with `nesshi asm` with no diagnostic
@@ -64,6 +67,9 @@ struct PipelineOptions {
     std::optional<std::uint32_t> force_trip;
     // How the file's .include lines are read (embedded kernel sources); default the file system.
     std::function<bool(const std::string& path, std::string& text)> read_file;
+    // A file with several regions: only this one (0-based) is pipelined, the others are written as
+    // their sequential meanings (verification checks one region at a time). Default: every one.
+    std::optional<int> region;
 };
 
 struct PipelineResult {
@@ -74,6 +80,9 @@ struct PipelineResult {
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
     int stages = 0, unroll = 1;
     int min_pipelined_trip = 0;          // smaller trip counts run the sequential copy only
+    // The file's .pipeline regions. With several and no PipelineOptions::region, the code and the
+    // report (one block per region) cover them all; the fields above and below describe the first.
+    int regions = 1;
     std::string trip_register;           // "r9"
     std::vector<std::string> scratch;    // physical registers the tool allocated (virtuals, counter)
     std::vector<std::string> source_registers; // registers the source names (live across the region)
