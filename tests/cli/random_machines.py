@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Kernels for any machine (issue 25, item 3): N random machine descriptions drawn from the stage
+presets render two scenes through model V with no error, and each image, primitive-id buffer and
+depth buffer is the native renderer's, byte for byte.
+
+A description inherits os / os-real (the OS) or ic / ic-real (the IC) and draws every latency class
+from 1-12, the branch penalty from 0-2, and sometimes other read and write port counts per
+register file (units are not varied yet). Seeded: the same N and seed draw the same
+machines, and a failure prints the two files to reproduce it with `nesshi render`.
+Also printed, not asserted (the IC kernel is not yet scheduled per machine, the OS voxel loop
+pays its entry and exit): the largest cycles / bound of each stage's loop rows over the first K
+machines, from `nesshi kernels --json`.
+
+usage: random_machines.py NESSHI OUTDIR [N [SEED [K]]]
+"""
+import json
+import os
+import random
+import subprocess
+import sys
+
+CLASSES = ["alu", "mul", "fadd", "fmul", "fdiv", "load", "store", "branch", "fifo", "misc"]
+SCENES = ["balls:1", "tetra:1"]
+VIEW = ["--size", "8", "--grid", "6", "-q"]
+def describe(rng, base, name):
+    lines = [f'inherits = "{base}"', f'name = "{name}"', f"branch_penalty = {rng.randint(0, 2)}"]
+    ports = []
+    for f in ("int", "float"):
+        if rng.random() < 0.3:
+            ports.append(f"[registers.{f}]")
+            ports.append(f"read_ports = {rng.choice([4, 6])}")
+            ports.append(f"write_ports = {rng.choice([2, 3, 4] if base.startswith('ic') else [2, 3])}")
+    lines += ports
+    lines.append("[latency]")
+    lines += [f"{c} = {rng.randint(1, 12)}" for c in CLASSES]
+    return "\n".join(lines) + "\n"
+
+
+def render(nesshi, scene, out, machines=None):
+    cmd = [nesshi, "render", scene, *VIEW, "-o", out + ".png", "--id-buffer", out + ".id", "--t-buffer", out + ".t"]
+    if machines:
+        cmd += ["--model", "V", "--os-machine", machines[0], "--ic-machine", machines[1], "--max-cycles", "400000000"]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    outputs = []
+    if p.returncode == 0:
+        for ext in (".png", ".id", ".t"):
+            with open(out + ext, "rb") as f:
+                outputs.append(f.read())
+    return p, outputs
+
+
+def main():
+    nesshi, out = sys.argv[1], sys.argv[2]
+    n = int(sys.argv[3]) if len(sys.argv) > 3 else 100
+    seed = int(sys.argv[4]) if len(sys.argv) > 4 else 25
+    k = int(sys.argv[5]) if len(sys.argv) > 5 else 10
+    os.makedirs(out, exist_ok=True)
+    rng = random.Random(seed)
+    native = {s: render(nesshi, s, os.path.join(out, "native-" + s.replace(":", "-")))[1] for s in SCENES}
+    bad = 0
+    worst = {"os": (0.0, None, None), "ic": (0.0, None, None)}  # the largest cycles / bound of a loop row
+    for i in range(n):
+        files = []
+        for stage, bases in (("os", ["os", "os-real"]), ("ic", ["ic", "ic-real"])):
+            path = os.path.join(out, f"{stage}-{i}.toml")
+            with open(path, "w") as f:
+                f.write(describe(rng, rng.choice(bases), f"random-{stage}-{i}"))
+            files.append(path)
+        for s in SCENES:
+            p, got = render(nesshi, s, os.path.join(out, f"v-{i}-" + s.replace(":", "-")), files)
+            if p.returncode != 0 or got != native[s]:
+                bad += 1
+                what = f"exit {p.returncode}" if p.returncode else "image, ids or depths differ from native"
+                print(f"machine {i} on {s}: {what}\n{p.stderr[-2000:]}")
+                for path in files:
+                    with open(path) as f:
+                        print(f"--- {path}\n{f.read()}")
+        if i < k:
+            p = subprocess.run([nesshi, "kernels", "--os-machine", files[0], "--ic-machine", files[1], "--json", "-"],
+                               capture_output=True, text=True)
+            if p.returncode == 0:
+                for row in json.loads(p.stdout)["kernels"]:
+                    if row.get("bound") and row["machine"] in worst:
+                        ratio = row["cycles"] / row["bound"]
+                        if ratio > worst[row["machine"]][0]:
+                            worst[row["machine"]] = (ratio, row["metric"], files[0 if row["machine"] == "os" else 1])
+    for stage, (ratio, metric, path) in worst.items():
+        print(f"{stage} loop rows over the first {k} machines: at most {ratio:.2f} x the bound ({metric} on {path})")
+    if bad:
+        print(f"FAILED: {bad} of {2 * n} renders")
+        sys.exit(1)
+    print(f"ok: {n} random machines render {len(SCENES)} scenes as native does")
+
+
+if __name__ == "__main__":
+    main()
