@@ -67,6 +67,12 @@ std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& o
             nlohmann::json j{{"source", b.source}, {"machine", b.machine}, {"scheduled", b.scheduled},
                              {"blocks", b.blocks}, {"nops_inserted", b.nops}};
             if (!b.choice.empty()) j["choice"] = b.choice;
+            if (!b.loops.empty()) {
+                j["loops"] = nlohmann::json::array();
+                for (const KernelLoop& l : b.loops)
+                    j["loops"].push_back({{"line", l.line}, {"kind", l.is_while ? "while" : "counted"}, {"ii", l.ii},
+                                          {"mii", l.mii}, {"stages", l.stages}, {"unroll", l.unroll}});
+            }
             return j;
         };
         j["machine"]["kernels"] = {{"os", build(m.os_kernel)}, {"ic", build(m.ic_kernel)}};
@@ -113,9 +119,14 @@ std::string format_stats(const Stats& m) {
                          m.cache_accesses);
     o += "\n";
     for (const auto& [stage, b] : {std::pair{"OS", &m.os_kernel}, std::pair{"IC", &m.ic_kernel}}) {
-        if (b->scheduled)
-            o += fmt::format("{} kernel: {} scheduled for {} ({} blocks; {} nop bundle{} in its hand-scheduled code for the latencies)\n",
-                             stage, b->source, b->machine, b->blocks, b->nops, b->nops == 1 ? "" : "s");
+        if (b->scheduled) {
+            std::string loops;
+            for (const KernelLoop& l : b->loops)
+                loops += fmt::format("; {} loop at line {}: II {} (MII {}), {} stage{}, unrolled {}x", l.is_while ? "while" : "counted",
+                                     l.line, l.ii, l.mii, l.stages, l.stages == 1 ? "" : "s", l.unroll);
+            o += fmt::format("{} kernel: {} scheduled for {} ({} blocks; {} nop bundle{} in its hand-scheduled code for the latencies{})\n",
+                             stage, b->source, b->machine, b->blocks, b->nops, b->nops == 1 ? "" : "s", loops);
+        }
         if (!b->choice.empty()) o += fmt::format("{} kernel for {}: {}\n", stage, b->machine, b->choice);
     }
     o += fmt::format("host: {:.2f} s, {:.1f} M bundles simulated, {:.1f} M bundles/s ({} thread{})\n", m.wall_seconds,

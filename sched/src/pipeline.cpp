@@ -1888,6 +1888,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     res.trip_register = r.trip;
     if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
+    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll}};
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
@@ -1947,6 +1948,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     const std::string linear = pipeline_impl(text, filename, m, opts, Upto::Linear).res.linear; // every region sequential
     PipelineResult all;
     std::string reports;
+    std::vector<LoopSummary> loops;
     Target t;
     for (std::size_t k = n; k-- > 0;) {
         t.index = k;
@@ -1956,6 +1958,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
         Impl step = pipeline_impl(current, filename, m, opts, Upto::Pipelined, t);
         all = step.res;
         reports = step.res.report + reports;
+        loops.insert(loops.begin(), step.res.loops.begin(), step.res.loops.end());
         for (const std::string& reg : step.res.scratch) {
             isa::RegFile f;
             int num = 0;
@@ -1971,6 +1974,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     if (!assembler::header_machine(code).empty()) code = code.substr(code.find('\n') + 1);
     all.regions = static_cast<int>(n);
     all.linear = linear;
+    all.loops = loops;
     all.report = reports;
     all.code = code;
     all.pipelined = fmt::format("# machine: {}\n", m.reference()) + reports + code;

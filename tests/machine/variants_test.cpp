@@ -69,6 +69,18 @@ TEST_CASE("os-real's pipelined voxel loop renders native's image, ids and depths
     CHECK(real.render.image.rgb == native.image.rgb);
     CHECK(real.render.t_buffer == native.t_buffer);
     CHECK(real.render.stats.rays == native.stats.rays);
+    // The build says how its loop was scheduled: the .pk's while loop, at its RecMII of 9 (lbu 2 +
+    // bnez, the step's fle/and/sel/add chain) on os-real, with the line of its `.pipeline`.
+    REQUIRE(real.machine.os_kernel.loops.size() == 1);
+    const machine::KernelLoop& l = real.machine.os_kernel.loops[0];
+    CHECK(l.is_while);
+    CHECK(l.ii == l.mii);
+    CHECK(l.stages >= 1);
+    const std::string pk = kernels::embedded().text("os/dda.pk");
+    std::size_t at = 0;
+    for (int n = 1; n < l.line; ++n) at = pk.find('\n', at) + 1;
+    CHECK(pk.compare(at, 24, "        .pipeline while\n") == 0);
+    CHECK(real.machine.ic_kernel.loops.empty()); // the ic preset's committed kernel
 }
 
 // Three plausible slower OS machines whose kernel did not assemble ("f41 is read before its new

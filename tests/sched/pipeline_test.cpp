@@ -278,6 +278,11 @@ TEST_CASE("a file with two regions: each pipelined and verified, the whole progr
         const isa::Machine m = isa::load_machine(name);
         const sched::PipelineResult all = sched::pipeline_source(text, "t.sa", m, {});
         CHECK(all.regions == 2);
+        REQUIRE(all.loops.size() == 2);
+        CHECK(all.loops[0].line == 15);
+        CHECK_FALSE(all.loops[0].is_while);
+        CHECK(all.loops[1].line == 28);
+        CHECK(all.loops[1].is_while);
         // One report per region, naming the region's own lines in the file.
         CHECK(all.report.find("lines 15-22") != std::string::npos);
         CHECK(all.report.find("lines 28-38") != std::string::npos);

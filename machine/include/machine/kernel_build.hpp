@@ -3,8 +3,16 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace nesshi::machine {
+
+// A `.pipeline` loop of a kernel, modulo-scheduled for the machine.
+struct KernelLoop {
+    int line = 0;          // of its .pipeline in the source
+    bool is_while = false; // `.pipeline while` (else counted)
+    int ii = 0, mii = 0, stages = 0, unroll = 1;
+};
 
 // How a kernel was built for its machine.
 struct KernelBuild {
@@ -14,6 +22,7 @@ struct KernelBuild {
     int blocks = 0;         // how many
     int nops = 0;           // nop bundles inserted into its hand-scheduled code for the machine's latencies
     std::string choice;     // when the committed kernel was also a candidate: which was kept, and the cycles of both
+    std::vector<KernelLoop> loops; // its loops as scheduled (empty when the committed kernel was kept)
 };
 
 } // namespace nesshi::machine

@@ -72,6 +72,13 @@ struct PipelineOptions {
     std::optional<int> region;
 };
 
+// One region's schedule, for whoever builds code with the tool (machine::KernelBuild).
+struct LoopSummary {
+    int line = 0; // of its .pipeline
+    bool is_while = false;
+    int ii = 0, mii = 0, res_mii = 0, rec_mii = 0, stages = 0, unroll = 1;
+};
+
 struct PipelineResult {
     std::string linear;    // the region as a sequential loop (the reference meaning), whole file
     std::string pipelined; // the region software-pipelined, whole file: its `# machine:` line, report, code
@@ -83,6 +90,7 @@ struct PipelineResult {
     // The file's .pipeline regions. With several and no PipelineOptions::region, the code and the
     // report (one block per region) cover them all; the fields above and below describe the first.
     int regions = 1;
+    std::vector<LoopSummary> loops; // each region pipelined, in file order
     std::string trip_register;           // "r9"
     std::vector<std::string> scratch;    // physical registers the tool allocated (virtuals, counter)
     std::vector<std::string> source_registers; // registers the source names (live across the region)
