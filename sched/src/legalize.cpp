@@ -28,6 +28,39 @@ int nops_for(const std::string& message) {
     return 0;
 }
 
+// A bundle written on one line, `{ a ; b ; c }`, that reads more registers than the machine has
+// read ports, or whose results need more write ports in one cycle: the op at `col` (1-based, the
+// error's caret) goes into a bundle of its own just before, issuing a cycle earlier. That keeps the meaning when nothing else in the bundle
+// names its destination (the others still read the old value; its own sources are checked
+// again, and a value it now reads in flight gets nops) and it is neither a FIFO word (their order
+// is their slot order), a store (a load beside it reads the old memory) nor control. The two lines, or nothing when the op cannot move.
+std::optional<std::pair<std::string, std::string>> split_off(const std::string& line, std::size_t col) {
+    const std::size_t open = line.find('{'), close = line.rfind('}');
+    if (open == std::string::npos || close == std::string::npos || col == 0 || col - 1 <= open || col - 1 >= close) return std::nullopt;
+    std::size_t begin = line.rfind(';', col - 1);
+    begin = begin == std::string::npos || begin < open ? open + 1 : begin + 1;
+    std::size_t end = line.find(';', col - 1);
+    if (end == std::string::npos || end > close) end = close;
+    const std::string op = trim(line.substr(begin, end - begin));
+    std::string rest = line.substr(open + 1, begin - open - 1) + line.substr(end + (end < close ? 1 : 0), close - end - (end < close ? 1 : 0));
+    std::string bare = op.substr(op.find(':') == std::string::npos ? 0 : op.find(':') + 1); // without a slot prefix
+    bare = trim(bare);
+    const std::string mnemonic = bare.substr(0, bare.find_first_of(" \t"));
+    static const std::regex not_movable(R"(^(f?recv|f?send|j\w*|b\w*|halt|sw|sh|sb|fsw)$)"); // stores: a load beside them
+    if (std::regex_match(mnemonic, not_movable)) return std::nullopt;
+    const std::size_t comma = bare.find(',');
+    const std::string dest = trim(bare.substr(mnemonic.size(), comma == std::string::npos ? std::string::npos : comma - mnemonic.size()));
+    if (dest.empty() || std::regex_search(rest, std::regex("(^|[^A-Za-z0-9_])" + dest + "([^0-9A-Za-z_]|$)"))) return std::nullopt;
+    while (rest.find(";;") != std::string::npos) rest.erase(rest.find(";;"), 1);
+    rest = trim(rest);
+    if (!rest.empty() && rest.front() == ';') rest = trim(rest.substr(1));
+    if (!rest.empty() && rest.back() == ';') rest = trim(rest.substr(0, rest.size() - 1));
+    if (rest.empty()) return std::nullopt;
+    const std::string head = line.substr(0, open), tail = line.substr(close + 1);
+    // A label before the bundle stays before the moved op: a jump to it runs both.
+    return std::pair{head + "{ " + op + " }", std::string(head.size(), ' ') + "{ " + rest + " }" + tail};
+}
+
 // The line a nop for `line` goes before: the `#pack begin` of the block holding it, if any.
 std::size_t insertion_line(const std::vector<std::string>& lines, std::size_t line) {
     for (std::size_t k = line; k-- > 0;) {
@@ -48,7 +81,7 @@ Legalized legalize(const std::string& text, const std::string& filename,
     for (std::size_t i = 0; i < lines.size(); ++i) origin.push_back(static_cast<int>(i) + 1);
     std::map<int, int> added; // original line -> nops before it
     const std::regex located("^" + std::regex_replace(filename, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-                             R"(:(\d+):\d+: error: (.*)$)");
+                             R"(:(\d+):(\d+): error: (.*)$)");
     for (int round = 0; round < 256; ++round) {
         const std::optional<std::string> diags = check(out.text);
         if (!diags) {
@@ -56,18 +89,39 @@ Legalized legalize(const std::string& text, const std::string& filename,
             return out;
         }
         std::map<std::size_t, int> need; // 0-based line of the current text -> nops
+        std::map<std::size_t, std::size_t> split; // 0-based line -> the column of an op to move out
         bool other = false;
         for (const std::string& d : split_lines(*diags)) {
             std::smatch m;
             if (d.find(": error: ") == std::string::npos || d.rfind(filename + ": error: ", 0) == 0) continue; // a summary
             if (!std::regex_match(d, m, located)) { other = true; break; }
-            const int n = nops_for(m[2]);
             const std::size_t line = static_cast<std::size_t>(std::stoul(m[1])) - 1;
+            const std::string& what = m[3];
+            const bool ports = (what.rfind("bundle needs more than", 0) == 0 && what.find("write ports in cycle") != std::string::npos) ||
+                               (what.rfind("bundle needs ", 0) == 0 && what.find(" read ports; ") != std::string::npos);
+            if (ports) {
+                if (line >= lines.size() || !split_off(lines[line], std::stoul(m[2]))) { other = true; break; }
+                split.emplace(line, std::stoul(m[2])); // the first error of a line
+                continue;
+            }
+            const int n = nops_for(m[3]);
             if (n == 0 || line >= lines.size()) { other = true; break; }
             int& slot = need[insertion_line(lines, line)];
             slot = std::max(slot, n);
         }
-        if (other || need.empty()) throw base::Error(*diags);
+        if (other || (need.empty() && split.empty())) throw base::Error(*diags);
+        if (!split.empty()) { // one round of splits alone: the nops of this round's diagnostics may be stale
+            for (auto it = split.rbegin(); it != split.rend(); ++it) {
+                const auto parts = split_off(lines[it->first], it->second);
+                lines[it->first] = parts->second;
+                lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(it->first), parts->first);
+                origin.insert(origin.begin() + static_cast<std::ptrdiff_t>(it->first), 0);
+                ++out.splits;
+            }
+            out.text.clear();
+            for (const std::string& l : lines) out.text += l + "\n";
+            continue;
+        }
         // From the bottom, so earlier line numbers stay valid.
         for (auto it = need.rbegin(); it != need.rend(); ++it) {
             std::size_t at = it->first;

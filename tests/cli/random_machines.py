@@ -4,8 +4,9 @@ presets render two scenes through model V with no error, and each image, primiti
 depth buffer is the native renderer's, byte for byte.
 
 A description inherits os / os-real (the OS) or ic / ic-real (the IC) and draws every latency class
-from 1-12, the branch penalty from 0-2, and sometimes other read and write port counts per
-register file (units are not varied yet). Seeded: the same N and seed draw the same
+from 1-12, the branch penalty from 0-2, and sometimes other port counts per register file: 3, 4
+or 6 read ports (an op reads up to 3), 1 or 3 write ports on the OS, 1, 2 or 4 on the IC (the
+hand code's bundles are split where they exceed them; units are not varied yet). Seeded: the same N and seed draw the same
 machines, and a failure prints the two files to reproduce it with `nesshi render`.
 Also printed, not asserted (the IC kernel is not yet scheduled per machine, the OS voxel loop
 pays its entry and exit): the largest cycles / bound of each stage's loop rows over the first K
@@ -28,8 +29,8 @@ def describe(rng, base, name):
     for f in ("int", "float"):
         if rng.random() < 0.3:
             ports.append(f"[registers.{f}]")
-            ports.append(f"read_ports = {rng.choice([4, 6])}")
-            ports.append(f"write_ports = {rng.choice([2, 3, 4] if base.startswith('ic') else [2, 3])}")
+            ports.append(f"read_ports = {rng.choice([3, 4, 6])}")
+            ports.append(f"write_ports = {rng.choice([1, 2, 4] if base.startswith('ic') else [1, 3])}")
     lines += ports
     lines.append("[latency]")
     lines += [f"{c} = {rng.randint(1, 12)}" for c in CLASSES]

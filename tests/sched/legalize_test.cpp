@@ -89,3 +89,26 @@ TEST_CASE("legalize: a write that would land before an earlier one waits until i
     CHECK(result(l.text, real) == 9);
     CHECK(result(l.text, real) == result(code, os));
 }
+
+TEST_CASE("legalize: a bundle beyond the machine's ports gives an op a bundle of its own", "[unit][sched]") {
+    // Found by the random-machine test: the OS kernel's hand bundles write two float registers
+    // at once ({ beq ; fsel ; fmin }); an OS with one FPRF write port refused the kernel.
+    isa::Machine one = isa::load_machine("os");
+    one.name = "os-1w";
+    one.regs[static_cast<std::size_t>(isa::RegFile::Int)].write_ports = 1;
+    one.regs[static_cast<std::size_t>(isa::RegFile::Float)].write_ports = 1;
+    const char* code = "        li r1, 3\n        li r2, 4\n        fli f1, 1.5\n"
+                       "here:   { add r3, r1, r2 ; mul r4, r1, r2 ; fadd f3, f1, f1 ; fmul f4, f1, f1 }\n"
+                       "        sub r5, r4, r3\n        fsub f5, f4, f3\n        ftoi r6, f5\n        add r5, r5, r6\n        halt\n";
+    REQUIRE(assembles(one)(code));
+    const sched::Legalized l = sched::legalize(code, "k.s", assembles(one));
+    INFO(l.text);
+    CHECK(!assembles(one)(l.text));
+    CHECK(l.splits == 2);
+    CHECK(l.text.find("here:   { ") == l.text.find("here:")); // the label stays first, on a moved op
+    CHECK(result(l.text, one) == result(code, isa::load_machine("os")));
+    // An op whose destination its bundle also reads cannot move: the other would see the new value.
+    const char* reads = "        li r1, 3\n        li r2, 4\n        { add r3, r1, r2 ; add r1, r2, r2 }\n        halt\n";
+    REQUIRE(assembles(one)(reads));
+    CHECK_THROWS_WITH(sched::legalize(reads, "k.s", assembles(one)), Catch::Contains("write ports"));
+}

@@ -5,7 +5,9 @@
 // assembler's hazard check accepts the code: before each bundle that reads a value too early
 // (as many as the value still needs), one before a bundle whose results would land in one
 // cycle beyond the write ports or twice on one register, and before a bundle whose write would
-// land before an earlier write to its register as many as put it one cycle after that one. A nop only delays, so the meaning stays
+// land before an earlier write to its register as many as put it one cycle after that one; a
+// bundle that reads or writes beyond the ports (a machine with fewer of them) loses an op to a
+// bundle of its own just before it, when that keeps the meaning. A nop only delays, so the meaning stays
 // the one the code has on the machine it was written for: a read in the overwriting producer's
 // bundle or earlier sees the old value on every machine, any later read must see the new one.
 //
@@ -24,6 +26,7 @@ namespace nesshi::sched {
 struct Legalized {
     std::string text;
     int nops = 0;                    // nop bundles inserted
+    int splits = 0;                  // ops moved out of a bundle beyond the read or write ports
     std::vector<std::string> where;  // "LINE: N nops (REASON)" against the original text's lines
 };
 
