@@ -78,6 +78,7 @@ struct Region {
     bool is_while = false;
     int exit_op = -1;
     std::set<int> speculate; // `.speculate rA`: loads based on rA may run ahead of the exit
+    std::set<std::string> speculate_virtual; // `.speculate %p`: loads based on the virtual %p too
     // `.carry %v, IN[, OUT[, OLD]]`: %v is carried from one iteration to the next (read before its
     // write), starts as IN, ends in OUT (default IN) and, in OLD, the value the exiting iteration
     // started with. `.liveout %v, REG`: the exiting iteration's %v ends in REG.
@@ -86,7 +87,7 @@ struct Region {
     };
     std::map<std::string, Carry> carry;
     std::map<std::string, std::string> liveout;
-    int line_of_directives = 0;
+    int line_of_directives = 0, line_of_speculate = 0;
 };
 
 bool opens_region(const std::string& code) {
@@ -159,10 +160,15 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             for (const std::string& reg : split_operands(code.substr(10))) {
                 isa::RegFile f;
                 int b = 0;
+                if (!reg.empty() && reg[0] == '%') { // a base computed or loaded in the loop: checked once the region is read
+                    r.speculate_virtual.insert(reg);
+                    continue;
+                }
                 if (!parse_reg(reg, f, b) || f != isa::RegFile::Int)
-                    fail(file, ln, ".speculate takes integer base registers: .speculate rA[, rB ...]");
+                    fail(file, ln, ".speculate takes integer base registers: .speculate rA[, %p ...]");
                 r.speculate.insert(b);
             }
+            r.line_of_speculate = ln;
             continue;
         }
         if (code.rfind(".carry", 0) == 0 || code.rfind(".liveout", 0) == 0) {
@@ -268,6 +274,11 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
         return v;
     };
     for (const auto& [name, c] : r.carry) declared(name, {c.in, c.out, c.old});
+    for (const std::string& name : r.speculate_virtual) {
+        const auto it = r.virtual_index.find(name);
+        if (it == r.virtual_index.end() || r.virtuals[static_cast<std::size_t>(it->second)].file != isa::RegFile::Int)
+            fail(file, r.line_of_speculate, fmt::format("{} in .speculate is no integer virtual register of the region", name));
+    }
     for (const auto& [name, reg] : r.liveout)
         if (declared(name, {reg}).def > r.exit_op)
             fail(file, r.line_of_directives, fmt::format("{} is written after the exit test: the exiting iteration has no "
@@ -351,6 +362,7 @@ struct Node {
     int latency = 1;
     bool mem = false, store = false;
     int base = -1;            // memory ops: the base register
+    bool speculative = false; // a load whose base is declared `.speculate` (it may run past the exit)
     bool adjusted = false;    // memory op on an induction register: offset moved, no register edge
     int width = 4;
 };
@@ -410,11 +422,11 @@ bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
 // Whether op i of a while loop has an effect a discarded iteration must not have: a store, a
 // FIFO word, a load whose base is not declared `.speculate` (it could fault past the end), or a
 // write of a physical register other than an induction (the exit path corrects inductions).
-bool side_effect(const Graph& g, const Region& r, int i, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+bool side_effect(const Graph& g, int i, const std::function<bool(isa::RegFile, int)>& is_virtual) {
     const Node& nd = g.nodes[static_cast<std::size_t>(i)];
     const isa::Kind k = nd.instr.info().kind;
     if (k == isa::Kind::Store || k == isa::Kind::Send || k == isa::Kind::Recv) return true;
-    if (k == isa::Kind::Load && !r.speculate.count(nd.base)) return true;
+    if (k == isa::Kind::Load && !nd.speculative) return true;
     for (const isa::RegOperand& o : isa::register_operands(nd.instr))
         if (o.write && !is_virtual(o.file, o.reg) && !(o.file == isa::RegFile::Int && g.induction_of(o.reg))) return true;
     return false;
@@ -426,7 +438,7 @@ bool side_effect(const Graph& g, const Region& r, int i, const std::function<boo
 // ops in the bundle of a taken branch still execute.
 void add_exit_edges(Graph& g, const Region& r, const std::function<bool(isa::RegFile, int)>& is_virtual) {
     for (int i = 0; i < static_cast<int>(g.nodes.size()); ++i) {
-        if (i == r.exit_op || !side_effect(g, r, i, is_virtual)) continue;
+        if (i == r.exit_op || !side_effect(g, i, is_virtual)) continue;
         g.edges.push_back({r.exit_op, i, 1, 1, "exit before a later side effect"});
         if (i > r.exit_op) g.edges.push_back({r.exit_op, i, 1, 0, "exit before a side effect after it"});
     }
@@ -457,6 +469,12 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
         g.nodes.push_back(nd);
     }
     auto is_virtual = [&](isa::RegFile f, int reg) { return placeholder.count({static_cast<int>(f), reg}) != 0; };
+    for (Node& nd : g.nodes) {
+        if (nd.instr.info().kind != isa::Kind::Load) continue;
+        const auto v = placeholder.find({static_cast<int>(isa::RegFile::Int), nd.base});
+        nd.speculative = v != placeholder.end() ? r.speculate_virtual.count(r.virtuals[static_cast<std::size_t>(v->second)].name) != 0
+                                                : r.speculate.count(nd.base) != 0;
+    }
     // Induction registers: a physical integer register whose one write is `addi r, r, C`.
     std::map<int, std::vector<int>> int_defs;
     for (int i = 0; i < n; ++i)
@@ -1608,16 +1626,20 @@ std::string while_report(const Graph& g, const Region& r, const Schedule& s, con
     std::string o = fmt::format("#   exit test in stage {}: {} later iteration{} start{} before it is decided, with no side effect "
                                 "(stores, FIFO words, loads not .speculate, physical registers but inductions wait for it)\n",
                                 res.exit_stage, res.exit_stage, res.exit_stage == 1 ? "" : "s", res.exit_stage == 1 ? "s" : "");
-    std::map<int, int> load_ahead; // base -> iterations past the exit its loads may run
+    std::map<std::pair<bool, std::string>, int> load_ahead; // base (physical first) -> iterations past the exit its loads may run
     for (std::size_t k = 0; k < g.nodes.size(); ++k)
-        if (g.nodes[k].instr.info().kind == isa::Kind::Load && r.speculate.count(g.nodes[k].base)) {
+        if (g.nodes[k].instr.info().kind == isa::Kind::Load && g.nodes[k].speculative) {
             int ahead = tb >= s.time[k] ? (tb - s.time[k]) / s.ii : 0;
             if (static_cast<int>(k) > r.exit_op) ahead += 1; // the exiting iteration's own load after its test
-            load_ahead[g.nodes[k].base] = std::max(load_ahead[g.nodes[k].base], ahead);
+            const SrcOp& op = r.ops[k];
+            const std::string& mem = op.operands.back(); // `off(base)`: the name as written
+            const std::string base = mem.substr(mem.find('(') + 1, mem.rfind(')') - mem.find('(') - 1);
+            int& a = load_ahead[{base[0] == '%', base}];
+            a = std::max(a, ahead);
         }
-    for (auto [base, n] : load_ahead)
-        o += fmt::format("#   speculative loads on r{}: up to {} iteration{} past the exit (those addresses must be mapped)\n",
-                         base, n, n == 1 ? "" : "s");
+    for (const auto& [base, n] : load_ahead)
+        o += fmt::format("#   speculative loads on {}: up to {} iteration{} past the exit (those addresses must be mapped)\n",
+                         base.second, n, n == 1 ? "" : "s");
     const int prologue_exits = std::max(0, res.stages - 1 - res.exit_stage);
     o += fmt::format("#   exit paths: {} from the prologue, {} from the kernel (one per copy); no trip count, no "
                      "sequential fallback\n", prologue_exits, res.unroll);

@@ -4,6 +4,7 @@
 #include "sched/pipeline.hpp"
 #include "sched/random_loop.hpp"
 
+#include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
 #include "isa/machine.hpp"
 #include "iss/differential.hpp"
@@ -178,4 +179,62 @@ TEST_CASE("bad .carry and .liveout are clear errors", "[unit][sched][while]") {
                       Catch::Contains("%a is written after the exit test"));
     CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.carry %b, f1\nbnez r2, exit\n.endpipeline\n", "w.sa", os, {}),
                       Catch::Contains("%b is declared but never written"));
+}
+
+TEST_CASE(".speculate on a virtual base: a pointer chase runs ahead of its exit test", "[unit][sched][while]") {
+    // A linked list of {next, value} nodes ending in next = 0 (address 0 is mapped on os, so the
+    // loads past the end read memory). Without `.speculate %p` the loads through the pointer just
+    // loaded wait for the exit test, and each node costs the whole chain.
+    const std::string list = R"(# machine: MACHINE
+        .data 0x100
+n0:     .word n1, 0x3fc00000
+n1:     .word n2, 0x40000000
+n2:     .word n3, 0x40400000
+n3:     .word n4, 0x40800000
+n4:     .word n5, 0x40a00000
+n5:     .word 0, 0x40c00000
+        .text
+        li r2, n0
+        fli f5, 0.0
+        nop
+        nop
+        .pipeline while
+SPECULATE
+        .carry %p, r2
+        .carry %sum, f5
+        flw   %v, 4(%p)
+        fmul  %w, %v, %v
+        fadd  %sum, %sum, %w
+        lw    %p, 0(%p)
+        beqz  %p, exit
+        .endpipeline
+        halt
+)";
+    for (const char* name : {"os", "os-real"}) {
+        INFO(name);
+        const isa::Machine m = isa::load_machine(name);
+        auto text = [&](bool speculate) {
+            std::string t = list;
+            t.replace(t.find("MACHINE"), 7, name);
+            t.replace(t.find("SPECULATE"), 9, speculate ? "        .speculate %p" : "");
+            return t;
+        };
+        const sched::PipelineResult fast = sched::pipeline_source(text(true), "l.sa", m, {});
+        const sched::PipelineResult slow = sched::pipeline_source(text(false), "l.sa", m, {});
+        CHECK(fast.report.find("speculative loads on %p") != std::string::npos);
+        CHECK(fast.ii < slow.ii);
+        iss::DiffOptions d;
+        d.randomize_data = false; // the list as written: random words would be wild pointers
+        d.registers = {"r2", "f5"};
+        for (const sched::PipelineResult* r : {&fast, &slow}) {
+            const auto lin = assembler::assemble_string(r->linear, "l.sa", m, {});
+            const auto pip = assembler::assemble_string(r->pipelined, "l.sa", m, {});
+            REQUIRE(lin.ok);
+            REQUIRE(pip.ok);
+            CHECK_FALSE(iss::run_differential(lin.object, pip.object, m, d));
+        }
+    }
+    CHECK_THROWS_WITH(sched::pipeline_source(".pipeline while\n.speculate %q\nbeqz r1, exit\n.endpipeline\n", "l.sa",
+                                             isa::load_machine("os"), {}),
+                      Catch::Contains("%q in .speculate is no integer virtual register of the region"));
 }

@@ -24,7 +24,8 @@
 // `.pipeline while` instead has no trip count and one exit test, a conditional branch to `exit`
 // (`beqz %go, exit`); iterations start before earlier tests are decided, with no side effect
 // (stores, FIFO words, physical registers but inductions, loads unless `.speculate rA` names
-// their base) until those tests pass; each prologue pass and kernel copy has its own exit path.
+// their base, or `.speculate %p` for a base computed or loaded in the loop, as in a pointer
+// chase) until those tests pass; each prologue pass and kernel copy has its own exit path.
 // There `.carry %v, IN[, OUT[, OLD]]` carries %v between iterations (read before its write; in
 // from IN, out to OUT, and to OLD the value the exiting iteration started with) and
 // `.liveout %v, REG` hands the exiting iteration's %v out.
