@@ -167,6 +167,8 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
                 auto add = [&](const toml::node& v) {
                     const auto x = scalar(v);
                     if (!x) throw PaperError(where(file, v.source()), fmt::format("{}: a value must be a string, a whole number or a boolean", a.name));
+                    if (std::find(a.values.begin(), a.values.end(), *x) != a.values.end()) // one cell, one file: twice would clash
+                        throw PaperError(where(file, v.source()), fmt::format("{}: {} is listed twice", a.name, *x));
                     a.values.push_back(*x);
                 };
                 if (const toml::array* list = value.as_array()) {

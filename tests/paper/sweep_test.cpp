@@ -73,6 +73,8 @@ TEST_CASE("Sweep spec: bad input is a located error", "[unit][sweep]") {
     CHECK_THAT(error_of("[axes\n"), Catch::StartsWith("s.toml:1:"));
     CHECK_THAT(error_of("[axes]\nsize = 8\n[chart]\ny_scale = \"cubic\"\n"), Catch::Contains("y_scale is \"linear\" or \"log\""));
     CHECK(parse_sweep_spec("[axes]\nsize = 8\n[chart]\ny_scale = \"log\"\n", "s.toml").chart_log_y);
+    // Found by fuzzing (crashes/sweep/axis-value-twice): a value twice made two cells of one file.
+    CHECK_THAT(error_of("[axes]\nsize = [4, 8, 4]\n"), Catch::StartsWith("s.toml:2:15: error: size: 4 is listed twice"));
 }
 
 // Findings S1-S3 of the robustness campaign (issue 24).
