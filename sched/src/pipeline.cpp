@@ -35,6 +35,7 @@ namespace {
 
 constexpr int kMaxDistance = 16;  // memory dependences are looked for up to this many iterations apart
 constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next (different op orders)
+constexpr int kMaxBubbleUnroll = 8; // kernel copies a while loop may get for its branch bubble
 
 [[noreturn]] void fail(std::string_view file, int line, const std::string& msg) {
     throw base::Error(base::SourceLoc(file, line), msg);
@@ -1132,6 +1133,11 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         need = std::max(need, a.copies.back());
     }
     a.unroll = need;
+    // A while loop pays the taken-branch bubble once per kernel pass: more kernel copies (the same
+    // registers rotating, a power of two) until it is at most a tenth of the pass. No remainder
+    // to run and no register more; only more code and exit paths.
+    if (r.is_while)
+        while (a.unroll < kMaxBubbleUnroll && 10 * static_cast<int>(m.branch_penalty) > s.ii * a.unroll) a.unroll *= 2;
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         std::vector<std::string> regs;
         for (int c = 0; c < a.copies[v]; ++c)
