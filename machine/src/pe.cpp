@@ -235,8 +235,8 @@ class Pe {
                 for (std::uint32_t pc = 0; pc < s->proc->program().size(); ++pc)
                     if (s->proc->program().bundles()[pc].fifo) s->fifo_pcs.push_back(pc);
             s->proc->attach_channel(abi::kChIn, s->in);
-            s->proc->attach_channel(1, s->out[1]);
-            s->proc->attach_channel(2, s->out[2]);
+            for (std::uint32_t ch = 0; ch < std::size(s->out); ++ch) // the output channels named above
+                if (s->out[ch]) s->proc->attach_channel(ch, s->out[ch]);
         }
         os_.proc->memory().load_data(setup.os_image.base, setup.os_image.bytes);
         ic_.proc->attach_memory("global", setup.global);

@@ -11,6 +11,7 @@
 
 #include "base/error.hpp"
 #include "base/hash.hpp"
+#include "kernels/abi.hpp"
 
 #include <fmt/format.h>
 
@@ -196,9 +197,11 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
 
 KernelRunner::KernelRunner(std::shared_ptr<const iss::Program> program, iss::Engine engine)
     : prog(std::move(program)), proc(std::make_unique<iss::Processor>(prog, engine)) {
-    proc->attach_channel(0, &in);
-    proc->attach_channel(1, &out1);
-    proc->attach_channel(2, &out2);
+    // out1 and out2 serve an OS kernel and an IC kernel alike: both send on channels 1 and 2.
+    static_assert(kernels::abi::kChOsIc == kernels::abi::kChIcOs && kernels::abi::kChOsSc == kernels::abi::kChIcSc);
+    proc->attach_channel(kernels::abi::kChIn, &in);
+    proc->attach_channel(kernels::abi::kChOsIc, &out1);
+    proc->attach_channel(kernels::abi::kChOsSc, &out2);
 }
 
 void KernelRunner::run(std::uint64_t max_cycles) {

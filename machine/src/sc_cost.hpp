@@ -7,6 +7,8 @@
 // straightforward sequential code, stated here so that anyone can change them.
 #pragma once
 
+#include "kernels/abi.hpp"
+
 #include <cstdint>
 
 namespace nesshi::machine {
@@ -48,8 +50,8 @@ inline constexpr OpMix kRefraction{.alu = 2, .fadd = 9, .fmul = 16, .fdiv = 4, .
 // A finished corner: its ray tree combined (per traced ray: ambient + terms + children).
 inline constexpr OpMix kCombinePerRay{.fadd = 6, .fmul = 6, .load = 8, .branch = 2};
 inline constexpr OpMix kCombinePerLight{.fadd = 6, .load = 7, .branch = 1};
-// Words: a NEW ray is 9, a pixel corner to COL is 4 (index, r, g, b).
-inline constexpr std::uint32_t kNewRayWords = 9, kColWords = 4;
+// Words: a NEW ray (kernels/abi.hpp), a pixel corner to COL (index, r, g, b; the host's, no kernel's).
+inline constexpr std::uint32_t kNewRayWords = kernels::abi::get("MSG_NEW"), kColWords = 4;
 } // namespace sc_cost
 
 } // namespace nesshi::machine

@@ -73,7 +73,7 @@ TestRay random_ray(std::mt19937& rng, const kernels::twins::GridGeom& g, int i) 
     }
     float len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
     if (!(len > 0.0f)) d = {0.0f, 0.0f, 1.0f}, len = 1.0f;
-    r.d = test::flush(d * (1.0f / len));
+    r.d = abi::flush_direction(d * (1.0f / len));
     if (r.d.x == 0.0f && r.d.y == 0.0f && r.d.z == 0.0f) r.d = {1.0f, 0.0f, 0.0f};
     r.tmin = (i % 3 == 0) ? 0.0f : u(rng) * 0.5f;
     r.tmax = (i % 4 == 1) ? u(rng) * 20.0f + r.tmin : std::numeric_limits<float>::infinity();

@@ -165,7 +165,7 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
             Vec3d d = target - base::to_double(r.o);
             if (ri % 11 == 0) d = Vec3d{0, 0, d.z}; // axis-parallel
             if (!(base::dot(d, d) > 0)) d = {0, 0, 1};
-            r.d = test::flush(base::to_float(base::normalize(d)));
+            r.d = abi::flush_direction(base::to_float(base::normalize(d)));
             r.tmin = ri % 2 ? 0.0f : uf(rng) * 0.01f;
             r.tmax = ri % 3 == 0 ? kInf : uf(rng) * 30.0f;
             r.t_out = ri % 4 == 0 ? r.tmax : uf(rng) * 30.0f;

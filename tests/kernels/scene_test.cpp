@@ -70,7 +70,7 @@ void run_scene(const std::string& name, int grid_n, int pixels, bool seq) {
     for (int j = 0; j < pixels; ++j)
         for (int i = 0; i < pixels; ++i) {
             rt::Ray r = cam.eye_ray(i, j);
-            r.d = test::flush(r.d);
+            r.d = abi::flush_direction(r.d);
             rt::TraceCounters c;
             const rt::Hit h = rt::nearest_hit(grid, set, r, c);
             const abi::Tag tag{static_cast<std::uint32_t>(rays % abi::kOsSlots), abi::Kind::eye, 1};
@@ -96,7 +96,7 @@ void run_scene(const std::string& name, int grid_n, int pixels, bool seq) {
                 if (!(dist > 0)) continue;
                 rt::Ray s;
                 s.o = hp;
-                s.d = test::flush(to * (1.0f / dist));
+                s.d = abi::flush_direction(to * (1.0f / dist));
                 s.tmin = 1e-3f;
                 s.tmax = dist;
                 s.kind = rt::RayKind::shadow;

@@ -51,11 +51,5 @@ struct Rig : machine::KernelRunner {
 
 inline std::uint32_t fbits(float f) { return abi::bits(f); }
 
-// Directions: components below 2^-60 are flushed to zero (the ABI's rule).
-inline base::Vec3f flush(base::Vec3f d) {
-    for (int k = 0; k < 3; ++k)
-        if (std::fabs(d[k]) < 0x1p-60f) d[k] = 0.0f;
-    return d;
-}
 
 } // namespace nesshi::kernels::test

@@ -42,7 +42,10 @@
 //   a byte offset into the dispatch table) and word 19 (unused payload) = the shape index.
 #pragma once
 
+#include "base/vec.hpp"
+
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -219,6 +222,14 @@ inline std::string inc_text() {
         s += line + "\n";
     }
     return s;
+}
+
+// The rule for ray directions above: a component below 2^-60 in magnitude is flushed to zero.
+// Every ray the host makes, of every model, goes through it.
+inline base::Vec3f flush_direction(base::Vec3f d) {
+    for (int k = 0; k < 3; ++k)
+        if (std::fabs(d[k]) < 0x1p-60f) d[k] = 0.0f;
+    return d;
 }
 
 } // namespace nesshi::kernels::abi

@@ -13,6 +13,7 @@
 #pragma once
 #include "iss/cache.hpp"
 #include "iss/stats.hpp"
+#include "kernels/abi.hpp"
 #include "machine/kernel_build.hpp"
 #include "rt/render.hpp"
 
@@ -133,7 +134,7 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
 
 // The most rays in flight with which FIFOs of `fifo_capacity` words never fill: capacity / 12 (the
 // longest message, a VISIT), at least 1; 0 (no limit needed) for unbounded FIFOs.
-inline constexpr std::size_t kLongestMessageWords = 12; // kernels/abi.hpp MSG_VISIT
+inline constexpr std::size_t kLongestMessageWords = kernels::abi::get("MSG_VISIT");
 int deadlock_free_ray_slots(std::size_t fifo_capacity);
 
 

@@ -37,7 +37,7 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const std::string& machine);
 
-// A processor with the ABI's channels: input 0, outputs 1 and 2. Neither copyable nor movable:
+// A processor with the ABI's channels (kernels/abi.hpp): input CH_IN, outputs 1 and 2. Neither copyable nor movable:
 // the processor holds the channels' addresses.
 class KernelRunner {
   public:

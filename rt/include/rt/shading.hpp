@@ -6,6 +6,7 @@
 //                surface with the contribution it brings if unblocked, and the secondary rays;
 //   finish_shade once every shadow ray's fate and the secondary rays' colours are known.
 #pragma once
+#include "kernels/abi.hpp"
 #include "rt/render.hpp"
 
 #include <cmath>
@@ -40,13 +41,8 @@ Ray reflection_ray(const Ray& in, const Surface& s, float eps);
 // false on total internal reflection.
 bool refraction_ray(const Ray& in, const Surface& s, float eps, Ray& out);
 
-// The ABI's rule for ray directions (kernels/abi.hpp): a component below 2^-60 in magnitude is
-// flushed to zero, so no 3DDDA value is NaN. Every ray of every model goes through it.
-inline Vec3f flush_direction(Vec3f d) {
-    for (int k = 0; k < 3; ++k)
-        if (std::fabs(d[k]) < 0x1p-60f) d[k] = 0.0f;
-    return d;
-}
+// The ABI's rule for ray directions: no 3DDDA value is NaN (kernels/abi.hpp).
+using kernels::abi::flush_direction;
 
 struct LightTerm {
     Ray shadow;          // toward the light
