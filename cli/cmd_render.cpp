@@ -12,6 +12,7 @@
 #include "machine/kernel_report.hpp"
 #include "machine/machine.hpp"
 #include "iss/stats.hpp"
+#include "kernels/abi.hpp"
 #include "rt/render.hpp"
 
 #include <fmt/format.h>
@@ -207,9 +208,9 @@ void add_render(CLI::App& app) {
         ->check(between<std::size_t>(0, std::size_t{1} << 28))
         ->group(m);
     cmd->add_option("--ray-slots", a->mo.ray_slots,
-                    "rays in flight per PE (default 4096, the OS's ray state table); at most capacity/12 never fills a "
-                    "FIFO")
-        ->check(between(1, 4096))
+                    fmt::format("rays in flight per PE (default {}, the OS's ray state table); at most capacity/{} never "
+                                "fills a FIFO", kernels::abi::kOsSlots, machine::kLongestMessageWords))
+        ->check(between(1, static_cast<int>(kernels::abi::kOsSlots)))
         ->group(m);
     cmd->add_option("--fifo-latency", a->mo.fifo_latency, "extra cycles per FIFO hop (default 0)")
         ->check(between<std::uint32_t>(0, 1'000'000))->group(m);

@@ -34,7 +34,7 @@ void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
         base::Vec3f o{u(rng) * 30.0f, u(rng) * 30.0f, u(rng) * 30.0f};
         base::Vec3f tgt{u(rng) * 8.0f, u(rng) * 8.0f, u(rng) * 8.0f};
         base::Vec3f d = base::normalize(tgt - o);
-        kernels::abi::NewRay nr{kernels::abi::Tag{static_cast<std::uint32_t>(i % 4096), kernels::abi::Kind::eye, 1}.word(),
+        kernels::abi::NewRay nr{kernels::abi::Tag{static_cast<std::uint32_t>(i) % kernels::abi::kOsSlots, kernels::abi::Kind::eye, 1}.word(),
                                 {o.x, o.y, o.z}, {d.x, d.y, d.z}, 0.0f, std::numeric_limits<float>::infinity()};
         run.feed(nr.words());
         for (;;) {

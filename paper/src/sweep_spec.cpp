@@ -3,6 +3,7 @@
 
 #include "base/hash.hpp"
 #include "base/read_file.hpp"
+#include "kernels/abi.hpp"
 #include "rt/grid.hpp"
 #include "rt/render.hpp"
 #include "rt/scene.hpp"
@@ -288,7 +289,7 @@ SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c) {
             mo.dynamic_balance = v == "dynamic";
         } else if (a == "epoch") mo.epoch = number<std::uint64_t>(a, v, 1, 1u << 30);
         else if (a == "window") { mo.window = number<int>(a, v, 1, 4096); window_named = true; }
-        else if (a == "ray_slots") { mo.ray_slots = number<int>(a, v, 1, 4096); slots_named = true; }
+        else if (a == "ray_slots") { mo.ray_slots = number<int>(a, v, 1, static_cast<int>(kernels::abi::kOsSlots)); slots_named = true; }
         else if (a == "fifo_capacity") mo.fifo_capacity = number<std::size_t>(a, v, 0, 1u << 24);
         else if (a == "fifo_latency") mo.fifo_latency = number<std::uint32_t>(a, v, 0, 1u << 20);
         else if (a == "quantum") mo.quantum = number<std::uint64_t>(a, v, 1, 1u << 20);
