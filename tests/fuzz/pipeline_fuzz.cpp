@@ -3,7 +3,8 @@
 // loop: sched::random_linear_loop / random_while_loop with a seed from the bytes, or a loop written
 // from the bytes (loads and stores through the induction register, through virtual and physical
 // base registers computed from it, FIFO words, an accumulator, physical temporaries, the induction
-// stored as data; counted or `.pipeline while`, with `.speculate`, `.carry` and `.liveout`).
+// stored as data; counted or `.pipeline while`, with `.speculate` (of r1 and of virtual bases), `.carry`
+// and `.liveout`).
 // sched::pipeline_source pipelines it; a base::Error (no schedule, registers, malformed) is fine.
 // Otherwise the pipelined code runs against the region's sequential meaning (r.linear) with
 // iss::run_differential on random data and FIFO words, at one trip count
@@ -283,6 +284,8 @@ std::string bytes_loop(Bytes& in, const isa::Machine& m) {
     }
     std::string head = g.is_while ? "        .pipeline while\n" : "        .pipeline r9\n";
     if (g.is_while && (shape & 8)) head += "        .speculate r1\n";
+    if (g.is_while && (shape & 64)) // bases computed from the induction: every address stays in the data
+        for (const std::string& p : g.vbases) head += "        .speculate " + p + "\n";
     if (g.carry) head += shape & 16 ? "        .carry %c, f7, f7, f8\n" : "        .carry %c, f7\n";
     head += liveout;
     return frame(m, head, g.body, "");
