@@ -133,15 +133,10 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
                     const sched::PipelineResult pr2 = sched::pipeline_source(sched::restore_region(around, src), name, m, po);
                     around = pr2.pipelined;
                     // Each loop named by its line in the .pk (the scheduled text around it has fewer lines).
-                    std::vector<int> region_lines;
-                    for (std::size_t at = 0, ln = 1; at < src.size(); ++ln) {
-                        const std::size_t eol = std::min(src.find('\n', at), src.size());
-                        if (eol - at >= 17 && src.compare(at, 17, "        .pipeline") == 0) region_lines.push_back(static_cast<int>(ln));
-                        at = eol + 1;
-                    }
+                    const std::vector<int> lines = sched::region_lines(src, name, m);
                     for (std::size_t k = 0; k < pr2.loops.size(); ++k) {
                         const sched::LoopSummary& l = pr2.loops[k];
-                        b.loops.push_back({k < region_lines.size() ? region_lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll});
+                        b.loops.push_back({k < lines.size() ? lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll});
                     }
                 }
                 const sched::Legalized packed = sched::legalize(around, name, assembles);

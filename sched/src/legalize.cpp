@@ -4,6 +4,7 @@
 #include "text.hpp"
 
 #include "base/error.hpp"
+#include "isa/ops.hpp"
 
 #include <fmt/format.h>
 
@@ -37,25 +38,36 @@ int nops_for(const std::string& message) {
 std::optional<std::pair<std::string, std::string>> split_off(const std::string& line, std::size_t col) {
     const std::size_t open = line.find('{'), close = line.rfind('}');
     if (open == std::string::npos || close == std::string::npos || col == 0 || col - 1 <= open || col - 1 >= close) return std::nullopt;
-    std::size_t begin = line.rfind(';', col - 1);
-    begin = begin == std::string::npos || begin < open ? open + 1 : begin + 1;
-    std::size_t end = line.find(';', col - 1);
-    if (end == std::string::npos || end > close) end = close;
-    const std::string op = trim(line.substr(begin, end - begin));
-    std::string rest = line.substr(open + 1, begin - open - 1) + line.substr(end + (end < close ? 1 : 0), close - end - (end < close ? 1 : 0));
-    std::string bare = op.substr(op.find(':') == std::string::npos ? 0 : op.find(':') + 1); // without a slot prefix
-    bare = trim(bare);
-    const std::string mnemonic = bare.substr(0, bare.find_first_of(" \t"));
-    static const std::regex not_movable(R"(^(f?recv|f?send|j\w*|b\w*|halt|sw|sh|sb|fsw)$)"); // stores: a load beside them
-    if (std::regex_match(mnemonic, not_movable)) return std::nullopt;
-    const std::size_t comma = bare.find(',');
-    const std::string dest = trim(bare.substr(mnemonic.size(), comma == std::string::npos ? std::string::npos : comma - mnemonic.size()));
-    if (dest.empty() || std::regex_search(rest, std::regex("(^|[^A-Za-z0-9_])" + dest + "([^0-9A-Za-z_]|$)"))) return std::nullopt;
-    while (rest.find(";;") != std::string::npos) rest.erase(rest.find(";;"), 1);
-    rest = trim(rest);
-    if (!rest.empty() && rest.front() == ';') rest = trim(rest.substr(1));
-    if (!rest.empty() && rest.back() == ';') rest = trim(rest.substr(0, rest.size() - 1));
-    if (rest.empty()) return std::nullopt;
+    std::vector<std::string> ops; // the bundle's ops as written (a slot prefix kept)
+    std::size_t moved = 0;
+    for (std::size_t at = open + 1; at < close;) {
+        const std::size_t end = std::min(line.find(';', at), close);
+        if (col - 1 >= at && col - 1 < end) moved = ops.size();
+        ops.push_back(trim(line.substr(at, end - at)));
+        at = end + 1;
+    }
+    if (ops.size() < 2) return std::nullopt;
+    const std::string op = ops[moved];
+    const std::size_t prefix = op.find(':');
+    const std::string bare = trim(prefix == std::string::npos ? op : op.substr(prefix + 1));
+    const std::size_t space = bare.find_first_of(" \t");
+    const auto opcode = isa::find_opcode(bare.substr(0, space));
+    if (!opcode || space == std::string::npos) return std::nullopt;
+    const isa::OpInfo& info = isa::kOps[*opcode];
+    switch (info.kind) {
+    case isa::Kind::Store: case isa::Kind::Send: case isa::Kind::Recv: case isa::Kind::Branch: case isa::Kind::Jump:
+    case isa::Kind::JumpLink: case isa::Kind::JumpReg: case isa::Kind::Halt: return std::nullopt;
+    default: break;
+    }
+    if (info.num_operands == 0 || !info.operands[0].is_dest) return std::nullopt;
+    const std::vector<std::string> operands = split_operands(bare.substr(space));
+    const std::regex named("(^|[^A-Za-z0-9_])" + operands.at(0) + "([^0-9A-Za-z_]|$)");
+    ops.erase(ops.begin() + static_cast<std::ptrdiff_t>(moved));
+    std::string rest;
+    for (const std::string& o : ops) {
+        if (std::regex_search(o, named)) return std::nullopt; // the others must not see the new value
+        rest += (rest.empty() ? "" : " ; ") + o;
+    }
     const std::string head = line.substr(0, open), tail = line.substr(close + 1);
     // A label before the bundle stays before the moved op: a jump to it runs both.
     return std::pair{head + "{ " + op + " }", std::string(head.size(), ' ') + "{ " + rest + " }" + tail};

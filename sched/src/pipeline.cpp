@@ -1719,7 +1719,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     std::set<std::pair<int, int>> named = named_registers(lines);
     for (const auto& reg : target.reusable) named.erase(reg);
 
-    const Sequential q = sequential_meaning(r, named, m, filename, region_uid(target.ordinal));
+    const std::string uid = region_uid(target.ordinal);
+    const Sequential q = sequential_meaning(r, named, m, filename, uid);
     const std::map<std::pair<int, int>, int>& placeholder = q.placeholder;
     // The lines [from, to) with every other region as its sequential meaning.
     auto around = [&](std::size_t from, std::size_t to) {
@@ -1758,7 +1759,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
     std::uint32_t b0 = 0;
     for (const isa::Symbol& s : lin.symbols)
-        if (s.name == region_uid(target.ordinal) + "_lin" && s.kind == isa::SymbolKind::Code) b0 = s.value;
+        if (s.name == uid + "_lin" && s.kind == isa::SymbolKind::Code) b0 = s.value;
     std::vector<isa::Instr> instrs;
     for (const SrcOp& op : r.ops) {
         instrs.push_back(bundles[b0][0]);
@@ -1799,7 +1800,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         }
         Allocation alloc = std::move(*fitted);
         const Emitter em(r, g, s, alloc, m);
-        std::string code = r.is_while ? em.while_code(region_uid(target.ordinal)) : em.code(r.trip, region_uid(target.ordinal));
+        std::string code = r.is_while ? em.while_code(uid) : em.code(r.trip, uid);
         assembler::AsmResult check =
             assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, asm_options(opts));
         // A while loop starts with its first pass (the counted loop with its trip test): results
@@ -2011,6 +2012,12 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
 
 std::string sequential_region(std::string_view text, std::string_view filename, const isa::Machine& m) {
     return pipeline_impl(text, filename, m, {}, Upto::Markers).res.linear;
+}
+
+std::vector<int> region_lines(std::string_view text, std::string_view filename, const isa::Machine& m) {
+    std::vector<int> out;
+    for (const Span& s : region_spans(split_lines(machine_sections(text, filename, m)), filename)) out.push_back(static_cast<int>(s.first + 1));
+    return out;
 }
 
 std::string restore_region(std::string_view legalized, std::string_view original) {

@@ -2,6 +2,8 @@
 // and the replay test both report as a crash.
 #pragma once
 
+#include "bytes.hpp"
+
 #include "isa/machine.hpp"
 
 #include <cstdio>
@@ -28,6 +30,18 @@ inline const std::vector<isa::Machine>& presets() {
         return v;
     }();
     return all;
+}
+
+// `preset` itself, or (when `copy`) a copy of it in `storage` with latencies 1-6 per op class and a
+// branch penalty 0-2 read from `in`: a machine no file describes, made without parsing one.
+inline const isa::Machine& latency_variant(Bytes& in, const isa::Machine& preset, bool copy, isa::Machine& storage) {
+    if (!copy) return preset;
+    storage = preset;
+    storage.name = "random";
+    storage.source = "fuzz-random";
+    for (std::uint32_t& l : storage.latency) l = 1 + in.next() % 6;
+    storage.branch_penalty = in.next() % 3;
+    return storage;
 }
 
 } // namespace nesshi::fuzz

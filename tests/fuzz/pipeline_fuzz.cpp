@@ -299,15 +299,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Bytes in(data, size);
     const std::uint8_t mb = in.next();
     isa::Machine random;
-    const isa::Machine* m = &machines()[mb % 4];
-    if (mb & 4) { // a copy of the preset with other latencies and branch penalty, in memory only
-        random = *m;
-        random.name = "random";
-        random.source = "fuzz-random";
-        for (std::uint32_t& l : random.latency) l = 1 + in.next() % 6;
-        random.branch_penalty = in.next() % 3;
-        m = &random;
-    }
+    const isa::Machine* m = &fuzz::latency_variant(in, machines()[mb % 4], mb & 4, random);
     const std::uint8_t kind = in.next();
     std::string text;
     switch (kind % 4) {

@@ -216,15 +216,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Bytes in(data, size);
     const std::uint8_t mb = in.next();
     isa::Machine random;
-    const isa::Machine* m = &machines()[mb % machines().size()];
-    if (mb & 0x80) {
-        random = *m;
-        random.name = "random";
-        random.source = "fuzz-random";
-        for (std::uint32_t& l : random.latency) l = 1 + in.next() % 6;
-        random.branch_penalty = in.next() % 3;
-        m = &random;
-    }
+    const isa::Machine* m = &fuzz::latency_variant(in, machines()[mb % machines().size()], mb & 0x80, random);
     const Program p = program(in, *m);
     std::string packed;
     try {

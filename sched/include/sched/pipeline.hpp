@@ -114,6 +114,9 @@ inline constexpr const char* kRegionBegin = "# sequential meaning of the .pipeli
 inline constexpr const char* kRegionEnd = "# sequential meaning of the .pipeline region: end";
 std::string sequential_region(std::string_view text, std::string_view filename, const isa::Machine& m);
 std::string restore_region(std::string_view legalized, std::string_view original);
+// The 1-based line of each region's `.pipeline`, in file order (`#if machine` sections resolved
+// for m, which keeps the line numbers).
+std::vector<int> region_lines(std::string_view text, std::string_view filename, const isa::Machine& m);
 
 // Verification by simulation: for each trip count, both programs (with `li TRIP, n` before the
 // region) are assembled and handed to `run`, which runs them on random data and returns the first
