@@ -8,11 +8,13 @@
 #include "isa/machine.hpp"
 #include "iss/stats.hpp"
 #include "sched/bounds.hpp"
+#include "kernels/abi.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <stdexcept>
 #include <utility>
 
@@ -78,6 +80,60 @@ Ranges path_from(const iss::Program& p, const std::string& label) {
     throw std::runtime_error("kernel report: no branch back to '" + label + "'");
 }
 
+// A row's ResMII and RecMII per iteration over the ops in `ranges`: `iterations` of them, or as
+// many as the ops `counts` holds (when given and any).
+void set_bounds(KernelRow& r, const iss::Program& p, const Ranges& ranges, double iterations,
+                const std::function<bool(const isa::Instr&)>& counts) {
+    const auto ops = ops_of(p, ranges);
+    std::vector<isa::Instr> instrs;
+    for (const sched::BodyOp& o : ops) instrs.push_back(o.instr);
+    const sched::ResBound res = sched::res_mii(p.machine(), instrs);
+    const sched::RecBound rec = sched::region_rec_mii(p.machine(), ops);
+    if (counts)
+        if (const auto n = std::count_if(instrs.begin(), instrs.end(), counts); n > 0) iterations = static_cast<double>(n);
+    r.res_mii = res.cycles / iterations;
+    r.rec_mii = rec.cycles / iterations;
+    const std::string pass = iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", iterations);
+    r.res_binds = res.binds + pass;
+    r.rec_binds = rec.binds.empty() ? "" : rec.binds + pass;
+}
+
+// The code labels from `first` up to (not including) the next `*_run` or `done` label after it.
+std::vector<std::string> run_labels(const iss::Program& p, const std::string& first) {
+    const isa::Symbol* s = p.find_symbol(first);
+    std::vector<std::pair<std::uint32_t, std::string>> code;
+    for (const isa::Symbol& x : p.object().symbols)
+        if (x.kind == isa::SymbolKind::Code && x.value >= s->value) code.emplace_back(x.value, x.name);
+    std::sort(code.begin(), code.end());
+    std::vector<std::string> out;
+    for (const auto& [pc, name] : code) {
+        const bool next_run = name != first && (name == "done" || (name.size() > 4 && name.compare(name.size() - 4, 4, "_run") == 0));
+        if (next_run) break;
+        out.push_back(name);
+    }
+    return out;
+}
+
+// A row of a per-kind loop kernel (KernelMetric::run).
+KernelRow measure_run_row(const KernelMetric& k, const WorkloadRun& w, KernelRow r) {
+    const KernelRunner& run = *w.run;
+    const iss::Program& p = *run.prog;
+    const std::vector<std::string> labels = run_labels(p, k.run + "_run");
+    const Measure ms = measure(run, labels);
+    const double per = w.primitives;
+    r.cycles = ms.cycles / per;
+    r.ops = ms.ops / per;
+    r.ilp = ms.cycles > 0 ? ms.ops / ms.cycles : 0;
+    r.utilization = r.ilp / static_cast<double>(p.machine().slots.size());
+    for (const std::string& l : labels) {
+        if (l.size() < 7 || l.compare(l.size() - 7, 7, "_kernel") != 0) continue;
+        set_bounds(r, p, path_from(p, l), 1, [](const isa::Instr& in) { // an iteration loads its shape index once
+            return in.info().kind == isa::Kind::Load && in.imm == static_cast<std::int32_t>(kernels::abi::get("REC_INDEX"));
+        });
+    }
+    return r;
+}
+
 KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
     const KernelRunner& run = *w.run;
     KernelRow r;
@@ -85,6 +141,7 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
     r.machine = k.machine;
     r.paper = k.paper;
     r.note = k.note;
+    if (!k.run.empty() && run.prog->find_symbol(k.run + "_run")) return measure_run_row(k, w, r);
     if (k.per == PerWhat::Rays) { // the whole kernel's processing cycles, ops, ILP and utilisation
         const iss::Stats st = iss::compute_stats(*run.proc, 0);
         r.cycles = static_cast<double>(st.processing_cycles) / w.rays;
@@ -114,21 +171,8 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
                     bounded.insert(bounded.end(), loop.begin(), loop.end());
                 }
         }
-        const auto ops = ops_of(*run.prog, bounded);
-        std::vector<isa::Instr> instrs;
-        for (const sched::BodyOp& o : ops) instrs.push_back(o.instr);
-        const sched::ResBound res = sched::res_mii(m, instrs);
-        const sched::RecBound rec = sched::region_rec_mii(m, ops);
-        double iterations = k.iterations;
-        if (k.iterations_are_loads) {
-            const auto n = std::count_if(instrs.begin(), instrs.end(), [](const isa::Instr& in) { return in.info().mnemonic == "lbu"; });
-            if (n > 0) iterations = static_cast<double>(n);
-        }
-        r.res_mii = res.cycles / iterations;
-        r.rec_mii = rec.cycles / iterations;
-        const std::string pass = iterations == 1 ? "" : fmt::format(", / {:.0f} iterations", iterations);
-        r.res_binds = res.binds + pass;
-        r.rec_binds = rec.binds.empty() ? "" : rec.binds + pass;
+        auto occupancy_load = [](const isa::Instr& in) { return in.info().mnemonic == "lbu"; };
+        set_bounds(r, *run.prog, bounded, k.iterations, k.iterations_are_loads ? std::function<bool(const isa::Instr&)>(occupancy_load) : nullptr);
     }
     return r;
 }

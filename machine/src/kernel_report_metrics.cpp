@@ -69,6 +69,7 @@ void intersect_metrics(std::vector<KernelMetric>& out, const std::string& m) {
         k.count_labels = ic ? ic_labels : L{seq_labels[1]};
         k.iterations = 2;
         if (ic) k.bounds = BoundsFrom::Regions;
+        if (ic) k.run = ic_labels[0].substr(0, ic_labels[0].size() - 2); // "tri1_A" -> "tri1"
         k.note = std::move(note);
         return k;
     };

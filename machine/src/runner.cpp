@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -66,6 +67,151 @@ const isa::Machine& canonical(const isa::Machine& m) {
     return m;
 }
 
+
+// Named "kernels/<path>" in diagnostics and line tables, so its "../abi.inc" is "kernels/abi.inc".
+const std::string kPrefix = "kernels/";
+
+// The source `pk` ("ic/intersect.pk") scheduled for m: the hand-scheduled code between its
+// blocks first gets the nops m's latencies need (with its blocks written sequentially), then the
+// scheduled file once more (blocks may start earlier than written). Its `.pipeline` regions are
+// modulo-scheduled for m: the code around them is legalized with the regions as their sequential
+// meanings, then they go back in. `#if machine` sections are resolved for m first.
+// An alternative source's loops search this far above their MII (the main source's, the
+// pipeliner's default): a machine where they do not schedule near their bound keeps the main
+// source, and does not pay minutes to find out.
+constexpr int kAlternativeIiSearch = 4;
+
+Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& pk, const isa::Machine& m,
+                          const assembler::AsmOptions& opts, bool alternative) {
+    Scheduled out;
+    out.name = kPrefix + pk;
+    const std::string& name = out.name;
+    KernelBuild& b = out.build;
+    b.machine = m.name;
+    auto assembles = [&](const std::string& t) -> std::optional<std::string> {
+        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
+        if (a.ok) return std::nullopt;
+        return a.diagnostics;
+    };
+    const std::string src = sched::machine_sections(sources.text(pk), name, m);
+    const bool region = src.find("\n        .pipeline") != std::string::npos;
+    try {
+        const sched::Legalized hand = sched::legalize(region ? sched::sequential_region(src, name, m) : src, name,
+                                                      [&](const std::string& t) -> std::optional<std::string> {
+            try {
+                (void)sched::pack_source(t, name, m, opts);
+                return std::nullopt;
+            } catch (const base::Error& e) {
+                return std::string(e.what());
+            }
+        });
+        const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
+        std::string around = pr.text;
+        int region_nops = 0;
+        if (region) { // the blocks are bundled now: the file assembles around the regions
+            // Bundled blocks end sooner than their sequential text did, so a value they leave in
+            // flight can reach hand code that was legal before (around a back edge too): legalize
+            // once more with the regions still sequential, so the pipeliner's own assembly of the
+            // sequential meaning is legal.
+            const sched::Legalized seq = sched::legalize(around, name, assembles);
+            around = seq.text;
+            region_nops = seq.nops;
+            sched::PipelineOptions po;
+            po.read_file = opts.read_file;
+            if (alternative) po.max_ii_search = kAlternativeIiSearch;
+            const sched::PipelineResult pr2 = sched::pipeline_source(sched::restore_region(around, src), name, m, po);
+            around = pr2.pipelined;
+            // Each loop named by its line in the .pk (the scheduled text around it has fewer lines).
+            const std::vector<int> lines = sched::region_lines(src, name, m);
+            for (std::size_t k = 0; k < pr2.loops.size(); ++k) {
+                const sched::LoopSummary& l = pr2.loops[k];
+                b.loops.push_back({k < lines.size() ? lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll});
+            }
+        }
+        const sched::Legalized packed = sched::legalize(around, name, assembles);
+        out.text = packed.text;
+        b.scheduled = true;
+        b.blocks = static_cast<int>(pr.blocks.size());
+        b.nops = hand.nops + region_nops + packed.nops;
+    } catch (const base::Error& e) {
+        throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
+                                 m.source + "):\n" + e.what());
+    }
+    return out;
+}
+
+// The sources of kernel `path` ("ic/intersect.s") before scheduling: "ic/intersect.pk", then its
+// alternatives "ic/intersect.<variant>.pk" in name order.
+std::vector<std::string> candidate_sources(const kernels::SourceSet& sources, const std::string& path) {
+    const std::string stem = path.substr(0, path.rfind('.'));
+    std::vector<std::string> out = {stem + ".pk"};
+    std::vector<std::string> variants;
+    for (const kernels::SourceFile& f : sources.files)
+        if (f.path.size() > stem.size() + 4 && f.path.compare(0, stem.size() + 1, stem + ".") == 0 &&
+            f.path.compare(f.path.size() - 3, 3, ".pk") == 0 && f.path != out[0])
+            variants.push_back(f.path);
+    std::sort(variants.begin(), variants.end());
+    out.insert(out.end(), variants.begin(), variants.end());
+    return out;
+}
+
+// Every candidate kernel for m: each source scheduled for m, and the committed kernel where it is
+// legal on m as written (a machine with more resources and the same latencies). All run the
+// kernel report's workloads; the one busy for the fewest cycles is kept (the first on a tie:
+// the committed kernel, then the sources in candidate_sources order), and its build says so.
+Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& path, const isa::Machine& m,
+                         const assembler::AsmOptions& opts) {
+    struct Candidate {
+        Scheduled s;
+        std::shared_ptr<const iss::Program> prog;
+        std::string what;    // as the one chosen
+        std::string against; // as one not chosen, after its cycles
+        std::uint64_t cycles = 0;
+    };
+    std::vector<Candidate> all;
+    const std::string committed = sources.text(path);
+    if (const assembler::AsmResult c = assembler::assemble_string(committed, kPrefix + path, m, opts); c.ok) {
+        Candidate k;
+        k.s.text = committed;
+        k.s.name = kPrefix + path;
+        k.s.build.machine = m.name;
+        k.prog = iss::load_program(c.object, m);
+        k.what = fmt::format("the {} kernel as written", assembler::header_machine(committed));
+        k.against = "for " + k.what;
+        all.push_back(std::move(k));
+    }
+    const std::vector<std::string> pks = candidate_sources(sources, path);
+    for (const std::string& pk : pks) {
+        const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
+        Candidate k;
+        try {
+            k.s = schedule_source(sources, pk, m, opts, !main);
+        } catch (const std::runtime_error&) {
+            if (main) throw;
+            continue;
+        }
+        const assembler::AsmResult g = assembler::assemble_string(k.s.text, k.s.name, m, opts);
+        if (!g.ok) {
+            if (main) return k.s; // assemble_kernel reports its diagnostics
+            continue;
+        }
+        k.prog = iss::load_program(g.object, m);
+        k.what = main ? "scheduled for this machine" : pk + " scheduled for this machine";
+        k.against = k.what;
+        all.push_back(std::move(k));
+    }
+    if (all.size() == 1) return all[0].s;
+    for (Candidate& k : all) k.cycles = workload_busy_cycles(k.prog, path);
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < all.size(); ++i)
+        if (all[i].cycles < all[best].cycles) best = i;
+    std::string others;
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (i != best) others += fmt::format("{}{} {}", others.empty() ? "" : ", ", all[i].cycles, all[i].against);
+    Scheduled out = all[best].s;
+    out.build.choice = fmt::format("{}: {} busy cycles on the kernel workloads against {}", all[best].what, all[best].cycles, others);
+    return out;
+}
 } // namespace
 
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
@@ -73,8 +219,6 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     const isa::Machine& m = canonical(given);
     KernelBuild b;
     b.machine = m.name;
-    // Named "kernels/<path>" in diagnostics and line tables, so its "../abi.inc" is "kernels/abi.inc".
-    static const std::string kPrefix = "kernels/";
     assembler::AsmOptions opts;
     opts.read_file = [&](const std::string& p, std::string& text) {
         if (p.compare(0, kPrefix.size(), kPrefix) != 0 || !sources.has(p.substr(kPrefix.size()))) return false;
@@ -84,13 +228,7 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     std::string text = sources.text(path);
     std::string name = kPrefix + path;
     const std::string pk = path.substr(0, path.rfind('.')) + ".pk";
-    auto assembles = [&](const std::string& t) -> std::optional<std::string> {
-        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
-        if (a.ok) return std::nullopt;
-        return a.diagnostics;
-    };
-    if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its blocks for m
-        name = kPrefix + pk;
+    if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its sources for m
         const std::string key = schedule_key(sources, path, m);
         std::unique_lock lock(schedule_mutex);
         if (const auto hit = schedule_cache().find(key); hit != schedule_cache().end()) {
@@ -99,80 +237,12 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
             name = hit->second.name;
         } else {
             lock.unlock(); // cells schedule different kernels at once; a rare duplicate is harmless
-            // The hand-scheduled code between the blocks first gets the nops m's latencies need (with
-            // its blocks written sequentially), then the scheduled file once more (blocks may start
-            // earlier than written).
-            // A `.pipeline` region (the OS voxel loop) is modulo-scheduled for m: the code around it
-            // is legalized with the region as its sequential meaning, then the region goes back in.
-            // `#if machine` sections (the os preset's hand loop) are resolved for m first.
-            const std::string src = sched::machine_sections(sources.text(pk), name, m);
-            const bool region = src.find("\n        .pipeline") != std::string::npos;
-            try {
-                const sched::Legalized hand = sched::legalize(region ? sched::sequential_region(src, name, m) : src, name,
-                                                              [&](const std::string& t) -> std::optional<std::string> {
-                    try {
-                        (void)sched::pack_source(t, name, m, opts);
-                        return std::nullopt;
-                    } catch (const base::Error& e) {
-                        return std::string(e.what());
-                    }
-                });
-                const sched::PackResult pr = sched::pack_source(hand.text, name, m, opts);
-                std::string around = pr.text;
-                int region_nops = 0;
-                if (region) { // the blocks are bundled now: the file assembles around the region
-                    // Bundled blocks end sooner than their sequential text did, so a value they
-                    // leave in flight can reach hand code that was legal before (around a back
-                    // edge too): legalize once more with the region still sequential, so the
-                    // pipeliner's own assembly of the sequential meaning is legal.
-                    const sched::Legalized seq = sched::legalize(around, name, assembles);
-                    around = seq.text;
-                    region_nops = seq.nops;
-                    sched::PipelineOptions po;
-                    po.read_file = opts.read_file;
-                    const sched::PipelineResult pr2 = sched::pipeline_source(sched::restore_region(around, src), name, m, po);
-                    around = pr2.pipelined;
-                    // Each loop named by its line in the .pk (the scheduled text around it has fewer lines).
-                    const std::vector<int> lines = sched::region_lines(src, name, m);
-                    for (std::size_t k = 0; k < pr2.loops.size(); ++k) {
-                        const sched::LoopSummary& l = pr2.loops[k];
-                        b.loops.push_back({k < lines.size() ? lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll});
-                    }
-                }
-                const sched::Legalized packed = sched::legalize(around, name, assembles);
-                text = packed.text;
-                b.scheduled = true;
-                b.blocks = static_cast<int>(pr.blocks.size());
-                b.nops = hand.nops + region_nops + packed.nops;
-            } catch (const base::Error& e) {
-                throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
-                                         m.source + "):\n" + e.what());
-            }
-            // The committed kernel, scheduled by hand for its preset, is a candidate too where it
-            // is legal on m as written (a machine with more resources and the same latencies):
-            // both run the report's workloads, and the one busy for fewer cycles is kept.
-            const std::string committed = sources.text(path);
-            if (const assembler::AsmResult c = assembler::assemble_string(committed, kPrefix + path, m, opts); c.ok) {
-                const assembler::AsmResult g = assembler::assemble_string(text, name, m, opts);
-                if (g.ok) {
-                    const std::uint64_t hand_cycles = workload_busy_cycles(iss::load_program(c.object, m), path);
-                    const std::uint64_t gen_cycles = workload_busy_cycles(iss::load_program(g.object, m), path);
-                    const std::string preset = assembler::header_machine(committed);
-                    if (hand_cycles <= gen_cycles) {
-                        text = committed;
-                        name = kPrefix + path;
-                        b = KernelBuild{};
-                        b.machine = m.name;
-                        b.choice = fmt::format("the {} kernel as written: {} busy cycles on the kernel workloads against {} "
-                                               "scheduled for this machine", preset, hand_cycles, gen_cycles);
-                    } else {
-                        b.choice = fmt::format("scheduled for this machine: {} busy cycles on the kernel workloads against {} "
-                                               "for the {} kernel as written", gen_cycles, hand_cycles, preset);
-                    }
-                }
-            }
+            const Scheduled chosen = best_candidate(sources, path, m, opts);
+            text = chosen.text;
+            b = chosen.build;
+            name = chosen.name;
             lock.lock();
-            schedule_cache().emplace(key, Scheduled{text, b, name});
+            schedule_cache().emplace(key, chosen);
         }
     }
     b.source = name;

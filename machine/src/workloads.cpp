@@ -13,6 +13,7 @@
 
 #include "iss/stats.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -26,6 +27,8 @@ namespace {
 constexpr int kGridRays = 300;
 constexpr int kPrimitiveRays = 200;
 constexpr int kPrimitives = 40;
+constexpr int kShortLists = 64;
+constexpr int kShortListRays = 2000;
 
 // Random rays through the grid; each VISIT is answered with a RETURN (no hit).
 void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
@@ -140,33 +143,53 @@ std::uint64_t workload_busy_cycles(const std::shared_ptr<const iss::Program>& pr
         return busy(d.empty) + busy(d.sparse);
     }
     std::uint64_t sum = 0;
-    for (Workload w : {Workload::Triangles, Workload::Spheres, Workload::SpheresMissed, Workload::TwoSidedSpheres, Workload::Cylinders})
+    for (Workload w : {Workload::Triangles, Workload::Spheres, Workload::SpheresMissed, Workload::TwoSidedSpheres, Workload::Cylinders,
+                       Workload::ShortLists})
         sum += busy(run_intersect(prog, w));
     return sum;
 }
 
-// One voxel whose list holds the 40 shapes; rays from z = 20 aimed at the origin (or past it).
+// One voxel whose list holds the 40 shapes (ShortLists: 64 voxels of 1-12 of them); rays from z = 20
+// aimed at the origin (or past it).
 WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workload w) {
     std::mt19937 rng(7);
     std::vector<kernels::Shape> shapes;
-    for (int i = 0; i < kPrimitives; ++i) shapes.push_back(shape_of(w, rng));
     std::vector<std::vector<std::uint32_t>> lists(1);
-    for (int i = 0; i < kPrimitives; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
-    WorkloadRun out{std::make_unique<KernelRunner>(prog), kPrimitiveRays};
+    const bool short_lists = w == Workload::ShortLists;
+    const int rays = short_lists ? kShortListRays : kPrimitiveRays;
+    double tests = 0;
+    if (short_lists) { // kinds mixed; each list in index order, as the grid builds it
+        constexpr Workload kinds[] = {Workload::Triangles, Workload::Spheres, Workload::TwoSidedSpheres, Workload::Cylinders};
+        for (int i = 0; i < kPrimitives; ++i) shapes.push_back(shape_of(kinds[rng() % 4], rng));
+        lists.assign(kShortLists, {});
+        for (auto& l : lists) {
+            std::vector<std::uint32_t> all(kPrimitives);
+            for (int i = 0; i < kPrimitives; ++i) all[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(i);
+            std::shuffle(all.begin(), all.end(), rng);
+            l.assign(all.begin(), all.begin() + 1 + static_cast<int>(rng() % 12));
+            std::sort(l.begin(), l.end());
+        }
+        for (int i = 0; i < rays; ++i) tests += static_cast<double>(lists[static_cast<std::size_t>(i % kShortLists)].size());
+    } else {
+        for (int i = 0; i < kPrimitives; ++i) shapes.push_back(shape_of(w, rng));
+        for (int i = 0; i < kPrimitives; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
+        tests = double{kPrimitiveRays} * kPrimitives;
+    }
+    WorkloadRun out{std::make_unique<KernelRunner>(prog), static_cast<double>(rays), tests};
     KernelRunner& run = *out.run;
-    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, lists_by_kind(*prog));
     run.load(im.resident);
     run.load(im.global);
     run.run();
     const bool miss = w == Workload::SpheresMissed;
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    for (int i = 0; i < kPrimitiveRays; ++i) {
+    for (int i = 0; i < rays; ++i) {
         base::Vec3f o{u(rng) * 20.0f, u(rng) * 20.0f, 20.0f};
         base::Vec3f tgt = miss ? base::Vec3f{30.0f, 30.0f, 0.0f} : base::Vec3f{u(rng) * 0.3f, u(rng) * 0.3f, 0.0f};
         base::Vec3f d = base::normalize(tgt - o);
         kernels::abi::Visit v;
         v.tag = kernels::abi::Tag{static_cast<std::uint32_t>(i), kernels::abi::Kind::eye, 1}.word() | kernels::abi::kTagReturn;
-        v.voxel = 0;
+        v.voxel = short_lists ? static_cast<std::uint32_t>(i % kShortLists) : 0;
         v.t_out = 1e30f;
         for (int k = 0; k < 3; ++k) v.o[k] = o[k], v.d[k] = d[k];
         v.tmax = std::numeric_limits<float>::infinity();

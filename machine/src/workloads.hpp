@@ -15,6 +15,7 @@ namespace nesshi::machine {
 struct WorkloadRun {
     std::unique_ptr<KernelRunner> run;
     double rays = 0;
+    double primitives = 0; // primitive tests the rays asked for (an intersection workload)
 };
 
 // The 3DDDA kernel for `machine` (kernels::kernel_path) on the empty grid, then on the sparse

@@ -9,7 +9,6 @@
 // iss/src/compiled.hpp (Counts, op<>, end<>, jump<>, jump_to<>, stop, leave), so the semantics stay
 // those of isa::kOps.
 #include "compiled_runs.hpp"
-#include "kernel_measure.hpp"
 
 #include "machine/runner.hpp"
 
@@ -36,12 +35,6 @@ namespace nesshi::machine::detail {
 void register_compiled_runs() {} // the generator assembles the kernels; it runs none of them
 } // namespace nesshi::machine::detail
 
-namespace nesshi::machine {
-// Only presets are assembled here, and a preset's committed kernel is never measured against another.
-std::uint64_t workload_busy_cycles(const std::shared_ptr<const iss::Program>&, const std::string& path) {
-    throw std::logic_error("gen_compiled_runs: " + path + " is not a preset's kernel");
-}
-} // namespace nesshi::machine
 
 namespace {
 

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <chrono>
 #include <functional>
@@ -66,6 +67,9 @@ struct Virtual {
     isa::RegFile file = isa::RegFile::Int;
     int def = -1; // the op defining it
 };
+
+// The placeholder registers (file, register) of one op's operands and the virtual each stands for.
+using OpVirtuals = std::map<std::pair<int, int>, int>;
 
 struct Region {
     std::size_t begin = 0, end = 0; // line indices of .pipeline and .endpipeline
@@ -423,13 +427,13 @@ bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
 // Whether op i of a while loop has an effect a discarded iteration must not have: a store, a
 // FIFO word, a load whose base is not declared `.speculate` (it could fault past the end), or a
 // write of a physical register other than an induction (the exit path corrects inductions).
-bool side_effect(const Graph& g, int i, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+bool side_effect(const Graph& g, int i, const std::function<bool(int, isa::RegFile, int)>& is_virtual) {
     const Node& nd = g.nodes[static_cast<std::size_t>(i)];
     const isa::Kind k = nd.instr.info().kind;
     if (k == isa::Kind::Store || k == isa::Kind::Send || k == isa::Kind::Recv) return true;
     if (k == isa::Kind::Load && !nd.speculative) return true;
     for (const isa::RegOperand& o : isa::register_operands(nd.instr))
-        if (o.write && !is_virtual(o.file, o.reg) && !(o.file == isa::RegFile::Int && g.induction_of(o.reg))) return true;
+        if (o.write && !is_virtual(i, o.file, o.reg) && !(o.file == isa::RegFile::Int && g.induction_of(o.reg))) return true;
     return false;
 }
 
@@ -437,7 +441,7 @@ bool side_effect(const Graph& g, int i, const std::function<bool(isa::RegFile, i
 // has been decided. Iteration i's exit test precedes the side effects of iteration i + 1 (and so
 // of every later one), and those of iteration i written after the test. One bundle later: the
 // ops in the bundle of a taken branch still execute.
-void add_exit_edges(Graph& g, const Region& r, const std::function<bool(isa::RegFile, int)>& is_virtual) {
+void add_exit_edges(Graph& g, const Region& r, const std::function<bool(int, isa::RegFile, int)>& is_virtual) {
     for (int i = 0; i < static_cast<int>(g.nodes.size()); ++i) {
         if (i == r.exit_op || !side_effect(g, i, is_virtual)) continue;
         g.edges.push_back({r.exit_op, i, 1, 1, "exit before a later side effect"});
@@ -455,7 +459,7 @@ void add_exit_edges(Graph& g, const Region& r, const std::function<bool(isa::Reg
 }
 
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
-                  const std::map<std::pair<int, int>, int>& placeholder) {
+                  const std::vector<OpVirtuals>& op_virtuals) {
     Graph g;
     const int n = static_cast<int>(instrs.size());
     for (int i = 0; i < n; ++i) {
@@ -469,18 +473,26 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
         if (nd.mem) nd.base = nd.instr.rs1;
         g.nodes.push_back(nd);
     }
-    auto is_virtual = [&](isa::RegFile f, int reg) { return placeholder.count({static_cast<int>(f), reg}) != 0; };
-    for (Node& nd : g.nodes) {
+    // The virtual an operand register of op i stands for (placeholders may be shared by virtuals
+    // whose lifetimes do not meet, never within one op), or -1 for a physical register.
+    auto virtual_of = [&](int i, isa::RegFile f, int reg) {
+        const OpVirtuals& ov = op_virtuals[static_cast<std::size_t>(i)];
+        const auto v = ov.find({static_cast<int>(f), reg});
+        return v == ov.end() ? -1 : v->second;
+    };
+    auto is_virtual = [&](int i, isa::RegFile f, int reg) { return virtual_of(i, f, reg) >= 0; };
+    for (int i = 0; i < n; ++i) {
+        Node& nd = g.nodes[static_cast<std::size_t>(i)];
         if (nd.instr.info().kind != isa::Kind::Load) continue;
-        const auto v = placeholder.find({static_cast<int>(isa::RegFile::Int), nd.base});
-        nd.speculative = v != placeholder.end() ? r.speculate_virtual.count(r.virtuals[static_cast<std::size_t>(v->second)].name) != 0
-                                                : r.speculate.count(nd.base) != 0;
+        const int v = virtual_of(i, isa::RegFile::Int, nd.base);
+        nd.speculative = v >= 0 ? r.speculate_virtual.count(r.virtuals[static_cast<std::size_t>(v)].name) != 0
+                                : r.speculate.count(nd.base) != 0;
     }
     // Induction registers: a physical integer register whose one write is `addi r, r, C`.
     std::map<int, std::vector<int>> int_defs;
     for (int i = 0; i < n; ++i)
         for (const isa::RegOperand& o : isa::register_operands(g.nodes[static_cast<std::size_t>(i)].instr))
-            if (o.write && o.file == isa::RegFile::Int && !is_virtual(o.file, o.reg)) int_defs[o.reg].push_back(i);
+            if (o.write && o.file == isa::RegFile::Int && !is_virtual(i, o.file, o.reg)) int_defs[o.reg].push_back(i);
     for (auto& [reg, defs] : int_defs) {
         const isa::Instr& in = g.nodes[static_cast<std::size_t>(defs[0])].instr;
         if (defs.size() == 1 && in.info().mnemonic == "addi" && in.rd == in.rs1 && reg != r.trip_reg)
@@ -496,20 +508,24 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
         int op;
         bool write;
     };
-    std::map<std::pair<int, int>, std::vector<Access>> by_reg;
+    // Keyed (file, register, virtual or -1): in register order, and placeholders shared by
+    // virtuals (placeholder_registers) apart.
+    using Key = std::tuple<int, int, int>;
+    auto key_of = [&](int i, const isa::RegOperand& o) { return Key{static_cast<int>(o.file), o.reg, virtual_of(i, o.file, o.reg)}; };
+    std::map<Key, std::vector<Access>> by_reg;
     for (int i = 0; i < n; ++i) {
         const Node& nd = g.nodes[static_cast<std::size_t>(i)];
         const isa::RegOperands ops = isa::register_operands(nd.instr);
         for (const isa::RegOperand& o : ops) // reads first: an op reads before its own write lands
             if (!o.write && !(nd.adjusted && o.base)) // only the base: a data operand keeps its edges
-                by_reg[{static_cast<int>(o.file), o.reg}].push_back({i, false});
+                by_reg[key_of(i, o)].push_back({i, false});
         for (const isa::RegOperand& o : ops)
-            if (o.write) by_reg[{static_cast<int>(o.file), o.reg}].push_back({i, true});
+            if (o.write) by_reg[key_of(i, o)].push_back({i, true});
     }
     for (const auto& [key, acc] : by_reg) {
-        const bool virt = placeholder.count(key) != 0;
-        const std::string name = virt ? r.virtuals[static_cast<std::size_t>(placeholder.at(key))].name
-                                      : reg_name(static_cast<isa::RegFile>(key.first), key.second);
+        const auto [file, reg, v] = key;
+        const bool virt = v >= 0;
+        const std::string name = virt ? r.virtuals[static_cast<std::size_t>(v)].name : reg_name(static_cast<isa::RegFile>(file), reg);
         std::vector<int> writes;
         for (const Access& a : acc)
             if (a.write) writes.push_back(a.op);
@@ -1138,11 +1154,57 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     // to run and no register more; only more code and exit paths.
     if (r.is_while)
         while (a.unroll < kMaxBubbleUnroll && 10 * static_cast<int>(m.branch_penalty) > s.ii * a.unroll) a.unroll *= 2;
+    const std::vector<int> pool0[2] = {pool[0], pool[1]};
+    const std::vector<std::string> scratch0 = a.scratch;
+    try { // a register set of its own for every virtual, while there are enough
+        for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+            std::vector<std::string> regs;
+            for (int c = 0; c < a.copies[v]; ++c)
+                regs.push_back(reg_name(r.virtuals[v].file, take(r.virtuals[v].file, r.virtuals[v].name)));
+            a.regs.push_back(regs);
+        }
+        return a;
+    } catch (const RegisterPressure&) {
+        pool[0] = pool0[0], pool[1] = pool0[1];
+        a.scratch = scratch0;
+        a.regs.clear();
+    }
+    // Else virtuals share registers where their lifetimes do not meet. In the kernel (unroll x II
+    // cycles, a circle) copy c of v holds the instances of the iterations k = c mod copies, each
+    // from its def's issue to its last read (the next owner may issue in that cycle); the prologue,
+    // epilogue and exit paths hold subsets of those instances. Carried values and live-outs keep
+    // registers of their own: the value before the loop and after its exit live longer than any
+    // instance in the kernel.
+    const int circle = a.unroll * s.ii;
+    std::vector<std::vector<char>> busy[2];   // per file, per register taken: cycles occupied
+    std::vector<int> busy_reg[2];             // the register of each
+    a.regs.assign(r.virtuals.size(), {});
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
-        std::vector<std::string> regs;
-        for (int c = 0; c < a.copies[v]; ++c)
-            regs.push_back(reg_name(r.virtuals[v].file, take(r.virtuals[v].file, r.virtuals[v].name)));
-        a.regs.push_back(regs);
+        const Virtual& x = r.virtuals[v];
+        const int f = static_cast<int>(x.file);
+        const bool own = r.carry.count(x.name) || r.liveout.count(x.name);
+        const int t0 = s.time[static_cast<std::size_t>(x.def)];
+        for (int c = 0; c < a.copies[v]; ++c) {
+            std::vector<char> need(static_cast<std::size_t>(circle), 0);
+            for (int k = c; k < a.unroll; k += a.copies[v])
+                for (int t = 0; t < a.lifetime[v]; ++t)
+                    need[static_cast<std::size_t>(((t0 + k * s.ii + t) % circle + circle) % circle)] = 1;
+            int slot = -1;
+            for (std::size_t b = 0; !own && slot < 0 && b < busy[f].size(); ++b) {
+                if (busy[f][b].empty()) continue; // a register of its own
+                bool free = true;
+                for (int t = 0; free && t < circle; ++t) free = !(need[static_cast<std::size_t>(t)] && busy[f][b][static_cast<std::size_t>(t)]);
+                if (free) slot = static_cast<int>(b);
+            }
+            if (slot < 0) {
+                busy_reg[f].push_back(take(x.file, x.name));
+                busy[f].push_back(own ? std::vector<char>{} : std::vector<char>(static_cast<std::size_t>(circle), 0));
+                slot = static_cast<int>(busy[f].size()) - 1;
+            }
+            if (!own)
+                for (int t = 0; t < circle; ++t) busy[f][static_cast<std::size_t>(slot)][static_cast<std::size_t>(t)] |= need[static_cast<std::size_t>(t)];
+            a.regs[v].push_back(reg_name(x.file, busy_reg[f][static_cast<std::size_t>(slot)]));
+        }
     }
     return a;
 }
@@ -1652,11 +1714,81 @@ std::string while_report(const Graph& g, const Region& r, const Schedule& s, con
     return o;
 }
 
-// A region's sequential meaning: each virtual register on a free register of its own (the highest
-// the file does not name), a while loop's iterations counted in the lowest free one.
+// The virtuals each op of the region names, in operand order.
+std::vector<std::vector<int>> virtuals_of_ops(const Region& r) {
+    static const std::regex name(R"(%[A-Za-z_][A-Za-z0-9_]*)");
+    std::vector<std::vector<int>> out;
+    for (const SrcOp& op : r.ops) {
+        std::vector<int>& vs = out.emplace_back();
+        for (const std::string& operand : op.operands)
+            for (auto it = std::sregex_iterator(operand.begin(), operand.end(), name); it != std::sregex_iterator(); ++it)
+                if (const auto v = r.virtual_index.find(it->str()); v != r.virtual_index.end()) vs.push_back(v->second);
+    }
+    return out;
+}
+
+// The placeholder register of each virtual in the sequential meaning: a free register of its own
+// (the highest the file does not name) while there are enough; else virtuals whose lifetimes in
+// one iteration do not meet share one (a virtual read before its definition, carried or live
+// out is live throughout; the op of a last read never also defines the next owner, so the
+// registers of one op stand for one virtual each).
+std::vector<int> placeholder_registers(const Region& r, const std::set<std::pair<int, int>>& named, const isa::Machine& m,
+                                       std::string_view filename) {
+    std::vector<std::vector<int>> free(2);
+    for (int f = 0; f < 2; ++f)
+        for (int reg = static_cast<int>(m.regs[static_cast<std::size_t>(f)].count) - 1; reg >= 0; --reg)
+            if (!named.count({f, reg})) free[static_cast<std::size_t>(f)].push_back(reg);
+    const std::size_t nv = r.virtuals.size();
+    std::vector<int> out(nv, -1);
+    std::array<std::size_t, 2> need{};
+    for (const Virtual& v : r.virtuals) ++need[static_cast<std::size_t>(v.file)];
+    if (need[0] <= free[0].size() && need[1] <= free[1].size()) { // one each, as always
+        std::array<std::size_t, 2> next{};
+        for (std::size_t v = 0; v < nv; ++v) {
+            const auto f = static_cast<std::size_t>(r.virtuals[v].file);
+            out[v] = free[f][next[f]++];
+        }
+        return out;
+    }
+    const int n = static_cast<int>(r.ops.size());
+    std::vector<int> first(nv, n), last(nv, -1);
+    const std::vector<std::vector<int>> uses = virtuals_of_ops(r);
+    for (int i = 0; i < n; ++i)
+        for (int v : uses[static_cast<std::size_t>(i)]) {
+            first[static_cast<std::size_t>(v)] = std::min(first[static_cast<std::size_t>(v)], i);
+            last[static_cast<std::size_t>(v)] = std::max(last[static_cast<std::size_t>(v)], i);
+        }
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Virtual& x = r.virtuals[v];
+        if (first[v] < x.def || r.carry.count(x.name) || r.liveout.count(x.name)) first[v] = -1, last[v] = n;
+        else first[v] = x.def;
+    }
+    std::vector<std::size_t> order(nv);
+    for (std::size_t v = 0; v < nv; ++v) order[v] = v;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return first[a] < first[b]; });
+    std::vector<std::vector<std::pair<int, int>>> busy(2); // (last op, register)
+    std::vector<std::vector<int>> pool = free;
+    for (auto& p : pool) std::reverse(p.begin(), p.end()); // taken from the back: the highest first
+    for (std::size_t v : order) {
+        const auto f = static_cast<std::size_t>(r.virtuals[v].file);
+        auto& b = busy[f];
+        for (auto it = b.begin(); it != b.end();)
+            if (it->first < first[v]) pool[f].push_back(it->second), it = b.erase(it);
+            else ++it;
+        if (pool[f].empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
+        out[v] = pool[f].back();
+        pool[f].pop_back();
+        b.push_back({last[v], out[v]});
+    }
+    return out;
+}
+
+// A region's sequential meaning: each virtual on its placeholder register (placeholder_registers),
+// a while loop's iterations counted in the lowest free register.
 struct Sequential {
     std::vector<std::string> placeholder_name;      // per virtual
-    std::map<std::pair<int, int>, int> placeholder; // (file, reg) -> virtual
+    std::set<std::pair<int, int>> placeholders;     // (file, reg) of every placeholder
+    std::vector<OpVirtuals> op_virtuals;            // per op: its operands' placeholders -> virtual
     std::string iteration_register;                 // a while loop's
     std::string loop;                               // the text
 };
@@ -1665,17 +1797,19 @@ Sequential sequential_meaning(const Region& r, const std::set<std::pair<int, int
                               std::string_view filename, const std::string& uid) {
     if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
     Sequential q;
-    std::vector<int> next = {static_cast<int>(m.regs[0].count) - 1, static_cast<int>(m.regs[1].count) - 1};
+    const std::vector<int> regs = placeholder_registers(r, named, m, filename);
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         const int f = static_cast<int>(r.virtuals[v].file);
-        while (next[static_cast<std::size_t>(f)] >= 0 && named.count({f, next[static_cast<std::size_t>(f)]})) --next[static_cast<std::size_t>(f)];
-        if (next[static_cast<std::size_t>(f)] < 0) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
-        q.placeholder[{f, next[static_cast<std::size_t>(f)]}] = static_cast<int>(v);
-        q.placeholder_name.push_back(reg_name(r.virtuals[v].file, next[static_cast<std::size_t>(f)]--));
+        q.placeholders.insert({f, regs[v]});
+        q.placeholder_name.push_back(reg_name(r.virtuals[v].file, regs[v]));
+    }
+    for (const std::vector<int>& vs : virtuals_of_ops(r)) {
+        OpVirtuals& ov = q.op_virtuals.emplace_back();
+        for (int v : vs) ov[{static_cast<int>(r.virtuals[static_cast<std::size_t>(v)].file), regs[static_cast<std::size_t>(v)]}] = v;
     }
     if (r.is_while) { // the lowest register neither named nor a placeholder counts iterations
         for (int reg = 1; reg < static_cast<int>(m.regs[0].count) && q.iteration_register.empty(); ++reg)
-            if (!named.count({0, reg}) && !q.placeholder.count({0, reg})) q.iteration_register = reg_name(isa::RegFile::Int, reg);
+            if (!named.count({0, reg}) && !q.placeholders.count({0, reg})) q.iteration_register = reg_name(isa::RegFile::Int, reg);
         if (q.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
     }
     q.loop = r.is_while ? linear_while_loop(r, q.placeholder_name, m, q.iteration_register, uid)
@@ -1721,7 +1855,6 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
 
     const std::string uid = region_uid(target.ordinal);
     const Sequential q = sequential_meaning(r, named, m, filename, uid);
-    const std::map<std::pair<int, int>, int>& placeholder = q.placeholder;
     // The lines [from, to) with every other region as its sequential meaning.
     auto around = [&](std::size_t from, std::size_t to) {
         std::string o;
@@ -1765,7 +1898,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         instrs.push_back(bundles[b0][0]);
         b0 += std::max<std::uint32_t>(1, m.latency_of(isa::kOps[op.opcode]));
     }
-    const Graph g = build_graph(r, instrs, m, placeholder);
+    const Graph g = build_graph(r, instrs, m, q.op_virtuals);
 
     // Loop control in the kernel: `addi counter, counter, -1` and `bnez counter, kernel`.
     isa::Instr branch, counter;
@@ -1807,9 +1940,19 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         // of the code before it may still be in flight. As many nops as the assembler's check asks.
         std::uint32_t longest = 1;
         for (std::uint32_t l : m.latency) longest = std::max(longest, l);
-        for (std::uint32_t lead = 1; r.is_while && (!check.ok || check.warnings > 0) && lead < longest; ++lead) {
-            code = "        nop\n" + code;
-            check = assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
+        auto clean = [](const assembler::AsmResult& a) { return a.ok && a.warnings == 0; };
+        if (r.is_while && !clean(check) && longest > 1) {
+            // The most nops first: when even they do not help, the fault is not at the entry
+            // (one assembly, not one per count); else the fewest that do.
+            std::string nops;
+            for (std::uint32_t k = 1; k < longest; ++k) nops += "        nop\n";
+            assembler::AsmResult most = assembler::assemble_string(before + nops + code + after, filename, m, asm_options(opts));
+            if (!clean(most)) check = std::move(most);
+            for (std::uint32_t lead = 1; clean(most) && !clean(check) && lead < longest; ++lead) {
+                code = "        nop\n" + code;
+                check = lead + 1 == longest ? std::move(most)
+                                            : assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
+            }
         }
         if (!check.ok || check.warnings > 0) {
             why_not = fmt::format("II {}: {}", s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
@@ -1823,19 +1966,33 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     };
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (!feasible_ii(g, ii)) return false;
-        if (r.is_while && !deadline) { // every attempt: the fewest stages, then the smallest unroll, is the
-            bool found = false;        // cheapest to enter and to leave (a while loop does both often)
+        if (r.is_while && !deadline) { // of every attempt's schedule, the fewest stages, then the smallest
+            // unroll, is the cheapest to enter and to leave (a while loop does both often); the
+            // earlier attempt on a tie. Ranked first, then assembled in that order until one does
+            // (assembling the file is the expensive step).
+            struct Ranked {
+                int stages, unroll;
+                Schedule s;
+            };
+            std::vector<Ranked> ranked;
             for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
                 std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
                 if (!s) continue;
-                auto best = std::make_tuple(sched, emitted, stages, alloc_found);
-                if (!accept(*s)) continue;
-                const int best_stages = std::get<2>(best), best_unroll = found ? std::get<3>(best)->unroll : 0;
-                if (found && (best_stages < stages || (best_stages == stages && best_unroll <= alloc_found->unroll)))
-                    std::tie(sched, emitted, stages, alloc_found) = std::move(best);
-                found = true;
+                int st = 1;
+                for (int t : s->time) st = std::max(st, t / s->ii + 1);
+                try {
+                    ranked.push_back({st, allocate(r, g, *s, named, m, filename).unroll, std::move(*s)});
+                } catch (const RegisterPressure& e) {
+                    const std::string what = e.what();
+                    why_not = fmt::format("II {}: {}", ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
+                }
             }
-            return found;
+            std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
+                return std::tie(a.stages, a.unroll) < std::tie(b.stages, b.unroll);
+            });
+            for (const Ranked& k : ranked)
+                if (accept(k.s)) return true;
+            return false;
         }
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1).run();

@@ -8,12 +8,14 @@ from 1-12, the branch penalty from 0-2, and sometimes other port counts per regi
 or 6 read ports (an op reads up to 3), 1 or 3 write ports on the OS, 1, 2 or 4 on the IC (the
 hand code's bundles are split where they exceed them; units are not varied yet). Seeded: the same N and seed draw the same
 machines, and a failure prints the two files to reproduce it with `nesshi render`.
-Also printed, not asserted (the IC kernel is not yet scheduled per machine, the OS voxel loop
-pays its entry and exit): the largest cycles / bound of each stage's loop rows over the first K
+Machines run in parallel, one per core. Also printed, not asserted (the IC kernel's loops pay
+their entry and exit, and a machine whose loops do not schedule near their bound keeps the
+padded hand pipeline; the OS voxel loop pays its entry and exit): the largest cycles / bound of each stage's loop rows over the first K
 machines, from `nesshi kernels --json`.
 
 usage: random_machines.py NESSHI OUTDIR [N [SEED [K]]]
 """
+import concurrent.futures
 import json
 import os
 import random
@@ -60,6 +62,7 @@ def main():
     native = {s: render(nesshi, s, os.path.join(out, "native-" + s.replace(":", "-")))[1] for s in SCENES}
     bad = 0
     worst = {"os": (0.0, None, None), "ic": (0.0, None, None)}  # the largest cycles / bound of a loop row
+    machines = []  # drawn first, in order, so the same seed draws the same machines
     for i in range(n):
         files = []
         for stage, bases in (("os", ["os", "os-real"]), ("ic", ["ic", "ic-real"])):
@@ -67,24 +70,35 @@ def main():
             with open(path, "w") as f:
                 f.write(describe(rng, rng.choice(bases), f"random-{stage}-{i}"))
             files.append(path)
+        machines.append(files)
+
+    def check(i):  # the reports of machine i: failures, and its kernel rows for the first k
+        files, report, rows = machines[i], [], []
         for s in SCENES:
             p, got = render(nesshi, s, os.path.join(out, f"v-{i}-" + s.replace(":", "-")), files)
             if p.returncode != 0 or got != native[s]:
-                bad += 1
                 what = f"exit {p.returncode}" if p.returncode else "image, ids or depths differ from native"
-                print(f"machine {i} on {s}: {what}\n{p.stderr[-2000:]}")
+                report.append(f"machine {i} on {s}: {what}\n{p.stderr[-2000:]}")
                 for path in files:
                     with open(path) as f:
-                        print(f"--- {path}\n{f.read()}")
+                        report.append(f"--- {path}\n{f.read()}")
         if i < k:
             p = subprocess.run([nesshi, "kernels", "--os-machine", files[0], "--ic-machine", files[1], "--json", "-"],
                                capture_output=True, text=True)
             if p.returncode == 0:
-                for row in json.loads(p.stdout)["kernels"]:
-                    if row.get("bound") and row["machine"] in worst:
-                        ratio = row["cycles"] / row["bound"]
-                        if ratio > worst[row["machine"]][0]:
-                            worst[row["machine"]] = (ratio, row["metric"], files[0 if row["machine"] == "os" else 1])
+                rows = json.loads(p.stdout)["kernels"]
+        return report, rows
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        for i, (report, rows) in enumerate(pool.map(check, range(n))):
+            if report:
+                bad += sum(1 for line in report if line.startswith("machine "))
+                print("\n".join(report))
+            for row in rows:
+                if row.get("bound") and row["machine"] in worst:
+                    ratio = row["cycles"] / row["bound"]
+                    if ratio > worst[row["machine"]][0]:
+                        worst[row["machine"]] = (ratio, row["metric"], machines[i][0 if row["machine"] == "os" else 1])
     for stage, (ratio, metric, path) in worst.items():
         print(f"{stage} loop rows over the first {k} machines: at most {ratio:.2f} x the bound ({metric} on {path})")
     if bad:

@@ -176,7 +176,9 @@ void drive_dda(Pair& p, std::mt19937& rng, int rays) {
     }
 }
 
-// The intersection kernel: one voxel holding triangles, spheres (one- and two-sided) and
+constexpr int kIntersectLists = 7;
+
+// The intersection kernel: voxels holding triangles, spheres (one- and two-sided) and
 // cylinders; rays aimed at the origin or past it. With `fault`, a last VISIT names a voxel far
 // outside the lists.
 iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
@@ -184,9 +186,13 @@ iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
     for (int i = 0; i < 24; ++i) shapes.push_back(i % 4 == 0   ? machine::random_triangle(rng, i % 8 == 0)
                          : i % 4 == 3 ? machine::random_cylinder(rng)
                                       : machine::random_sphere(rng, i % 4 == 2));
-    std::vector<std::vector<std::uint32_t>> lists(2);
-    for (int i = 0; i < 24; ++i) lists[i % 3 == 0 ? 1 : 0].push_back(static_cast<std::uint32_t>(i));
-    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes);
+    // Lists of 1 to 6 shapes of each kind (and all 24): every exit of a per-kind loop kernel's
+    // unrolled copies is taken somewhere.
+    std::vector<std::vector<std::uint32_t>> lists(kIntersectLists);
+    for (int v = 0; v < kIntersectLists; ++v)
+        for (int i = 0; i < 24; ++i)
+            if (i / 4 <= v % 6 || v == kIntersectLists - 1) lists[static_cast<std::size_t>(v)].push_back(static_cast<std::uint32_t>(i));
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, machine::lists_by_kind(*p.prog));
     p.load(im.resident);
     p.load(im.global);
     p.run();
@@ -198,7 +204,7 @@ iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
         kernels::abi::Visit v;
         v.tag = kernels::abi::Tag{static_cast<std::uint32_t>(i), kernels::abi::Kind::eye, 1}.word() |
                 (i % 2 ? kernels::abi::kTagReturn : 0u);
-        v.voxel = i == rays ? (fault ? 0x3fffffffu : 0u) : static_cast<std::uint32_t>(i % 2);
+        v.voxel = i == rays ? (fault ? 0x3fffffffu : 0u) : static_cast<std::uint32_t>(i % kIntersectLists);
         v.t_out = 1e30f;
         for (int k = 0; k < 3; ++k) v.o[k] = o[k], v.d[k] = d[k];
         v.tmax = std::numeric_limits<float>::infinity();
@@ -256,7 +262,7 @@ void lockstep_intersect() {
                 INFO(spec << (cache ? " with caches" : "") << (fault ? ", bad voxel" : ""));
                 Pair p(program(spec), cache);
                 std::mt19937 rng(7);
-                const iss::Status s = drive_intersect(p, rng, 30, fault);
+                const iss::Status s = drive_intersect(p, rng, 40, fault);
                 CHECK(s == (fault ? iss::Status::Faulted : iss::Status::Blocked));
                 note_reached(p);
             }

@@ -270,6 +270,20 @@ zs:     .space 256
     CHECK_THROWS_WITH(sched::pipeline_source(text, "t.sa", m, at_mii), Catch::Contains("register pressure: no free FPRF register"));
 }
 
+TEST_CASE("more virtuals than registers: those whose lifetimes do not meet share one", "[unit][sched][pipeline]") {
+    // A chain of 31 float values on a machine with 16 float registers (f0 named): neither the
+    // sequential meaning nor the kernel has one register per virtual.
+    std::string body = "        flw %a0, xs(r1)\n";
+    for (int k = 1; k <= 30; ++k)
+        body += fmt::format("        {} %a{}, %a{}, f0\n", k % 2 ? "fmul" : "fadd", k, k - 1);
+    body += "        fsw %a30, ys(r1)\n";
+    const std::string text = two_array_loop(body.c_str());
+    const isa::Machine m = isa::parse_machine("inherits = \"os\"\nname = \"fewregs\"\n[registers.float]\ncount = 16\n", "few.toml");
+    sched::PipelineResult r;
+    CHECK(check(text, m, &r) == std::nullopt);
+    CHECK(r.ii == r.mii);
+}
+
 TEST_CASE("a file with two regions: each pipelined and verified, the whole program equals its sequential meaning", "[unit][sched][pipeline]") {
     // A counted loop, then a while loop over what it wrote (examples/linear/two_loops.sa).
     const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/two_loops.sa");

@@ -163,6 +163,11 @@ inline constexpr std::uint32_t kIcGlobal = get("IC_GLOBAL");
 inline constexpr std::uint32_t kRecBytes = get("REC_BYTES");
 inline constexpr std::uint32_t kIcJumpsA = get("IC_JUMPS_A");
 inline constexpr std::uint32_t kIcJumpsB = get("IC_JUMPS_B");
+// An IC kernel that defines this label wants each voxel list laid out kind by kind (stably, by
+// dispatch code): its per-kind loops read ahead of the list, so the last list is followed by
+// kListReadAhead END entries (more than any loop's speculation depth).
+inline constexpr const char* kListsByKindLabel = "lists_by_kind";
+inline constexpr std::uint32_t kListReadAhead = 64;
 static_assert(get("OS_STATE") + get("OS_SLOTS") * get("OS_STATE_BYTES") <= get("OS_OCC"));
 
 // OS SRAM capacity, the one rule for it: the machine (machine::render, os_image

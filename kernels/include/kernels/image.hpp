@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace nesshi::kernels {
@@ -95,7 +96,7 @@ struct IcImage {
 // addr[i] is the address of shape i's record.
 inline void put_lists(MemImage& d, std::uint32_t tab, std::uint32_t lists_at,
                       const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<std::uint32_t>& addr,
-                      std::uint32_t end_record) {
+                      std::uint32_t end_record, std::uint32_t read_ahead = 1) {
     std::uint32_t cursor = lists_at;
     for (std::size_t v = 0; v < lists.size(); ++v) {
         d.put32(tab + 4 * static_cast<std::uint32_t>(v), cursor);
@@ -106,7 +107,7 @@ inline void put_lists(MemImage& d, std::uint32_t tab, std::uint32_t lists_at,
         d.put32(cursor, end_record);
         cursor += 4;
     }
-    d.put32(cursor, end_record); // one readable word past the last list (the kernel reads ahead)
+    for (std::uint32_t k = 0; k < read_ahead; ++k, cursor += 4) d.put32(cursor, end_record); // words the kernel reads ahead
 }
 
 inline void put_record(MemImage& d, std::uint32_t r, const kernels::Shape& s, std::uint32_t index) {
@@ -122,8 +123,14 @@ inline void put_record(MemImage& d, std::uint32_t r, const kernels::Shape& s, st
 // the number of voxel lists holding them, ties to the lower index) fill resident memory and the
 // rest of the records, the table and the lists go to global memory; without it, all to global.
 // The kernel follows addresses only, so placement changes timing (with a cache), never results.
-inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<kernels::Shape>& shapes,
-                              bool allow_resident = true) {
+// `by_kind`: each list in order of dispatch code, stably (for a kernel that defines
+// abi::kListsByKindLabel; it breaks ties on shape indices itself), followed by abi::kListReadAhead
+// END entries.
+inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, const std::vector<kernels::Shape>& shapes,
+                              bool allow_resident = true, bool by_kind = false) {
+    if (by_kind)
+        for (auto& l : lists)
+            std::stable_sort(l.begin(), l.end(), [&](std::uint32_t a, std::uint32_t b) { return shape_code(shapes[a]) < shape_code(shapes[b]); });
     std::size_t refs = 0;
     for (const auto& l : lists) refs += l.size();
     const std::uint32_t limit = static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
@@ -166,7 +173,7 @@ inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lis
     im.records = shapes.empty() ? cursor : addr[0];
     const std::uint32_t tab = cursor;
     cursor += static_cast<std::uint32_t>(lists.size()) * 4;
-    put_lists(main, tab, cursor, lists, addr, im.end_record);
+    put_lists(main, tab, cursor, lists, addr, im.end_record, by_kind ? abi::kListReadAhead : 1);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_VOXTAB")), tab);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_END_REC")), im.end_record);
     return im;
@@ -175,7 +182,7 @@ inline IcImage ic_image_lists(const std::vector<std::vector<std::uint32_t>>& lis
 // From rt/grid.hpp's unpadded offsets and shape-index lists.
 inline IcImage ic_image(const twins::GridGeom& g, const std::vector<std::uint32_t>& offsets,
                         const std::vector<std::uint32_t>& prims, const std::vector<kernels::Shape>& shapes,
-                        bool allow_resident = true) {
+                        bool allow_resident = true, bool by_kind = false) {
     const PaddedGrid p = padded(g);
     std::vector<std::vector<std::uint32_t>> lists(p.voxels());
     for (int z = 0; z < p.n[2]; ++z)
@@ -184,7 +191,7 @@ inline IcImage ic_image(const twins::GridGeom& g, const std::vector<std::uint32_
                 const std::uint32_t u = p.unpadded(x, y, z);
                 lists[p.index(x, y, z)].assign(prims.begin() + offsets[u], prims.begin() + offsets[u + 1]);
             }
-    return ic_image_lists(lists, shapes, allow_resident);
+    return ic_image_lists(std::move(lists), shapes, allow_resident, by_kind);
 }
 
 } // namespace nesshi::kernels

@@ -48,6 +48,7 @@ enum class Workload {
     SpheresMissed,   // the same spheres, 200 rays that miss them
     TwoSidedSpheres, // two-sided spheres, 200 rays
     Cylinders,       // one-sided cylinders of length 4 along z, 200 rays
+    ShortLists,      // 64 voxels of 1-12 mixed shapes (the SPD scenes' 2.5-21 per voxel), 2000 rays
 };
 
 // What a metric's cycles and ops are divided by.
@@ -79,6 +80,10 @@ struct KernelMetric {
     bool iterations_are_loads = false;
     BoundsFrom bounds = BoundsFrom::None;
     std::string path; // BoundsFrom::Path
+    // A kernel of per-kind loops (ic/intersect.loops.pk) that defines `<run>_run`: the row is that
+    // run's code (from its label to the next run's), per primitive of the workload, bounded by its
+    // loop's kernel over as many iterations as it loads shape indices (REC_INDEX).
+    std::string run;
     std::string note;
 };
 // The rows of the report, in its order.
