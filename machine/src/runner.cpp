@@ -67,20 +67,19 @@ const isa::Machine& canonical(const isa::Machine& m) {
     return m;
 }
 
-
 // Named "kernels/<path>" in diagnostics and line tables, so its "../abi.inc" is "kernels/abi.inc".
 const std::string kPrefix = "kernels/";
+
+// An alternative source's loops search this far above their MII (the main source's, the
+// pipeliner's default): a machine where they do not schedule near their bound keeps the main
+// source, and does not pay minutes to find out.
+constexpr int kAlternativeIiSearch = 4;
 
 // The source `pk` ("ic/intersect.pk") scheduled for m: the hand-scheduled code between its
 // blocks first gets the nops m's latencies need (with its blocks written sequentially), then the
 // scheduled file once more (blocks may start earlier than written). Its `.pipeline` regions are
 // modulo-scheduled for m: the code around them is legalized with the regions as their sequential
 // meanings, then they go back in. `#if machine` sections are resolved for m first.
-// An alternative source's loops search this far above their MII (the main source's, the
-// pipeliner's default): a machine where they do not schedule near their bound keeps the main
-// source, and does not pay minutes to find out.
-constexpr int kAlternativeIiSearch = 4;
-
 Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& pk, const isa::Machine& m,
                           const assembler::AsmOptions& opts, bool alternative) {
     Scheduled out;

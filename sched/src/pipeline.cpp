@@ -1727,12 +1727,13 @@ std::vector<std::vector<int>> virtuals_of_ops(const Region& r) {
     return out;
 }
 
-// The placeholder register of each virtual in the sequential meaning: a free register of its own
-// (the highest the file does not name) while there are enough; else virtuals whose lifetimes in
+// The placeholder register of each virtual in the sequential meaning (`uses`: virtuals_of_ops):
+// a free register of its own (the highest the file does not name) while there are enough; else virtuals whose lifetimes in
 // one iteration do not meet share one (a virtual read before its definition, carried or live
 // out is live throughout; the op of a last read never also defines the next owner, so the
 // registers of one op stand for one virtual each).
-std::vector<int> placeholder_registers(const Region& r, const std::set<std::pair<int, int>>& named, const isa::Machine& m,
+std::vector<int> placeholder_registers(const Region& r, const std::vector<std::vector<int>>& uses,
+                                       const std::set<std::pair<int, int>>& named, const isa::Machine& m,
                                        std::string_view filename) {
     std::vector<std::vector<int>> free(2);
     for (int f = 0; f < 2; ++f)
@@ -1752,7 +1753,6 @@ std::vector<int> placeholder_registers(const Region& r, const std::set<std::pair
     }
     const int n = static_cast<int>(r.ops.size());
     std::vector<int> first(nv, n), last(nv, -1);
-    const std::vector<std::vector<int>> uses = virtuals_of_ops(r);
     for (int i = 0; i < n; ++i)
         for (int v : uses[static_cast<std::size_t>(i)]) {
             first[static_cast<std::size_t>(v)] = std::min(first[static_cast<std::size_t>(v)], i);
@@ -1797,13 +1797,14 @@ Sequential sequential_meaning(const Region& r, const std::set<std::pair<int, int
                               std::string_view filename, const std::string& uid) {
     if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
     Sequential q;
-    const std::vector<int> regs = placeholder_registers(r, named, m, filename);
+    const std::vector<std::vector<int>> uses = virtuals_of_ops(r);
+    const std::vector<int> regs = placeholder_registers(r, uses, named, m, filename);
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         const int f = static_cast<int>(r.virtuals[v].file);
         q.placeholders.insert({f, regs[v]});
         q.placeholder_name.push_back(reg_name(r.virtuals[v].file, regs[v]));
     }
-    for (const std::vector<int>& vs : virtuals_of_ops(r)) {
+    for (const std::vector<int>& vs : uses) {
         OpVirtuals& ov = q.op_virtuals.emplace_back();
         for (int v : vs) ov[{static_cast<int>(r.virtuals[static_cast<std::size_t>(v)].file), regs[static_cast<std::size_t>(v)]}] = v;
     }
