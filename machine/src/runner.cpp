@@ -14,6 +14,7 @@
 #include "kernels/abi.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <map>
@@ -73,7 +74,8 @@ const std::string kPrefix = "kernels/";
 // An alternative source's loops search this far above their MII (the main source's, the
 // pipeliner's default): a machine where they do not schedule near their bound keeps the main
 // source, and does not pay minutes to find out.
-constexpr int kAlternativeIiSearch = 4;
+constexpr int kAlternativeIiSearch = 16;
+constexpr int kAlternativeUnscheduled = 8; // IIs in a row with no modulo schedule at all: give up
 
 // The source `pk` ("ic/intersect.pk") scheduled for m: the hand-scheduled code between its
 // blocks first gets the nops m's latencies need (with its blocks written sequentially), then the
@@ -117,7 +119,10 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
             region_nops = seq.nops;
             sched::PipelineOptions po;
             po.read_file = opts.read_file;
-            if (alternative) po.max_ii_search = kAlternativeIiSearch;
+            if (alternative) {
+                po.max_ii_search = kAlternativeIiSearch;
+                po.max_unscheduled_iis = kAlternativeUnscheduled;
+            }
             const sched::PipelineResult pr2 = sched::pipeline_source(sched::restore_region(around, src), name, m, po);
             around = pr2.pipelined;
             // Each loop named by its line in the .pk (the scheduled text around it has fewer lines).
@@ -137,6 +142,13 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
                                  m.source + "):\n" + e.what());
     }
     return out;
+}
+
+// The first error of a diagnostic, without its location: "no modulo schedule found for ...".
+std::string first_error(const std::string& diagnostics) {
+    const std::size_t at = diagnostics.find("error: ");
+    std::string line = diagnostics.substr(at == std::string::npos ? 0 : at + 7);
+    return line.substr(0, line.find('\n'));
 }
 
 // The sources of kernel `path` ("ic/intersect.s") before scheduling: "ic/intersect.pk", then its
@@ -180,18 +192,21 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
         all.push_back(std::move(k));
     }
     const std::vector<std::string> pks = candidate_sources(sources, path);
+    std::vector<std::string> dropped; // alternatives that did not schedule or assemble, and why
     for (const std::string& pk : pks) {
         const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
         Candidate k;
         try {
             k.s = schedule_source(sources, pk, m, opts, !main);
-        } catch (const std::runtime_error&) {
+        } catch (const std::runtime_error& e) {
             if (main) throw;
+            dropped.push_back(pk + " not scheduled (" + first_error(e.what()) + ")");
             continue;
         }
         const assembler::AsmResult g = assembler::assemble_string(k.s.text, k.s.name, m, opts);
         if (!g.ok) {
             if (main) return k.s; // assemble_kernel reports its diagnostics
+            dropped.push_back(pk + " not assembled (" + first_error(g.diagnostics) + ")");
             continue;
         }
         k.prog = iss::load_program(g.object, m);
@@ -199,7 +214,11 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
         k.against = k.what;
         all.push_back(std::move(k));
     }
-    if (all.size() == 1) return all[0].s;
+    if (all.size() == 1) {
+        Scheduled out = all[0].s;
+        if (!dropped.empty()) out.build.choice = fmt::format("{}: {}", all[0].what, fmt::join(dropped, "; "));
+        return out;
+    }
     for (Candidate& k : all) k.cycles = workload_busy_cycles(k.prog, path);
     std::size_t best = 0;
     for (std::size_t i = 1; i < all.size(); ++i)
@@ -207,6 +226,7 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
     std::string others;
     for (std::size_t i = 0; i < all.size(); ++i)
         if (i != best) others += fmt::format("{}{} {}", others.empty() ? "" : ", ", all[i].cycles, all[i].against);
+    for (const std::string& d : dropped) others += "; " + d;
     Scheduled out = all[best].s;
     out.build.choice = fmt::format("{}: {} busy cycles on the kernel workloads against {}", all[best].what, all[best].cycles, others);
     return out;

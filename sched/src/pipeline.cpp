@@ -4,6 +4,7 @@
 #include "sched/pipeline.hpp"
 
 #include "circuits.hpp"
+#include "stages.hpp"
 #include "text.hpp"
 #include "sched/block.hpp"
 #include "sched/bounds.hpp"
@@ -37,6 +38,7 @@ namespace {
 constexpr int kMaxDistance = 16;  // memory dependences are looked for up to this many iterations apart
 constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next (different op orders)
 constexpr int kMaxBubbleUnroll = 8; // kernel copies a while loop may get for its branch bubble
+constexpr int kMaxPortUnroll = 16;  // kernel copies any loop may get to keep writes off one port
 
 [[noreturn]] void fail(std::string_view file, int line, const std::string& msg) {
     throw base::Error(base::SourceLoc(file, line), msg);
@@ -605,6 +607,22 @@ std::vector<DepEdge> dep_edges(const Graph& g) {
     for (const Edge& e : g.edges) d.push_back({e.from, e.to, e.latency, e.distance});
     return d;
 }
+// The values the virtual and physical registers carry from op to op (the true edges, one value
+// per writer and register), for stage scheduling.
+std::vector<StageValue> stage_values(const Graph& g) {
+    std::map<std::pair<int, std::string>, StageValue> by;
+    for (const Edge& e : g.edges) {
+        if (e.why.rfind("true ", 0) != 0) continue;
+        StageValue& v = by[{e.from, e.why}];
+        v.def = e.from;
+        v.latency = g.nodes[static_cast<std::size_t>(e.from)].latency;
+        v.uses.emplace_back(e.to, e.distance);
+    }
+    std::vector<StageValue> out;
+    for (auto& [key, v] : by) out.push_back(std::move(v));
+    return out;
+}
+
 bool feasible_ii(const Graph& g, int ii) { return ii_feasible(static_cast<int>(g.nodes.size()), dep_edges(g), ii); }
 int rec_mii(const Graph& g) { return recurrence_mii(static_cast<int>(g.nodes.size()), dep_edges(g)); }
 
@@ -810,19 +828,39 @@ class ModuloScheduler {
         time_[static_cast<std::size_t>(op)] = -1;
     }
 
-    // Evicts ops of the row (most recently placed first), then ops whose writes land with it,
-    // until `op` fits at t.
+    // Evicts what keeps `op` from t: ops of its row (most recently placed first) while the bundle
+    // is illegal, then ops whose writes land in its landing cycle on a file it writes, then any.
     void evict_for(int op, int t) {
         const int row = ((t % ii_) + ii_) % ii_;
+        const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
+        const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % ii_;
+        auto writes = [](const isa::Instr& x, int f) {
+            for (const isa::RegOperand& o : isa::register_operands(x))
+                if (o.write && static_cast<int>(o.file) == f) return true;
+            return false;
+        };
         for (int guard = 0; guard < 64 && !fits(op, t); ++guard) {
             int victim = -1;
             const Row& r = rows_[static_cast<std::size_t>(row)];
-            for (std::size_t k = r.nodes.size(); k-- > 0;)
-                if (r.nodes[k] >= 0) {
-                    victim = r.nodes[k];
-                    break;
+            std::vector<isa::Instr> ops = r.ops;
+            ops.push_back(in);
+            if (!legal(ops)) {
+                for (std::size_t k = r.nodes.size(); k-- > 0;)
+                    if (r.nodes[k] >= 0) {
+                        victim = r.nodes[k];
+                        break;
+                    }
+            } else if (!landings_ok(in, row)) {
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()) && victim < 0; ++i) {
+                    const int ti = time_[static_cast<std::size_t>(i)];
+                    if (ti < 0 || i == op) continue;
+                    const isa::Instr& x = g_.nodes[static_cast<std::size_t>(i)].instr;
+                    if ((((ti % ii_) + ii_) % ii_ + static_cast<int>(m_.latency_of(x.info()))) % ii_ != land) continue;
+                    for (int f = 0; f < isa::kNumRegFiles && victim < 0; ++f)
+                        if (writes(in, f) && writes(x, f)) victim = i;
                 }
-            if (victim < 0) // the row holds only loop control: evict from the landing rows
+            }
+            if (victim < 0) // the row holds only loop control, or the landing is taken by it: evict any
                 for (int i = 0; i < static_cast<int>(g_.nodes.size()) && victim < 0; ++i)
                     if (time_[static_cast<std::size_t>(i)] >= 0 && i != op) victim = i;
             if (victim < 0) return;
@@ -1098,10 +1136,11 @@ struct Allocation {
     int counter = -1;                            // integer register of the kernel counter
     std::vector<std::string> scratch;
     std::vector<int> lifetime;                   // per virtual, cycles
+    int entry_nops = 0;                          // between prologue and kernel (kernel_landings_ok)
 };
 
 Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
-                    const isa::Machine& m, std::string_view file) {
+                    const isa::Machine& m, std::string_view file, int min_unroll = 1) {
     Allocation a;
     std::vector<int> pool[2];
     for (int f = 0; f < 2; ++f)
@@ -1148,12 +1187,12 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         a.copies.push_back(static_cast<int>(std::bit_ceil(static_cast<unsigned>(k))));
         need = std::max(need, a.copies.back());
     }
-    a.unroll = need;
+    a.unroll = std::max(need, min_unroll);
     // A while loop pays the taken-branch bubble once per kernel pass: more kernel copies (the same
-    // registers rotating, a power of two) until it is at most a tenth of the pass. No remainder
+    // registers rotating, a power of two) until it is at most a twentieth of the pass. No remainder
     // to run and no register more; only more code and exit paths.
     if (r.is_while)
-        while (a.unroll < kMaxBubbleUnroll && 10 * static_cast<int>(m.branch_penalty) > s.ii * a.unroll) a.unroll *= 2;
+        while (a.unroll < kMaxBubbleUnroll && 20 * static_cast<int>(m.branch_penalty) > s.ii * a.unroll) a.unroll *= 2;
     const std::vector<int> pool0[2] = {pool[0], pool[1]};
     const std::vector<std::string> scratch0 = a.scratch;
     try { // a register set of its own for every virtual, while there are enough
@@ -1207,6 +1246,47 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
         }
     }
     return a;
+}
+
+// Whether the kernel, `unroll` copies of the II rows, passes the assembler's write-port check
+// when entered both ways: from the prologue (straight, or after `entry_nops` as long as the
+// taken-branch bubble) and around its back edge (after the bubble). The reservation table
+// counts landings modulo II, which is exact only without a bubble. The assembler checks each
+// write against the writes in flight where it is issued, merging the paths into a bundle, so a
+// write of the kernel meets those of both ways in; with entry nops both bring the same writes
+// (the same registers: the kernel's copies rotate with the prologue's passes) at the same cycles.
+// Costs nothing beside assembling the file.
+bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa::Machine& m, bool entry_nops) {
+    if (m.branch_penalty == 0) return true;
+    const int pass = unroll * s.ii, bubble = static_cast<int>(m.branch_penalty);
+    int last_stage = 0, longest = 1;
+    for (int t : s.time) last_stage = std::max(last_stage, t / s.ii);
+    for (const Node& nd : g.nodes) longest = std::max(longest, nd.latency);
+    longest = std::max(longest, static_cast<int>(m.latency_of(s.counter.info())));
+    // Per cycle of a pass (and beyond its end): writes issued in it, writes in flight into it.
+    using Count = std::array<std::uint32_t, isa::kNumRegFiles>;
+    std::vector<Count> own(static_cast<std::size_t>(pass + longest)), in(own.size());
+    auto add = [](Count& c, const isa::Instr& x) {
+        for (const isa::RegOperand& o : isa::register_operands(x))
+            if (o.write) ++c[static_cast<std::size_t>(o.file)];
+    };
+    auto issue = [&](const isa::Instr& x, int at, bool in_prologue) {
+        const int lands = at + static_cast<int>(m.latency_of(x.info()));
+        add(own[static_cast<std::size_t>(lands)], x);
+        if (lands < pass) return;
+        if (lands - pass - bubble >= 0) add(in[static_cast<std::size_t>(lands - pass - bubble)], x); // around the back edge
+        if (in_prologue && !entry_nops) add(in[static_cast<std::size_t>(lands - pass)], x);      // from the prologue
+    };
+    for (int c = 0; c < unroll; ++c)
+        for (std::size_t i = 0; i < g.nodes.size(); ++i)
+            issue(g.nodes[i].instr, c * s.ii + s.time[i] % s.ii, s.time[i] / s.ii < last_stage);
+    if (s.loop_control) issue(s.counter, (unroll - 1) * s.ii + s.counter_row, false);
+    for (std::size_t y = 0; y < own.size(); ++y)
+        for (int f = 0; f < isa::kNumRegFiles; ++f) {
+            const std::size_t k = static_cast<std::size_t>(f);
+            if (own[y][k] > 0 && own[y][k] + in[y][k] > m.regs[k].write_ports) return false;
+        }
+    return true;
 }
 
 // ---- emission -----------------------------------------------------------------------------------
@@ -1326,6 +1406,7 @@ class Emitter {
             }
         o += fmt::format("# kernel: {} cop{} of II = {} cycles, {} stage{}\n", u, u == 1 ? "y" : "ies", ii, stages_,
                          stages_ == 1 ? "" : "s");
+        for (int k = 0; k < a_.entry_nops; ++k) o += "        nop\n";
         o += fmt::format("{}_kernel:\n", uid);
         for (int c = 0; c < u; ++c)
             for (int row = 0; row < ii; ++row) {
@@ -1412,6 +1493,19 @@ class Emitter {
         return {f ? fmt::format("fmov {}, {}", to, from) : fmt::format("addi {}, {}, 0", to, from),
                 static_cast<int>(m_.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)])};
     }
+    // The operation of a move's text, for the slot and port checks.
+    static isa::Instr move_instr(const std::string& text) {
+        const auto regs = split_operands(text.substr(text.find(' ')));
+        isa::RegFile f;
+        int d = 0, src = 0;
+        parse_reg(regs[0], f, d);
+        parse_reg(regs[1], f, src);
+        isa::Instr in;
+        in.opcode = f == isa::RegFile::Float ? isa::opcode("fmov") : isa::opcode("addi");
+        in.rd = static_cast<std::uint8_t>(d);
+        in.rs1 = static_cast<std::uint8_t>(src);
+        return in;
+    }
     // The moves packed into as few bundles as the machine takes (isa::assign_slots and
     // isa::check_bundle decide), then nops until they have landed.
     std::string moves_text(const std::vector<std::pair<std::string, int>>& ms) const {
@@ -1421,15 +1515,7 @@ class Emitter {
         std::vector<std::vector<std::string>> texts;
         for (const auto& [text, l] : ms) {
             lat = std::max(lat, l);
-            const auto regs = split_operands(text.substr(text.find(' ')));
-            isa::RegFile f;
-            int d = 0, src = 0;
-            parse_reg(regs[0], f, d);
-            parse_reg(regs[1], f, src);
-            isa::Instr in;
-            in.opcode = f == isa::RegFile::Float ? isa::opcode("fmov") : isa::opcode("addi");
-            in.rd = static_cast<std::uint8_t>(d);
-            in.rs1 = static_cast<std::uint8_t>(src);
+            const isa::Instr in = move_instr(text);
             std::size_t b = 0;
             for (; b < ops.size(); ++b) {
                 std::vector<isa::Instr> trial = ops[b];
@@ -1448,7 +1534,7 @@ class Emitter {
 
     // The exit path's first bundles: carried and live-out values of the exiting iteration e
     // (landed, by the graph's edges) to their registers.
-    std::string exit_moves(int e) const {
+    std::vector<std::pair<std::string, int>> exit_moves(int e) const {
         std::vector<std::pair<std::string, int>> ms;
         for (const auto& [name, c] : r_.carry) {
             const int def = r_.virtuals[static_cast<std::size_t>(r_.virtual_index.at(name))].def;
@@ -1456,7 +1542,7 @@ class Emitter {
             if (!c.old.empty()) ms.push_back(move(c.old, reg_of(name, e - 1)));
         }
         for (const auto& [name, reg] : r_.liveout) ms.push_back(move(reg, reg_of(name, e)));
-        return moves_text(ms);
+        return ms;
     }
 
     // The exit test of iteration i, branching to `label`; inverted, it is the kernel's back edge.
@@ -1471,25 +1557,119 @@ class Emitter {
         return op_text(b, r_, regs_of(i), 0, &prev, r_.exit_op);
     }
 
+    // Writes per register file landing in each cycle after the exit test of pass `pass` (cycle 0)
+    // from the ops issued before it: the passes back to the prologue's first (`absolute`: an exit
+    // in the prologue), or in the kernel the copies of this pass and, a taken-branch bubble
+    // earlier or not (the prologue before), all earlier ones.
+    using Landings = std::vector<std::array<std::uint32_t, isa::kNumRegFiles>>;
+    Landings in_flight(int pass, bool absolute, int horizon) const {
+        Landings at(static_cast<std::size_t>(horizon));
+        const int b = static_cast<int>(m_.branch_penalty), p = stages_ - 1, copy = absolute ? pass : pass - p;
+        for (std::size_t i = 0; i < g_.nodes.size(); ++i) {
+            const Node& nd = g_.nodes[i];
+            const int st = s_.time[i] / s_.ii;
+            for (int j = 0;; ++j) { // j passes back
+                const int issue = s_.time[i] % s_.ii - (s_.ii - 1) - j * s_.ii;
+                if (issue + nd.latency <= 0 || (absolute && (j > pass || st > pass - j))) break;
+                // Before this pass's first copy: the previous kernel pass, a bubble earlier, or the
+                // prologue (its pass p - (j - copy), holding stages up to that; entered after
+                // entry nops as long as the bubble, or straight).
+                const bool before_kernel = !absolute && j > copy;
+                const bool from_prologue = before_kernel && st <= p - (j - copy);
+                for (const int shift : {0, b}) {
+                    if (before_kernel && shift == 0 && (!from_prologue || a_.entry_nops > 0)) continue;
+                    if (!before_kernel && shift > 0) break;
+                    if (const int land = issue - shift + nd.latency; land > 0 && land < horizon)
+                        add_writes(at[static_cast<std::size_t>(land)], nd.instr, 1);
+                    if (b == 0) break;
+                }
+            }
+        }
+        return at;
+    }
+    static void add_writes(std::array<std::uint32_t, isa::kNumRegFiles>& at, const isa::Instr& in, int sign) {
+        for (const isa::RegOperand& o : isa::register_operands(in))
+            if (o.write) at[static_cast<std::size_t>(o.file)] += static_cast<std::uint32_t>(sign);
+    }
+    bool room(const std::array<std::uint32_t, isa::kNumRegFiles>& at) const {
+        for (int f = 0; f < isa::kNumRegFiles; ++f)
+            if (at[static_cast<std::size_t>(f)] > m_.regs[static_cast<std::size_t>(f)].write_ports) return false;
+        return true;
+    }
+
     // What runs after the exit of iteration e is taken at the end of pass P: the older iterations
     // complete, the exiting one runs what precedes its exit test in the source, younger ones are
     // dropped (they have issued no side effect); then in-flight results land and inductions step
-    // back by what ran ahead.
-    std::string exit_path(int pass, int e, bool absolute) const {
+    // back by what ran ahead. The exit moves go to the first bundles whose slots and whose
+    // landing cycle's write ports (with the results still in flight) take them, and the
+    // completing iterations start when they have landed and no write of theirs meets one in
+    // flight on a port.
+    std::string exit_path(int pass, int e, bool absolute, bool taken) const {
         const int ii = s_.ii;
-        std::string o = exit_moves(e);
+        std::vector<std::vector<std::string>> rows;
+        std::vector<std::vector<const isa::Instr*>> row_instrs;
         for (int q = pass + 1; q <= e + stages_ - 1; ++q)
             for (int row = 0; row < ii; ++row) {
-                std::vector<std::string> ops;
+                rows.emplace_back();
+                row_instrs.emplace_back();
                 for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
                     const int t = s_.time[op], st = t / ii, i = q - st;
                     if (t % ii != row || static_cast<int>(op) == r_.exit_op || i > e || (absolute && i < 0)) continue;
                     if (i == e && static_cast<int>(op) > r_.exit_op) continue;
-                    ops.push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, absolute, e)));
+                    rows.back().push_back(instance_at(static_cast<int>(op), i, delta_while(static_cast<int>(op), i, absolute, e)));
+                    row_instrs.back().push_back(&g_.nodes[op].instr);
                 }
-                o += bundle(ops);
             }
-        while (o.size() >= 12 && o.compare(o.size() - 12, 12, "        nop\n") == 0) o.resize(o.size() - 12);
+        while (!rows.empty() && rows.back().empty()) rows.pop_back(), row_instrs.pop_back();
+        int longest = 1;
+        for (const Node& nd : g_.nodes) longest = std::max(longest, nd.latency);
+        const auto ms = exit_moves(e);
+        const int horizon = 2 * (longest + static_cast<int>(m_.branch_penalty) + ii) + static_cast<int>(ms.size()) * 16 + 64;
+        // The exit path's first bundle issues in cycle 1, or after the bubble of a taken exit.
+        const int first = 1 + (taken ? static_cast<int>(m_.branch_penalty) : 0);
+        Landings at = in_flight(pass, absolute, horizon);
+        std::vector<std::vector<isa::Instr>> move_ops;
+        std::vector<std::vector<std::string>> move_texts;
+        int lat = 1;
+        for (const auto& [text, l] : ms) {
+            lat = std::max(lat, l);
+            const isa::Instr in = move_instr(text);
+            for (std::size_t b = 0;; ++b) {
+                if (b == move_ops.size()) move_ops.emplace_back(), move_texts.emplace_back();
+                std::vector<isa::Instr> trial = move_ops[b];
+                trial.push_back(in);
+                std::vector<int> pinned(trial.size(), -1);
+                const std::size_t land = static_cast<std::size_t>(first) + b + static_cast<std::size_t>(l);
+                auto cycle = at[std::min(land, at.size() - 1)];
+                add_writes(cycle, in, 1);
+                if (isa::assign_slots(m_, trial, pinned) && isa::check_bundle(m_, trial).empty() && room(cycle)) {
+                    move_ops[b].push_back(in);
+                    move_texts[b].push_back(text);
+                    if (land < at.size()) add_writes(at[land], in, 1);
+                    break;
+                }
+            }
+        }
+        std::string o;
+        for (const auto& t : move_texts) o += bundle(t);
+        // The completing iterations from cycle `start`: after the moves have landed, and later
+        // while a write of theirs would meet one in flight on a port.
+        int start = first + static_cast<int>(move_ops.size()) + (ms.empty() ? 0 : lat - 1);
+        for (int tries = 0; tries < horizon / 2; ++tries, ++start) {
+            Landings trial = at;
+            bool fits = true;
+            for (std::size_t k = 0; fits && k < row_instrs.size(); ++k)
+                for (const isa::Instr* in : row_instrs[k]) {
+                    const std::size_t land = static_cast<std::size_t>(start) + k + m_.latency_of(in->info());
+                    if (land >= trial.size()) continue;
+                    add_writes(trial[land], *in, 1);
+                    fits = fits && room(trial[land]);
+                }
+            if (fits) break;
+        }
+        if (!rows.empty())
+            for (int k = first + static_cast<int>(move_ops.size()); k < start; ++k) o += "        nop\n";
+        for (const auto& row : rows) o += bundle(row);
         int drain = 0;
         for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
         if (!r_.carry.empty() || !r_.liveout.empty()) // the exit moves
@@ -1535,6 +1715,7 @@ class Emitter {
             }
         o += fmt::format("# kernel: {} cop{} of II = {} cycles, {} stage{}; each copy ends in the exit test\n", u,
                          u == 1 ? "y" : "ies", ii, stages_, stages_ == 1 ? "" : "s");
+        for (int k = 0; k < a_.entry_nops; ++k) o += "        nop\n";
         o += fmt::format("{}_kernel:\n", uid);
         std::vector<Exit> kernel_exits;
         for (int c = 0; c < u; ++c)
@@ -1564,7 +1745,7 @@ class Emitter {
                 o += fmt::format("# exit from kernel copy {}: its iteration in stage {} leaves{}\n", x.pass - p, sb,
                                  stages_ - 1 == sb ? "" : fmt::format(", the {} older complete", stages_ - 1 - sb));
             if (k > 0) o += x.label + ":\n";
-            o += exit_path(x.pass, x.e, x.absolute);
+            o += exit_path(x.pass, x.e, x.absolute, k > 0);
             if (k + 1 < exits.size()) o += fmt::format("        jmp {}_done\n", uid);
         }
         o += fmt::format("{}_done:\n", uid);
@@ -1926,7 +2107,22 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     auto accept = [&](const Schedule& s) {
         std::optional<Allocation> fitted;
         try {
-            fitted = allocate(r, g, s, named, m, filename);
+            // More kernel copies where the taken-branch bubble makes writes meet on a port.
+            for (int least = 1; least <= kMaxPortUnroll; least *= 2) {
+                fitted = allocate(r, g, s, named, m, filename, least);
+                if (kernel_landings_ok(g, s, fitted->unroll, m, false)) break;
+                if (kernel_landings_ok(g, s, fitted->unroll, m, true)) {
+                    fitted->entry_nops = static_cast<int>(m.branch_penalty);
+                    break;
+                }
+                if (fitted->unroll >= kMaxPortUnroll) {
+                    why_not = fmt::format("II {}: writes meet on a register file's ports across the kernel's back edge "
+                                          "(its {}-cycle branch bubble) with up to {} kernel copies", s.ii,
+                                          m.branch_penalty, fitted->unroll);
+                    return false;
+                }
+                least = fitted->unroll;
+            }
         } catch (const RegisterPressure& e) {
             const std::string what = e.what();
             why_not = fmt::format("II {}: {}", s.ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
@@ -1965,6 +2161,21 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         alloc_found = std::move(alloc);
         return true;
     };
+    // Each schedule found is first tried with its ops moved by whole stages to fewer stages and
+    // shorter lifetimes (same reservation table), then as found if that one fails to assemble.
+    const std::vector<DepEdge> edges = dep_edges(g);
+    const std::vector<StageValue> values = stage_values(g);
+    int scheduled_count = 0; // modulo schedules found, whether or not their code assembled
+    auto shifted = [&](const Schedule& s) {
+        ++scheduled_count;
+        std::vector<Schedule> out;
+        Schedule c = s;
+        c.time = shift_stages(edges, values, s.time, s.ii);
+        c.normalise();
+        if (c.time != s.time) out.push_back(std::move(c));
+        out.push_back(s);
+        return out;
+    };
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (!feasible_ii(g, ii)) return false;
         if (r.is_while && !deadline) { // of every attempt's schedule, the fewest stages, then the smallest
@@ -1977,15 +2188,17 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             };
             std::vector<Ranked> ranked;
             for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
-                std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
-                if (!s) continue;
-                int st = 1;
-                for (int t : s->time) st = std::max(st, t / s->ii + 1);
-                try {
-                    ranked.push_back({st, allocate(r, g, *s, named, m, filename).unroll, std::move(*s)});
-                } catch (const RegisterPressure& e) {
-                    const std::string what = e.what();
-                    why_not = fmt::format("II {}: {}", ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
+                std::optional<Schedule> found = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
+                if (!found) continue;
+                for (Schedule& s : shifted(*found)) {
+                    int st = 1;
+                    for (int t : s.time) st = std::max(st, t / s.ii + 1);
+                    try {
+                        ranked.push_back({st, allocate(r, g, s, named, m, filename).unroll, std::move(s)});
+                    } catch (const RegisterPressure& e) {
+                        const std::string what = e.what();
+                        why_not = fmt::format("II {}: {}", ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
+                    }
                 }
             }
             std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
@@ -1997,11 +2210,22 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         }
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1).run();
-            if (s && accept(*s)) return true;
+            if (!s) continue;
+            for (const Schedule& k : shifted(*s))
+                if (accept(k)) return true;
         }
         return false;
     };
-    for (int ii = lo; ii <= hi && !try_ii(ii, std::nullopt); ++ii) {}
+    int last_tried = hi;
+    for (int ii = lo, unscheduled = 0; ii <= hi; ++ii) {
+        const int before_ii = scheduled_count;
+        if (try_ii(ii, std::nullopt)) break;
+        unscheduled = scheduled_count == before_ii ? unscheduled + 1 : 0;
+        if (opts.max_unscheduled_iis > 0 && unscheduled >= opts.max_unscheduled_iis) {
+            last_tried = ii;
+            break;
+        }
+    }
     // --exact: branch and bound at each II from the bound up to the one found; the first II with
     // a schedule that assembles is the answer, and it is proven optimal when every II below it
     // was exhausted with no modulo schedule at all.
@@ -2065,7 +2289,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     }
     if (!sched)
         fail(filename, static_cast<int>(r.begin + 1),
-             fmt::format("no modulo schedule found for II {}..{} (MII {}){}", lo, hi, res.mii,
+             fmt::format("no modulo schedule found for II {}..{} (MII {}){}", lo, last_tried, res.mii,
                          why_not.empty() ? "" : "; the last that scheduled did not assemble: " + why_not));
     const Allocation& alloc = *alloc_found;
     res.ii = sched->ii;

@@ -59,6 +59,10 @@ namespace nesshi::sched {
 struct PipelineOptions {
     int ii = 0;              // 0: search upward from the MII; else this II only
     int max_ii_search = 64;  // how far above the MII to search
+    // > 0: give up after this many IIs in a row at which no op order gave a modulo schedule at
+    // all (not one whose code failed to assemble): a larger II rarely helps such a loop, and a
+    // caller with another candidate (machine::assemble_kernel) need not pay the whole search.
+    int max_unscheduled_iis = 0;
     // > 0: when the II found is above the MII, branch and bound over modulo reservation tables at
     // each II from the MII up, for this long in all; the first whose code assembles is kept. The
     // report says "II proven optimal" (every smaller II has no table) or "best found, bound not
