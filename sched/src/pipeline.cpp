@@ -2319,6 +2319,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         rep += fmt::format("#   taken-branch bubble {} cycle{} per kernel pass: {:.2f} cycles per iteration in the kernel\n",
                            m.branch_penalty, m.branch_penalty == 1 ? "" : "s",
                            static_cast<double>(res.unroll * res.ii + static_cast<int>(m.branch_penalty)) / res.unroll);
+    if (alloc.entry_nops > 0)
+        rep += fmt::format("#   kernel entered after {} nop{} (as long as the bubble, so writes from the prologue and from the "
+                           "back edge meet no others on a port)\n", alloc.entry_nops, alloc.entry_nops == 1 ? "" : "s");
     if (r.is_while)
         rep += while_report(g, r, *sched, res);
     else

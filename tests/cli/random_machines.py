@@ -8,10 +8,11 @@ from 1-12, the branch penalty from 0-2, and sometimes other port counts per regi
 or 6 read ports (an op reads up to 3), 1 or 3 write ports on the OS, 1, 2 or 4 on the IC (the
 hand code's bundles are split where they exceed them; units are not varied yet). Seeded: the same N and seed draw the same
 machines, and a failure prints the two files to reproduce it with `nesshi render`.
-Machines run in parallel, one per core. Also printed, not asserted (the IC kernel's loops pay
-their entry and exit, and a machine whose loops do not schedule near their bound keeps the
-padded hand pipeline; the OS voxel loop pays its entry and exit): the largest cycles / bound of each stage's loop rows over the first K
-machines, from `nesshi kernels --json`.
+Machines run in parallel, one per core. Also printed: the largest cycles / bound of each stage's
+loop rows over the first K machines (`nesshi kernels --json`), and how many machines have every
+row within 1.15x, 1.5x and 2x. Asserted as a ratchet: at most a fifth of them have a row above 2x
+(the IC's per-kind loops pay a run's fill and drain per list, and a machine where they find no
+modulo schedule keeps the padded hand pipeline).
 
 usage: random_machines.py NESSHI OUTDIR [N [SEED [K]]]
 """
@@ -62,6 +63,7 @@ def main():
     native = {s: render(nesshi, s, os.path.join(out, "native-" + s.replace(":", "-")))[1] for s in SCENES}
     bad = 0
     worst = {"os": (0.0, None, None), "ic": (0.0, None, None)}  # the largest cycles / bound of a loop row
+    per_machine = {"os": [], "ic": []}  # each machine's largest cycles / bound, per stage
     machines = []  # drawn first, in order, so the same seed draws the same machines
     for i in range(n):
         files = []
@@ -94,6 +96,13 @@ def main():
             if report:
                 bad += sum(1 for line in report if line.startswith("machine "))
                 print("\n".join(report))
+            largest = {"os": 0.0, "ic": 0.0}
+            for row in rows:
+                if row.get("bound") and row["machine"] in largest:
+                    largest[row["machine"]] = max(largest[row["machine"]], row["cycles"] / row["bound"])
+            for stage in per_machine:
+                if rows:
+                    per_machine[stage].append((largest[stage], i))
             for row in rows:
                 if row.get("bound") and row["machine"] in worst:
                     ratio = row["cycles"] / row["bound"]
@@ -101,8 +110,21 @@ def main():
                         worst[row["machine"]] = (ratio, row["metric"], machines[i][0 if row["machine"] == "os" else 1])
     for stage, (ratio, metric, path) in worst.items():
         print(f"{stage} loop rows over the first {k} machines: at most {ratio:.2f} x the bound ({metric} on {path})")
+        ratios = [r for r, _ in per_machine[stage]]
+        print(f"  machines whose every {stage} loop row is within 1.15x: {sum(r <= 1.15 for r in ratios)}, "
+              f"1.5x: {sum(r <= 1.5 for r in ratios)}, 2x: {sum(r <= 2 for r in ratios)} of {len(ratios)}")
+    # A ratchet, not the goal of 1.15x: the IC's per-kind loops run a whole run's fill and drain
+    # per 40-shape list, and a machine whose loops find no modulo schedule (one integer write
+    # port, three float read ports) keeps the padded hand pipeline. At most a fifth of the
+    # machines may have a loop row above 2x its bound (8 of the first 10 before stage scheduling
+    # and the back edge's write ports; 1 after).
+    for stage, machines_ratios in per_machine.items():
+        far = [i for r, i in machines_ratios if r > 2]
+        if len(far) > len(machines_ratios) // 5:
+            print(f"FAILED: {len(far)} of {len(machines_ratios)} machines have a {stage} loop row above 2x its bound: {far}")
+            bad += 1
     if bad:
-        print(f"FAILED: {bad} of {2 * n} renders")
+        print(f"FAILED: {bad} of {2 * n} renders, or loop rows above the ratchet")
         sys.exit(1)
     print(f"ok: {n} random machines render {len(SCENES)} scenes as native does")
 
