@@ -1,4 +1,5 @@
 // `nesshi asm`: assemble a source file into an object (diagnostics to stderr, exit 1 on error).
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
@@ -38,7 +39,7 @@ void add_asm(CLI::App& app) {
         opts.include_dirs = o->includes;
         opts.listing = !o->listing.empty();
         auto r = assembler::assemble_file(o->input, m, opts);
-        fmt::print(stderr, "{}", r.diagnostics);
+        status("{}", r.diagnostics);
         if (!r.ok) throw Reported(kExitInput);
         std::string out = o->output;
         if (out.empty()) {

@@ -2,6 +2,7 @@
 // (model V: the VLIW OS and IC kernels on the ISS, SC modelled), write the PNG, print the
 // machine's statistics, and check the image against the native C++ tracer.
 // `nesshi demo --isa`: assemble the bundled examples, run each with the checked engine, print ILP.
+#include "status.hpp"
 #include "commands.hpp"
 #include "stage_machines.hpp"
 
@@ -115,7 +116,7 @@ void run_machine_demo(const DemoArgs& a) {
     if (isatty(STDERR_FILENO)) {
         mo.progress = base::ProgressBar(stderr);
     }
-    fmt::print(stderr, "{}", machine::schedules_used(mo));
+    status("{}", machine::schedules_used(mo));
     const machine::Result mr = machine::render(prep, opt, mo);
     rt::write_png(a.out, mr.render.image);
     const std::string rays = rt::format_rays(mr.render.stats);

@@ -1,4 +1,5 @@
 // `nesshi loop FILE.s`: the report of each hand-written loop in a program (sched/loop_report.hpp).
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
@@ -32,7 +33,7 @@ void add_loop(CLI::App& app) {
         const std::string text = base::read_file(a->input);
         const isa::Machine m = source_machine(a->machine, text);
         const assembler::AsmResult r = assembler::assemble_string(text, a->input, m, {});
-        fmt::print(stderr, "{}", r.diagnostics);
+        status("{}", r.diagnostics);
         if (!r.ok) throw Reported(kExitInput);
         const std::vector<sched::LoopReport> loops = sched::analyse_loops(r.object, m, a->label);
         if (loops.empty())

@@ -1,5 +1,6 @@
 // `nesshi paper`: re-run the paper's evaluation (scenes x grids x models S, M, V) and write Tables
 // 2-4, Fig. 6 and a summary. Cells are kept in OUT/cells, so an interrupted run resumes where it stopped.
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "lists.hpp"
@@ -60,19 +61,19 @@ class ProgressPrinter {
         if (p.size != size_) { // a new phase: the matrix, then the grid pre-pass
             size_ = p.size;
             clear_status();
-            fmt::print(stderr, "{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run{}, {}\n",
+            status("{}: {} cells at {}x{}: {} loaded from {}/cells, {} to run{}, {}\n",
                        phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
                        p.cells_to_run, shard_note_, at_a_time(p.threads, p.processes));
         }
         if (p.stale && !p.stale->empty()) {
             clear_status();
-            fmt::print(stderr, "  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
-            for (const std::string& s : *p.stale) fmt::print(stderr, "    {}\n", s);
+            status("  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
+            for (const std::string& s : *p.stale) status("    {}\n", s);
         }
         if (p.record) {
             clear_status();
             const paper::CellRecord& c = *p.record;
-            fmt::print(stderr, "  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
+            status("  {:<10} g{:<4} {}  {:>12} Mcycles  {:>8.1f} s   [{}/{}{}]\n", c.key.scene, c.key.grid,
                        machine::model_name(c.key.model), paper::format_mcycles(static_cast<double>(c.total)),
                        c.wall_seconds, p.cells_run + p.cells_failed, p.cells_to_run, tty_ ? "" : "; " + timing(p));
         }
@@ -80,7 +81,7 @@ class ProgressPrinter {
             }
 
     void clear_status() {
-        if (status_shown_) fmt::print(stderr, "\r\033[K");
+        if (status_shown_) status("\r\033[K");
         status_shown_ = false;
     }
 
@@ -94,7 +95,7 @@ class ProgressPrinter {
 
     void draw_status(const paper::PaperProgress& p) {
         const int pct = static_cast<int>(p.fraction * 100);
-        fmt::print(stderr, "\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
+        status("\r\033[K{} {:3}%  {}/{} cells  {}", base::progress_bar(pct, 30), pct, p.cells_run + p.cells_failed,
                    p.cells_to_run, timing(p));
         status_shown_ = true;
     }
@@ -121,7 +122,7 @@ void run_paper_command(const PaperArgs& a) {
         throw UsageError(e.message());
     }
     if (!a.quiet && paper::cluster().reports()) // every cell runs these schedules
-        fmt::print(stderr, "{}", machine::schedules_used(o.machine, o.models));
+        status("{}", machine::schedules_used(o.machine, o.models));
     auto printer = std::make_shared<ProgressPrinter>(o, isatty(STDERR_FILENO) != 0);
     if (!a.quiet) o.progress = [printer](const paper::PaperProgress& p) { (*printer)(p); };
     try {

@@ -1,5 +1,6 @@
 // `nesshi paper gaps`: attribute the gaps of our Table 2 against the paper's to kernel speed,
 // workload and the hypotheses of paper/gaps.hpp (native renders + the model V cells of `nesshi paper`).
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "lists.hpp"
@@ -41,7 +42,7 @@ void run(GapsArgs& a) {
         for (const char* f : {"gaps-tables.md", "gaps.csv", "gaps.json", "gaps.svg"})
             check_output((std::filesystem::path(a.out) / f).string());
     }
-    if (!a.quiet) a.o.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+    if (!a.quiet) a.o.progress = [](const std::string& line) { status("{}\n", line); };
     std::vector<paper::GapRow> rows;
     try {
         rows = paper::run_gaps(a.o);

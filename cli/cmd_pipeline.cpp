@@ -1,5 +1,6 @@
 // `nesshi pipeline FILE.sa`: linear assembly in, a software-pipelined loop out (sched/pipeline.hpp),
 // optionally verified by simulation against the region's sequential meaning.
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
@@ -93,7 +94,7 @@ void run_pipeline(const PipelineArgs& a) {
     if (!to_file) fmt::print("{}", pipelined); // the data: printed even with -q
     else if (!a.quiet) fmt::print("{}", report);
     base::flush_stdout();
-    if (!a.no_verify) fmt::print(stderr, "{}: verified: the pipelined loop{} {}\n", a.input, r.regions > 1 ? "s:" : "", verdict);
+    if (!a.no_verify) status("{}: verified: the pipelined loop{} {}\n", a.input, r.regions > 1 ? "s:" : "", verdict);
 }
 
 } // namespace

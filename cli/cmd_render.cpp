@@ -1,4 +1,5 @@
 // `nesshi render`: render a scene with a chosen model (native or the machine's S, M, V) to PNG, stats and buffers.
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "stage_machines.hpp"
@@ -140,7 +141,7 @@ void run_render(const RenderArgs& a) {
     if (native) {
         mr.render = rt::render_native(prep, opt);
     } else {
-        if (!a.quiet) fmt::print(stderr, "{}", machine::schedules_used(mo));
+        if (!a.quiet) status("{}", machine::schedules_used(mo));
         mr = machine::render(prep, opt, mo);
     }
     const rt::RenderResult& r = mr.render;

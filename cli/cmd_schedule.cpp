@@ -1,5 +1,6 @@
 // `nesshi schedule FILE`: list-schedule the `#pack begin` ... `#pack end` blocks of an assembly
 // file into bundles (sched/block.hpp); everything else is copied.
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
@@ -37,7 +38,7 @@ void add_schedule(CLI::App& app) {
         const sched::PackResult r = sched::pack_source(text, a->input, m, opts);
         if (a->report)
             for (const sched::BlockStats& b : r.blocks)
-                fmt::print(stderr, "{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);
+                status("{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);
         if (a->output.empty()) fmt::print("{}", r.text);
         else base::replace_file(a->output, r.text); // a failed run leaves the old file whole
     });

@@ -1,4 +1,5 @@
 // `nesshi sim`: run one processor standalone, print statistics, trace, FIFO files.
+#include "status.hpp"
 #include "commands.hpp"
 #include "fifo_files.hpp"
 #include "outputs.hpp"
@@ -217,7 +218,7 @@ void run_sim(const SimOpts& o) {
     if (!fault) dump_and_check(o, p, expect);
     base::flush_stdout(); // the report before the fault on stderr, and checked
     if (fault) {
-        fmt::print(stderr, "{}", iss::format_fault(p.program(), *fault));
+        status("{}", iss::format_fault(p.program(), *fault));
         throw Reported(kExitFault);
     }
 }

@@ -1,5 +1,6 @@
 // `nesshi sweep SPEC.toml`: a design-space sweep (paper/sweep.hpp). Progress and status go to
 // stderr; the results go to files in --out.
+#include "status.hpp"
 #include "commands.hpp"
 #include "errors.hpp"
 #include "shards.hpp"
@@ -42,18 +43,18 @@ void run_sweep_command(const SweepArgs& a) {
     o.max_cells = a.max_cells;
     o.max_cycles = a.max_cycles;
     if (!a.quiet && paper::cluster().reports() && paper::sweep_cell_count(spec) <= a.max_cells)
-        fmt::print(stderr, "sweep: {} cells ({}); looking for stored ones in {}/cells\n", paper::sweep_cell_count(spec),
+        status("sweep: {} cells ({}); looking for stored ones in {}/cells\n", paper::sweep_cell_count(spec),
                    paper::sweep_product(spec), a.out);
     o.threads = a.threads;
     if (!a.shard.empty()) std::tie(o.shard, o.shards) = parse_shard(a.shard);
     if (!a.quiet)
         o.progress = [shard_note = a.shard.empty() ? std::string() : " (shard " + a.shard + ")"](const paper::SweepProgress& p) {
             if (p.stale) {
-                fmt::print(stderr, "sweep: {} cells: {} loaded, {} to run{}, {}\n", p.cells_total, p.cells_loaded,
+                status("sweep: {} cells: {} loaded, {} to run{}, {}\n", p.cells_total, p.cells_loaded,
                            p.cells_to_run, shard_note, at_a_time(p.threads, p.processes));
                 if (!p.stale->empty()) {
-                    fmt::print(stderr, "  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
-                    for (const std::string& s : *p.stale) fmt::print(stderr, "    {}\n", s);
+                    status("  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
+                    for (const std::string& s : *p.stale) status("    {}\n", s);
                 }
                 return;
             }
@@ -62,13 +63,13 @@ void run_sweep_command(const SweepArgs& a) {
             if (done > 0 && done < p.cells_to_run)
                 left = fmt::format(", ~{} left", base::format_duration(p.elapsed_seconds / static_cast<double>(done) *
                                                                         static_cast<double>(p.cells_to_run - done)));
-            fmt::print(stderr, "  {:<40} {:>7.1f} s   [{}/{}; {} elapsed{}]\n", p.finished_cell, p.seconds, done, p.cells_to_run,
+            status("  {:<40} {:>7.1f} s   [{}/{}; {} elapsed{}]\n", p.finished_cell, p.seconds, done, p.cells_to_run,
                        base::format_duration(p.elapsed_seconds), left);
         };
     const paper::SweepRun r = paper::run_sweep(spec, o);
     if (!paper::cluster().reports()) return; // rank 0 of the MPI run reports
     if (!a.quiet)
-        fmt::print(stderr, "cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
+        status("cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
 }
 
 } // namespace

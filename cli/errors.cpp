@@ -1,4 +1,5 @@
 #include "errors.hpp"
+#include "status.hpp"
 
 #include "base/error.hpp"
 #include "base/write_file.hpp"
@@ -27,7 +28,7 @@ std::string command_name(const CLI::App& app) {
 }
 
 void print_usage_error(const std::string& who, const std::string& msg) {
-    fmt::print(stderr, "{}: error: {}\nRun '{} --help' for more information.\n", who, msg, who);
+    status("{}: error: {}\nRun '{} --help' for more information.\n", who, msg, who);
 }
 
 } // namespace
@@ -64,20 +65,20 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         return e.status();
     } catch (const base::WriteError& e) {
         if (e.broken_pipe()) return kExitInput; // the reader went away (`| head -1`): end quietly
-        fmt::print(stderr, "{}: error: {}\n", who, e.message());
+        status("{}: error: {}\n", who, e.message());
         return kExitInput;
     } catch (const base::Error& e) {
-        if (e.loc().known()) fmt::print(stderr, "{}\n", e.what());
-        else fmt::print(stderr, "{}: error: {}\n", who, e.message());
+        if (e.loc().known()) status("{}\n", e.what());
+        else status("{}: error: {}\n", who, e.message());
         return kExitInput;
     } catch (const std::system_error& e) {
         // fmt::print throws this when a write fails. Files go through base::write_file and
         // OutputFile (WriteError, which names them), so this one was a print to standard output.
         if (e.code() == std::errc::broken_pipe) return kExitInput;
-        fmt::print(stderr, "{}: error: {}\n", who, base::WriteError("-", e.code().value()).message());
+        status("{}: error: {}\n", who, base::WriteError("-", e.code().value()).message());
         return kExitInput;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "{}: error: {}\n", who, e.what());
+        status("{}: error: {}\n", who, e.what());
         return kExitInput;
     }
     return kExitInput;

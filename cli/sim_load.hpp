@@ -4,6 +4,7 @@
 // comment `# machine: NAME`, else `os`. Anything else is read as an object file.
 #pragma once
 
+#include "status.hpp"
 #include "errors.hpp"
 #include "source_machine.hpp"
 
@@ -25,7 +26,7 @@ inline std::shared_ptr<const iss::Program> load_sim_input(const std::string& pat
     const std::string text = base::read_file(path);
     const isa::Machine m = source_machine(machine, text);
     auto r = assembler::assemble_string(text, path, m, {});
-    fmt::print(stderr, "{}", r.diagnostics);
+    status("{}", r.diagnostics);
     if (!r.ok) throw Reported(kExitInput);
     return iss::load_program(r.object, m);
 }
