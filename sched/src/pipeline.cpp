@@ -1576,12 +1576,13 @@ class Emitter {
                 // entry nops as long as the bubble, or straight).
                 const bool before_kernel = !absolute && j > copy;
                 const bool from_prologue = before_kernel && st <= p - (j - copy);
-                for (const int shift : {0, b}) {
-                    if (before_kernel && shift == 0 && (!from_prologue || a_.entry_nops > 0)) continue;
-                    if (!before_kernel && shift > 0) break;
+                // Shifts by which the write lands earlier: none within this pass; before it, the
+                // back edge's bubble, and none from a prologue entered straight.
+                const bool straight = !before_kernel || (from_prologue && a_.entry_nops == 0 && b > 0);
+                for (const int shift : {before_kernel ? b : 0, 0}) {
                     if (const int land = issue - shift + nd.latency; land > 0 && land < horizon)
                         add_writes(at[static_cast<std::size_t>(land)], nd.instr, 1);
-                    if (b == 0) break;
+                    if (!straight || !before_kernel) break;
                 }
             }
         }
