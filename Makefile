@@ -18,7 +18,9 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+# The demo needs the command line only; `make test` builds the rest.
+demo: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target nesshi
 	@$(BUILD)/nesshi demo
 
 # In CI (CI=true) warnings are errors and the unit tests also run under ASan+UBSan.

@@ -35,6 +35,7 @@ struct PaperArgs {
     std::string out = "paper-out";
     int threads = 0;
     std::string shard; // "I/N"
+    bool keep_other_builds = false;
     bool quiet = false;
     machine::Options machine; // the stages' machines and kernels
 };
@@ -65,10 +66,9 @@ class ProgressPrinter {
                        phases_++ ? "grid pre-pass" : "paper", p.cells_total, size_, size_, p.cells_loaded, out_,
                        p.cells_to_run, shard_note_, at_a_time(p.threads, p.processes));
         }
-        if (p.stale && !p.stale->empty()) {
+        if (p.stale && (!p.stale->empty() || p.cells_other_build > 0)) {
             clear_status();
-            status("  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
-            for (const std::string& s : *p.stale) status("    {}\n", s);
+            report_stored(*p.stale, p.cells_other_build);
         }
         if (p.record) {
             clear_status();
@@ -115,6 +115,7 @@ void run_paper_command(const PaperArgs& a) {
     o.out_dir = a.out;
     o.threads = a.threads;
     if (!a.shard.empty()) std::tie(o.shard, o.shards) = parse_shard(a.shard);
+    o.keep_other_builds = a.keep_other_builds;
     o.machine = a.machine;
     try {
         paper::validate(o); // before any output
@@ -154,6 +155,7 @@ void add_paper(CLI::App& app) {
     cmd->add_option("--out", a->out, "output folder (default paper-out); cells kept in OUT/cells");
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(between(0, 1024));
     cmd->add_option("--shard", a->shard, kShardHelp);
+    cmd->add_flag("--keep-other-builds", a->keep_other_builds, kKeepOtherBuildsHelp);
     cmd->add_option("--kernels", a->machine.kernels_dir, "kernel source folder (default: built in)");
     add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");

@@ -23,6 +23,7 @@ struct SweepArgs {
     std::string spec, out = "sweep-out";
     int threads = 0;
     std::string shard; // "I/N"
+    bool keep_other_builds = false;
     bool quiet = false;
     std::size_t max_cells = paper::kSweepMaxCells;
     std::uint64_t max_cycles = 0;
@@ -47,15 +48,13 @@ void run_sweep_command(const SweepArgs& a) {
                    paper::sweep_product(spec), a.out);
     o.threads = a.threads;
     if (!a.shard.empty()) std::tie(o.shard, o.shards) = parse_shard(a.shard);
+    o.keep_other_builds = a.keep_other_builds;
     if (!a.quiet)
         o.progress = [shard_note = a.shard.empty() ? std::string() : " (shard " + a.shard + ")"](const paper::SweepProgress& p) {
             if (p.stale) {
                 status("sweep: {} cells: {} loaded, {} to run{}, {}\n", p.cells_total, p.cells_loaded,
                            p.cells_to_run, shard_note, at_a_time(p.threads, p.processes));
-                if (!p.stale->empty()) {
-                    status("  {} stored cell(s) run again, their provenance is not this run's:\n", p.stale->size());
-                    for (const std::string& s : *p.stale) status("    {}\n", s);
-                }
+                report_stored(*p.stale, p.cells_other_build);
                 return;
             }
             const std::size_t done = p.cells_run + p.cells_failed;
@@ -82,6 +81,7 @@ void add_sweep(CLI::App& app) {
     cmd->add_option("--out", a->out, "output folder (default sweep-out): cells/, results.csv, results.jsonl, chart.svg");
     cmd->add_option("--threads", a->threads, "cells run at once (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--shard", a->shard, kShardHelp);
+    cmd->add_flag("--keep-other-builds", a->keep_other_builds, kKeepOtherBuildsHelp);
     cmd->add_option("--max-cells", a->max_cells, fmt::format("refuse a spec of more cells than this (default {})", paper::kSweepMaxCells))
         ->check(CLI::PositiveNumber);
     cmd->add_option("--max-cycles", a->max_cycles, fmt::format("cycle limit per PE of a cell with no max_cycles axis; a cell "

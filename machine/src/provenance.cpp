@@ -1,6 +1,8 @@
 // The provenance of a machine run and the digest of a stored result.
 #include "machine/provenance.hpp"
 
+#include "build_id.hpp" // generated: NESSHI_BUILD_ID
+
 #include "base/hash.hpp"
 #include "base/read_file.hpp"
 #include "isa/machine.hpp"
@@ -33,6 +35,7 @@ std::string machine_id(const std::string& spec, const char* preset) {
 Provenance provenance(const std::string& scene, int grid, const rt::RenderOptions& ro, const Options& mo) {
     Provenance p;
     p["tool"] = "nesshi " NESSHI_VERSION;
+    p["build"] = NESSHI_BUILD_ID;
     p["scene"] = scene;
     p["scene.hash"] = base::hex64(base::fnv1a64(scene_text(scene)));
     p["grid"] = std::to_string(grid);
@@ -64,7 +67,7 @@ Provenance provenance(const std::string& scene, int grid, const rt::RenderOption
     return p;
 }
 
-std::vector<std::string> provenance_differences(const Provenance& stored, const Provenance& current) {
+std::vector<std::string> provenance_differences(const Provenance& stored, const Provenance& current, bool same_build) {
     std::vector<std::string> d;
     auto value = [](const Provenance& p, const std::string& k) {
         const auto it = p.find(k);
@@ -75,12 +78,14 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
     for (const auto& [k, v] : current) keys[k] |= 2;
     for (const auto& [k, sides] : keys) {
         // A cycle limit changes no result that finished under it; the others all do.
-        if (k == "tool" || k == "options.max_cycles") continue;
+        if (k == "tool" || k == "options.max_cycles" || (k == "build" && !same_build)) continue;
         const std::string a = value(stored, k), b = value(current, k);
         if (a != b) d.push_back(fmt::format("{}: {} -> {}", k, a, b));
     }
     return d;
 }
+
+std::string build_identity() { return NESSHI_BUILD_ID; }
 
 std::string result_digest(const std::string& json_text) {
     nlohmann::json j = nlohmann::json::parse(json_text);

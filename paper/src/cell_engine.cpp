@@ -68,13 +68,16 @@ struct EngineRun {
             }
             std::string text = base::read_file(c.file);
             if (c.check) c.check(text); // a malformed file is an error, not a cell to run again
-            if (const auto why = stale_reasons(text, c.provenance, c.file); !why.empty()) {
+            bool other = false;
+            if (const auto why = stale_reasons(text, c.provenance, c.file, options.keep_other_builds ? &other : nullptr);
+                !why.empty()) {
                 result.stale.push_back(fmt::format("{}: {}", c.name, fmt::join(why, "; ")));
                 if (mine) todo.push_back(i);
                 continue;
             }
             result.texts[i] = std::move(text);
             ++result.loaded;
+            result.other_build += other;
         }
         // The most work first, so the cell still running at the end is a short one.
         std::stable_sort(todo.begin(), todo.end(),
@@ -110,6 +113,7 @@ struct EngineRun {
         CellEngineProgress p;
         p.cells_total = cells.size();
         p.cells_loaded = result.loaded;
+        p.cells_other_build = result.other_build;
         p.cells_to_run = todo.size();
         p.cells_run = result.run;
         p.cells_failed = failed;

@@ -96,7 +96,7 @@ std::string stamp_cell(const std::string& json_text, const machine::Provenance& 
 }
 
 std::vector<std::string> stale_reasons(const std::string& json_text, const machine::Provenance& expected,
-                                       const std::string& file) {
+                                       const std::string& file, bool* other_build) {
     json j;
     try {
         j = json::parse(json_text);
@@ -114,7 +114,10 @@ std::vector<std::string> stale_reasons(const std::string& json_text, const machi
         throw PaperError(base::SourceLoc(file), "malformed cell file: \"provenance\" is not an object of strings "
                                                 "(delete it to run the cell again)");
     }
-    return machine::provenance_differences(stored, expected);
+    if (other_build) *other_build = !machine::provenance_differences(stored, expected).empty();
+    const auto why = machine::provenance_differences(stored, expected, other_build == nullptr);
+    if (other_build && !why.empty()) *other_build = false;
+    return why;
 }
 
 const CellRecord* PaperData::find(const std::string& scene, int grid, machine::Model m) const {

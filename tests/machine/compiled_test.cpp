@@ -229,7 +229,7 @@ void note_reached(const Pair& p) {
 }
 
 const std::vector<std::string> kDda = {"os/dda.s@os", "seq/dda.s@seq", "os/dda.s@os-real", "seq/dda.s@seq-real"};
-const std::vector<std::string> kIntersect = {"ic/intersect.s@ic", "seq/intersect.s@seq", "ic/intersect.s@ic-real",
+const std::vector<std::string> kIntersect = {"ic/intersect.s@ic", "seq/intersect.s@seq",
                                              "seq/intersect.s@seq-real"};
 
 std::shared_ptr<const iss::Program> program(const std::string& spec) {
@@ -289,7 +289,7 @@ TEST_CASE("compiled runs: every built-in kernel in lock-step with the interprete
         }
     }
     WARN(fmt::format("compiled runs entered in lock-step: {} of {}; not reached:{}", hit, total, unreached));
-    CHECK(iss::compiled_count() == 8);
+    CHECK(iss::compiled_count() == 7);
     CHECK(hit * 10 >= total * 7);
 }
 

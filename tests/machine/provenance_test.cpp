@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <string>
+#include <vector>
 
 using namespace nesshi;
 
@@ -30,6 +31,8 @@ TEST_CASE("Provenance names the scene, kernels, the machines the model uses and 
     CHECK(p.count("kernels.abi.inc") == 1);
     CHECK(p.at("machine.os").rfind("os ", 0) == 0);
     CHECK(p.count("machine.ic") == 1);
+    CHECK(p.at("build") == machine::build_identity());
+    CHECK(machine::build_identity().size() == 16);
 
     machine::Options m;
     m.model = machine::Model::M;
@@ -46,6 +49,15 @@ TEST_CASE("Provenance names the scene, kernels, the machines the model uses and 
     CHECK(d[0].rfind("machine.ic: ic ", 0) == 0);
     CHECK(d[0].find(" -> ic-real ") != std::string::npos);
     CHECK(d[1] == "options.fifo_capacity: 0 -> 64");
+
+    // A result of another build differs (its timing model may), unless the caller keeps it.
+    machine::Provenance older = p;
+    older["build"] = "0123456789abcdef";
+    CHECK(machine::provenance_differences(older, p) ==
+          std::vector<std::string>{"build: 0123456789abcdef -> " + machine::build_identity()});
+    CHECK(machine::provenance_differences(older, p, false).empty());
+    older.erase("build"); // a cell from before builds were told apart
+    CHECK(machine::provenance_differences(older, p).size() == 1);
 
     // Another size factor is another scene text; the same spec hashes alike.
     CHECK(machine::provenance("tetra:2", 8, size(16), v).at("scene.hash") != p.at("scene.hash"));

@@ -100,6 +100,30 @@ TEST_CASE("cell engine: a stored cell whose provenance changed runs again, sayin
     CHECK(r.stale[0].rfind("cell1: options.index", 0) == 0);
 }
 
+TEST_CASE("cell engine: cells of another build run again, or are kept and counted when asked") {
+    TempDir dir("nesshi-cell-engine");
+    StandIn s;
+    std::vector<Cell> cells = s.cells(dir, 3);
+    for (Cell& c : cells) c.provenance["build"] = "old";
+    run_cells(cells, {});
+    for (Cell& c : cells) c.provenance["build"] = "new";
+    cells[2].provenance["options.index"] = "two"; // differs in more than its build
+    CellEngineOptions keep;
+    keep.keep_other_builds = true;
+    const CellEngineResult kept = run_cells(cells, keep);
+    CHECK(kept.loaded == 2);
+    CHECK(kept.other_build == 2);
+    CHECK(kept.run == 1);
+    REQUIRE(kept.stale.size() == 1);
+    CHECK(kept.stale[0] == "cell2: options.index: 2 -> two"); // the build is not a reason when kept
+    const CellEngineResult rerun = run_cells(cells, {});
+    CHECK(rerun.loaded == 1); // cell 2, stored by the run above with this build
+    CHECK(rerun.other_build == 0);
+    CHECK(rerun.run == 2);
+    REQUIRE(rerun.stale.size() == 2);
+    CHECK(rerun.stale[0] == "cell0: build: old -> new");
+}
+
 TEST_CASE("cell engine: a failing cell is reported and the others still run") {
     TempDir dir("nesshi-cell-engine");
     StandIn s;

@@ -290,6 +290,18 @@ TEST_CASE("Cell provenance: stamped with a digest, a changed run or a hand edit 
     machine::Provenance newer = a;
     newer["tool"] = "nesshi 2";
     CHECK(stale_reasons(stamped, newer, "c.json").empty());
+    // Another build is a difference, unless its cells are kept on purpose (and counted).
+    machine::Provenance rebuilt = a;
+    rebuilt["build"] = "2";
+    CHECK(stale_reasons(stamped, rebuilt, "c.json") == std::vector<std::string>{"build: (none) -> 2"});
+    bool other = false;
+    CHECK(stale_reasons(stamped, rebuilt, "c.json", &other).empty());
+    CHECK(other);
+    CHECK(stale_reasons(stamped, a, "c.json", &other).empty());
+    CHECK_FALSE(other);
+    rebuilt["grid"] = "50"; // kept only when nothing else differs
+    CHECK(stale_reasons(stamped, rebuilt, "c.json", &other) == std::vector<std::string>{"grid: 20 -> 50"});
+    CHECK_FALSE(other);
     machine::Provenance b = a;
     b["machine.ic"] = "ic-real 02";
     b["options.pes"] = "2";

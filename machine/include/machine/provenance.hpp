@@ -15,7 +15,7 @@
 
 namespace nesshi::machine {
 
-// Keys: "tool", "scene", "scene.hash", "grid", "kernels.<path>" (one per source file),
+// Keys: "tool", "build" (build_identity()), "scene", "scene.hash", "grid", "kernels.<path>" (one per source file),
 // "machine.os" / "machine.ic" (model V only) and "machine.seq" ("<name> <fingerprint>"),
 // "options.<name>". Only what the run uses: a model-M cell does not depend on the IC's machine.
 using Provenance = std::map<std::string, std::string>;
@@ -24,9 +24,15 @@ using Provenance = std::map<std::string, std::string>;
 // `grid` the resolution the run uses (voxels per side). Throws what loading them throws.
 Provenance provenance(const std::string& scene, int grid, const rt::RenderOptions& ro, const Options& mo);
 
-// "key: stored -> current" for every key whose value differs or is missing on one side; "tool"
-// is not compared (a new build that keeps every result, as our refactors must, keeps the cells).
-std::vector<std::string> provenance_differences(const Provenance& stored, const Provenance& current);
+// "key: stored -> current" for every key whose value differs or is missing on one side. "tool"
+// (the version) is not compared; "build" is unless `same_build` is false (the caller keeps
+// results of another build on purpose, and says so).
+std::vector<std::string> provenance_differences(const Provenance& stored, const Provenance& current,
+                                                bool same_build = true);
+
+// This build's identity: a hash of the sources of every library a cycle count depends on (the
+// build computes it; cmake/BuildId.cmake), so a result from an older timing model is not current.
+std::string build_identity();
 
 // The digest of a stored result: FNV-1a of the JSON document without its "host" (wall times) and
 // "digest" members, so a hand-edited number is caught. `json_text` is a JSON object.

@@ -35,6 +35,7 @@ struct Cell {
 
 struct CellEngineProgress {
     std::size_t cells_total = 0, cells_loaded = 0, cells_to_run = 0, cells_run = 0, cells_failed = 0;
+    std::size_t cells_other_build = 0; // of the loaded: another build's (keep_other_builds)
     double fraction = 0;        // of the cells to run, with the running ones' partial progress
     double elapsed_seconds = 0; // of this run
     int threads = 1;            // cells at once in this process
@@ -53,6 +54,10 @@ struct CellSpread {
     // Run only shard `shard` of `shards` (1-based): the cells whose index is shard - 1 modulo
     // shards; the others are loaded when stored, else have no result.
     int shard = 1, shards = 1;
+    // Keep stored cells that another build of nesshi computed (machine::build_identity), when
+    // they differ in nothing else; they are counted (CellEngineResult::other_build). By default
+    // they run again: a new build may time the machine differently.
+    bool keep_other_builds = false;
 };
 
 struct CellEngineOptions : CellSpread {
@@ -65,6 +70,7 @@ struct CellEngineResult {
     std::vector<std::string> failures; // "cell: message"
     std::vector<std::string> stale;    // "cell: what changed"
     std::size_t loaded = 0, run = 0;
+    std::size_t other_build = 0; // of the loaded: computed by another build (keep_other_builds)
     // This process is an MPI worker: it ran cells for rank 0 and has no results (texts all "").
     bool worker = false;
 };

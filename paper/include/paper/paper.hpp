@@ -64,9 +64,11 @@ CellRecord parse_cell(const CellKey& key, const std::string& json_text, const st
 std::string stamp_cell(const std::string& json_text, const machine::Provenance& p);
 // Whether a stored cell is still the current run's: its differences from `expected` (empty when it
 // is; "no provenance recorded" for a file written before nesshi kept it). Throws PaperError naming
-// the file when its results do not match its digest (edited by hand) or it is not JSON.
+// the file when its results do not match its digest (edited by hand) or it is not JSON. With
+// `other_build` non-null, a cell of another build (machine::build_identity) is kept and
+// *other_build says whether it is one; with nullptr, another build is a difference.
 std::vector<std::string> stale_reasons(const std::string& json_text, const machine::Provenance& expected,
-                                       const std::string& file);
+                                       const std::string& file, bool* other_build = nullptr);
 
 // The engine's progress, plus the record of the cell just finished (nullptr: the start, a failure
 // or a periodic update) and the image size of the phase (the grid pre-pass follows the matrix, smaller).
