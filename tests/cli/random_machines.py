@@ -10,7 +10,7 @@ hand code's bundles are split where they exceed them; units are not varied yet).
 machines, and a failure prints the two files to reproduce it with `nesshi render`.
 Machines run in parallel, one per core. Also printed: the largest cycles / bound of each stage's
 loop rows over the first K machines (`nesshi kernels --json`), and how many machines have every
-row within 1.15x, 1.5x and 2x. Asserted as a ratchet: at most a fifth of them have a row above 2x
+row within 1.15x, 1.5x and 2x. Asserted as a ratchet: at most a tenth of them have a row above 2x
 (the IC's per-kind loops pay a run's fill and drain per list, and a machine where they find no
 modulo schedule keeps the padded hand pipeline).
 
@@ -114,13 +114,13 @@ def main():
         print(f"  machines whose every {stage} loop row is within 1.15x: {sum(r <= 1.15 for r in ratios)}, "
               f"1.5x: {sum(r <= 1.5 for r in ratios)}, 2x: {sum(r <= 2 for r in ratios)} of {len(ratios)}")
     # A ratchet, not the goal of 1.15x: the IC's per-kind loops run a whole run's fill and drain
-    # per 40-shape list, and a machine whose loops find no modulo schedule (one integer write
-    # port, three float read ports) keeps the padded hand pipeline. At most a fifth of the
-    # machines may have a loop row above 2x its bound (8 of the first 10 before stage scheduling
-    # and the back edge's write ports; 1 after).
+    # per 40-shape list, and a machine whose loops find no modulo schedule keeps the padded hand
+    # pipeline. At most a tenth of the machines may have a loop row above 2x its bound (8 of the
+    # first 10 before stage scheduling and the back edge's write ports; 1 of 30 since the read
+    # ports' packing bound lets the loops on three float read ports schedule at their MII).
     for stage, machines_ratios in per_machine.items():
         far = [i for r, i in machines_ratios if r > 2]
-        if len(far) > len(machines_ratios) // 5:
+        if len(far) > len(machines_ratios) // 10:
             print(f"FAILED: {len(far)} of {len(machines_ratios)} machines have a {stage} loop row above 2x its bound: {far}")
             bad += 1
     if bad:

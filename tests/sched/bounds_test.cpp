@@ -131,6 +131,36 @@ TEST_CASE("ResMII on ic: three FPUs, and the FPRF's three write ports", "[bounds
     CHECK(b.binds == "FPRF write ports 4/3 = 1.33");
 }
 
+TEST_CASE("ResMII: reads packed into bundles of few read ports", "[bounds]") {
+    const isa::Machine m = isa::parse_machine("inherits = \"ic\"\nname = \"ic-3rp\"\n[registers.float]\nread_ports = 3\n",
+                                              "ic-3rp.toml");
+    // Five float adds (2 reads each): 10 reads / 3 = 3.33, but no two adds share a bundle (4
+    // reads > 3), so 5 bundles.
+    const char* body = R"(
+        fadd f1, f10, f11
+        fadd f2, f10, f12
+        fadd f3, f11, f12
+        fadd f4, f11, f13
+        fadd f5, f12, f13
+)";
+    const sched::ResBound a = res(m, body);
+    CHECK(a.cycles == 5);
+    CHECK(a.binds == "FPRF read ports 10/3 packed: 5 ops read more than half of them = 5");
+    // Five negations (1 read each) fill the read each add leaves: 15 / 3 = 5 bundles still.
+    const char* negs = R"(
+        { fadd f1, f10, f11 ; fneg f6, f10 }
+        { fadd f2, f10, f12 ; fneg f7, f11 }
+        { fadd f3, f11, f12 ; fneg f8, f12 }
+        { fadd f4, f11, f13 ; fneg f9, f13 }
+        { fadd f5, f12, f13 ; fneg f14, f10 }
+)";
+    const sched::ResBound b = res(m, negs);
+    CHECK(b.cycles == 5);
+    CHECK(b.binds == "FPRF read ports 15/3 = 5");
+    // On ic's 7 read ports the same adds pack 3 to a bundle: the reads bind no more than slots.
+    CHECK(res(isa::load_machine("ic"), body).ii() == 2);
+}
+
 TEST_CASE("ResMII on seq: one unit takes every op", "[bounds]") {
     const isa::Machine m = isa::load_machine("seq");
     const char* body = R"(

@@ -1,8 +1,10 @@
 // Lower bounds on the initiation interval of a loop body, each with what binds it.
 //
 // ResMII: every subset S of issue slots must issue, each iteration, the ops whose class only
-// slots of S accept (Hall's condition), so II >= |those ops| / |S| for every S; and each register
-// file's reads and writes over its read and write ports. RecMII of a region taken as a loop
+// slots of S accept (Hall's condition), so II >= |those ops| / |S| for every S; each register
+// file's reads and writes over its read and write ports; and the bundles the ops' reads need when
+// packed into bundles of that many read ports (ops reading more than half of them never share a
+// bundle: on 3 ports, 48 ops reading 2 floats each need 48 bundles, not 98/3). RecMII of a region taken as a loop
 // body: the longest latency chain from a live-in read of a register to the region's last write
 // of it (the value goes round once per pass). The modulo scheduler (pipeline.hpp) and the kernel
 // report (machine/kernel_report.hpp) use these; neither restates the machine's rules.
@@ -39,8 +41,10 @@ struct ExtraOps {
 inline constexpr std::array<ExtraOps, 2> kLoopControl = {ExtraOps{isa::OpClass::Branch, 1}, ExtraOps{isa::OpClass::Alu, 1}};
 
 struct ResBound {
-    double cycles = 0; // the largest of ops / slots over slot subsets and accesses / ports per file
-    std::string binds; // "slots {iu0,iu1}: 7 ops / 2 = 3.5", "FPRF write ports 8/2 = 4"; "" when no op
+    double cycles = 0; // the largest of ops / slots over slot subsets, accesses / ports and packed reads per file
+    // "slots {iu0,iu1}: 7 ops / 2 = 3.5", "FPRF write ports 8/2 = 4",
+    // "FPRF read ports 98/3 packed: 48 ops read more than half of them = 48"; "" when no op
+    std::string binds;
     int ii() const;    // the smallest whole II it allows: ceil(cycles), at least 1
 };
 
