@@ -10,10 +10,12 @@
 namespace {
 
 // GNU habit: an option takes one value per occurrence (`-I a -I b file.s`), so it never
-// swallows the positional argument after it. Applies to every option of every subcommand.
+// swallows the positional argument after it. Applies to every option of every subcommand, not to
+// positionals: CLI11 gives a positional more values than its minimum only through extra args
+// (`nesshi compare A B C`).
 void one_value_per_option(CLI::App& app) {
     for (CLI::Option* o : app.get_options())
-        if (o->get_items_expected_max() > 1) o->allow_extra_args(false);
+        if (!o->get_positional() && o->get_items_expected_max() > 1) o->allow_extra_args(false);
     for (CLI::App* sub : app.get_subcommands({})) one_value_per_option(*sub);
 }
 
