@@ -4,6 +4,7 @@
 #include "base/error.hpp"
 
 #include <cerrno>
+#include <cstring>
 #include <string>
 
 #include <fcntl.h>
@@ -17,6 +18,9 @@ namespace {
 [[noreturn]] void fail(const std::string& path, std::string message) {
     throw Error(SourceLoc(path), std::move(message));
 }
+
+// "cannot open: No such file or directory": what the system said, so that the user knows why.
+[[noreturn]] void fail_open(const std::string& path) { fail(path, std::string("cannot open: ") + std::strerror(errno)); }
 
 // The null device: the usual way to give a command an empty input (`--fifo-in /dev/null`).
 bool is_null_device(const struct stat& st) {
@@ -46,12 +50,12 @@ std::string read_file(const std::string& path, std::size_t max_bytes) {
     // stat first, so a device or a pipe is never even opened; fstat again on what was opened,
     // in case the path changed in between.
     struct stat st {};
-    if (::stat(path.c_str(), &st) != 0) fail(path, "cannot open");
+    if (::stat(path.c_str(), &st) != 0) fail_open(path);
     if (is_null_device(st)) return {};
     check_kind(path, st, max_bytes);
     Fd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
-    if (f.fd < 0) fail(path, "cannot open");
-    if (::fstat(f.fd, &st) != 0) fail(path, "cannot open");
+    if (f.fd < 0) fail_open(path);
+    if (::fstat(f.fd, &st) != 0) fail_open(path);
     check_kind(path, st, max_bytes);
 
     // Read to the end rather than trusting st_size (files that grow, /proc files of size 0),
@@ -63,7 +67,7 @@ std::string read_file(const std::string& path, std::size_t max_bytes) {
         const ssize_t n = ::read(f.fd, buf, sizeof buf);
         if (n < 0) {
             if (errno == EINTR) continue;
-            fail(path, "cannot read");
+            fail(path, std::string("cannot read: ") + std::strerror(errno));
         }
         if (n == 0) break;
         if (out.size() + static_cast<std::size_t>(n) > max_bytes)

@@ -153,6 +153,12 @@ Scene load_scene(const std::string& file_or_name) {
             s.name = label;
             return s;
         }
+        // A bare name that is neither a file nor a built-in scene: say both, not just "cannot open"
+        // (a path, with a folder or an extension, gets the system's reason from load_nff_file).
+        if (file_or_name.find_first_of("/.") == std::string::npos)
+                throw SceneError(SourceLoc(file_or_name), fmt::format("unknown scene: no such file, and not a built-in one "
+                                                                  "({} gears, NAME:SIZE for another size)",
+                                                                  fmt::join(spd_names(), " ")));
     }
     return load_nff_file(file_or_name);
 }

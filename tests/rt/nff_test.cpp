@@ -94,7 +94,7 @@ TEST_CASE("NFF: malformed input gives file:line:col errors", "[nff][bad-input]")
 }
 
 TEST_CASE("NFF: missing file and built-in name errors", "[nff][bad-input]") {
-    CHECK_THROWS_WITH(load_nff_file("/nonexistent/x.nff"), "/nonexistent/x.nff: error: cannot open");
+    CHECK_THROWS_WITH(load_nff_file("/nonexistent/x.nff"), "/nonexistent/x.nff: error: cannot open: No such file or directory");
     CHECK_THROWS_AS(load_scene("balls:0"), SceneError);
     CHECK_THROWS_AS(load_scene("balls:x"), SceneError);
 }

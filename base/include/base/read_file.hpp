@@ -6,7 +6,8 @@
 // A directory, a device (/dev/zero), a named pipe or a socket is refused before anything is
 // read (a pipe is opened without blocking), and so is a file above the cap; the error is a
 // base::Error located at the path: "is a directory", "not a regular file",
-// "file too large (N bytes; the limit is M)", "cannot open" or "cannot read". /dev/null, the
+// "file too large (N bytes; the limit is M)", "cannot open: <the system's reason>" or
+// "cannot read: <reason>". /dev/null, the
 // usual empty input, reads as an empty file.
 #pragma once
 
