@@ -48,6 +48,19 @@ std::optional<uint16_t> register_index(std::string_view t) {
     return flat_reg(t[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float, uint32_t(*n));
 }
 
+// The most arguments a command's usage takes: words of its longest alternative ("regs [r|f|p] |
+// inflight": 2; "[/N] ADDR": 2; "": 0).
+std::size_t max_args(std::string_view usage) {
+    std::size_t most = 0;
+    while (true) {
+        const std::size_t bar = usage.find(" | ");
+        const std::vector<std::string> words = split(usage.substr(0, bar));
+        most = std::max(most, words.size());
+        if (bar == std::string_view::npos) return most;
+        usage.remove_prefix(bar + 3);
+    }
+}
+
 } // namespace
 
 const std::vector<DebugCommand>& Debugger::commands() {
@@ -91,6 +104,15 @@ bool Debugger::execute(std::string_view line) {
     for (const DebugCommand& c : commands()) {
         bool match = c.name == name || std::find(c.aliases.begin(), c.aliases.end(), name) != c.aliases.end();
         if (!match) continue;
+        // More arguments than the command takes is an error, never ignored ("break loop if r1 == 5"
+        // would stop at every pass, the condition dropped).
+        if (const std::size_t most = max_args(c.args); args.size() > most) {
+            std::string extra;
+            for (std::size_t k = most; k < args.size(); ++k) extra += (extra.empty() ? "" : " ") + args[k];
+            say("{}: unexpected '{}' (usage: {}{}{}); nothing done\n", c.name, extra, c.name, c.args.empty() ? "" : " ",
+                c.args);
+            return !quit_;
+        }
         if (c.run == &Debugger::cmd_step) last_step_ = words; // what ran, never the raw line (" " has no words)
         (this->*c.run)(args);
         std::fflush(out_);

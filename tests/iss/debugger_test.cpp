@@ -161,3 +161,23 @@ TEST_CASE("the history file: XDG_STATE_HOME, else HOME, else none") {
     CHECK(debug_history_path(nullptr, nullptr).empty());
     CHECK(debug_history_path(nullptr, "").empty());
 }
+
+// Arguments a command does not take are an error, never dropped: a condition on a breakpoint
+// used to leave an unconditional one.
+TEST_CASE("extra arguments are refused and nothing is done") {
+    auto p = make_proc("os", {{op("nop")}, {op("nop")}, {op("halt")}});
+    std::FILE* out = std::tmpfile();
+    REQUIRE(out);
+    Debugger d(*p, out);
+    CHECK(d.execute("break 1 if r1 == 5"));
+    CHECK(contents(out).find("break: unexpected 'if r1 == 5' (usage: break LOC); nothing done") != std::string::npos);
+    CHECK(d.execute("continue"));
+    CHECK(p->status() == Status::Halted); // no breakpoint was set
+    CHECK(d.execute("stats now"));
+    CHECK(contents(out).find("stats: unexpected 'now' (usage: stats); nothing done") != std::string::npos);
+    CHECK(d.execute("info regs r extra"));
+    CHECK(contents(out).find("info: unexpected 'extra'") != std::string::npos);
+    CHECK(d.execute("x/2 0")); // the count and the address: two arguments
+    CHECK(contents(out).find("x: unexpected") == std::string::npos);
+    std::fclose(out);
+}
