@@ -4,6 +4,8 @@
 // come from one run.
 //
 //   build/bench_iss [--iterations N] [--rays N] [--only mix|mix-fast|kernels|dda-os|dda-seq|spheres-ic|spheres-seq]
+#include "args.hpp"
+
 #include "assembler/assembler.hpp"
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
@@ -293,14 +295,13 @@ void print_kernels(int nrays, const std::string& only) {
 } // namespace
 
 int main(int argc, char** argv) {
-    uint32_t iterations = 25'000'000;
-    int rays = 4000;
-    std::string only;
-    for (int i = 1; i + 1 < argc; ++i) {
-        if (std::strcmp(argv[i], "--iterations") == 0) iterations = uint32_t(std::strtoul(argv[i + 1], nullptr, 10));
-        if (std::strcmp(argv[i], "--rays") == 0) rays = std::max(1, std::atoi(argv[i + 1]));
-        if (std::strcmp(argv[i], "--only") == 0) only = argv[i + 1];
-    }
+    const nesshi::bench::Args args = nesshi::bench::parse_args(
+        argc, argv,
+        "usage: bench_iss [--iterations N] [--rays N] [--only mix|mix-fast|kernels|dda-os|dda-seq|spheres-ic|spheres-seq]",
+        {"--iterations", "--rays", "--only"});
+    uint32_t iterations = uint32_t(std::max(0L, args.number("--iterations", 25'000'000)));
+    const int rays = int(std::max(1L, args.number("--rays", 4000)));
+    std::string only = args.text("--only", "");
     // --only mix-fast: the mix on the fast engine alone (to count its host instructions).
     const bool fast_only = only == "mix-fast";
     if (fast_only) only = "mix";

@@ -6,6 +6,8 @@
 // --paper DIR also times the whole `nesshi paper` matrix into DIR (must not hold cells yet, else
 // the finished ones are loaded, not timed): the target is under 30 minutes on 2 cores.
 // Usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]
+#include "args.hpp"
+
 #include "iss/compiled.hpp"
 #include "machine/machine.hpp"
 #include "paper/paper.hpp"
@@ -36,20 +38,12 @@ double cpu_seconds() {
 int main(int argc, char** argv) {
     using namespace nesshi;
     using namespace nesshi::rt;
-    std::string scene = "balls", model = "V", paper_dir;
-    int grid = 50, size = 512;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string a = argv[i], v = argv[i + 1];
-        if (a == "--scene") scene = v;
-        else if (a == "--model") model = v;
-        else if (a == "--grid") grid = std::atoi(v.c_str());
-        else if (a == "--size") size = std::atoi(v.c_str());
-        else if (a == "--paper") paper_dir = v;
-        else {
-            fmt::print(stderr, "usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]\n");
-            return 2;
-        }
-    }
+    const bench::Args args =
+        bench::parse_args(argc, argv, "usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]",
+                          {"--scene", "--model", "--grid", "--size", "--paper"});
+    const std::string scene = args.text("--scene", "balls"), model = args.text("--model", "V"),
+                      paper_dir = args.text("--paper", "");
+    const int grid = int(args.number("--grid", 50)), size = int(args.number("--size", 512));
     try {
         machine::Options mo;
         if (!machine::parse_model(model, mo.model)) throw std::runtime_error("unknown model " + model);

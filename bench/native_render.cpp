@@ -1,6 +1,8 @@
 // Benchmark: the native float32 renderer on the paper's five scenes at grid 20/50/100 (the baseline
 // the simulator's speed is compared with). Prints seconds and rays per second; not a test.
 // Usage: bench_native_render [--size N] [--threads N] [--grids 20,50,100] [scene ...]
+#include "args.hpp"
+
 #include "rt/render.hpp"
 #include "rt/spd.hpp"
 
@@ -13,19 +15,15 @@
 
 int main(int argc, char** argv) {
     using namespace nesshi::rt;
-    int size = 512, threads = 0;
-    std::vector<int> grids = {20, 50, 100};
-    std::vector<std::string> scenes;
-    for (int i = 1; i < argc; ++i) {
-        std::string a = argv[i];
-        if (a == "--size" && i + 1 < argc) size = std::atoi(argv[++i]);
-        else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else if (a == "--grids" && i + 1 < argc) {
-            grids.clear();
-            std::stringstream ss(argv[++i]);
-            for (std::string g; std::getline(ss, g, ',');) grids.push_back(std::atoi(g.c_str()));
-        } else scenes.push_back(a);
-    }
+    const nesshi::bench::Args args = nesshi::bench::parse_args(
+        argc, argv, "usage: bench_native_render [--size N] [--threads N] [--grids 20,50,100] [scene ...]",
+        {"--size", "--threads", "--grids"}, true);
+    int size = int(args.number("--size", 512));
+    const int threads = int(args.number("--threads", 0));
+    std::vector<int> grids;
+    std::stringstream ss(args.text("--grids", "20,50,100"));
+    for (std::string g; std::getline(ss, g, ',');) grids.push_back(std::atoi(g.c_str()));
+    std::vector<std::string> scenes = args.positionals;
     if (scenes.empty()) scenes = spd_names();
     if (size < 1) size = 512;
     fmt::print("native renderer, {}x{}, SPD mode, threads {}\n", size, size, threads ? std::to_string(threads) : "all");

@@ -2,6 +2,8 @@
 // mean II / MII, and the scheduling time per loop (and for the 50-operation loops); the counted
 // loops first, then the same corpus as `.pipeline while` loops.
 // `build/bench_sched [--loops N]`: N random loops per machine (default 200), 5 to 50 compute ops.
+#include "args.hpp"
+
 #include "isa/machine.hpp"
 #include "sched/pipeline.hpp"
 #include "sched/random_loop.hpp"
@@ -15,9 +17,7 @@
 using namespace nesshi;
 
 int main(int argc, char** argv) {
-    int loops = 200;
-    for (int i = 1; i + 1 < argc; ++i)
-        if (std::strcmp(argv[i], "--loops") == 0) loops = std::atoi(argv[i + 1]);
+    const int loops = int(bench::parse_args(argc, argv, "usage: bench_sched [--loops N]", {"--loops"}).number("--loops", 200));
     using Draw = std::string (*)(std::uint64_t, const isa::Machine&, int);
     for (const auto& [kind, draw] : {std::pair<const char*, Draw>{"counted", sched::random_linear_loop},
                                      std::pair<const char*, Draw>{"while", sched::random_while_loop}}) {
