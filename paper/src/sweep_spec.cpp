@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <limits>
 
 namespace nesshi::paper {
@@ -23,6 +24,19 @@ namespace {
 
 base::SourceLoc where(const std::string& file, const toml::source_region& r) {
     return base::SourceLoc(file, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column));
+}
+
+// A value of a file axis that names a file (not a preset or a built-in scene), relative to the
+// spec's folder as an include would be: the spec runs the same from any working directory.
+std::string from_spec_folder(const std::string& axis, const std::string& value, const std::string& spec_file) {
+    const bool file_axis = axis == "os_machine" || axis == "ic_machine" || axis == "seq_machine" || axis == "kernels" || axis == "scene";
+    if (!file_axis || value.empty() || value[0] == '/') return value;
+    const bool named = axis == "scene" ? value.find('/') == std::string::npos && value.find(".nff") == std::string::npos
+                                       : axis != "kernels" && value.find('/') == std::string::npos &&
+                                             !value.ends_with(".toml");
+    if (named) return value;
+    const std::filesystem::path folder = std::filesystem::path(spec_file).parent_path();
+    return folder.empty() ? value : (folder / value).lexically_normal().string();
 }
 
 bool is_axis(const std::string& name) {
@@ -166,7 +180,8 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
                     throw PaperError(where(file, name.source()),
                                      fmt::format("unknown axis '{}' (nesshi sweep --help lists them)", a.name));
                 auto add = [&](const toml::node& v) {
-                    const auto x = scalar(v);
+                    auto x = scalar(v);
+                    if (x) x = from_spec_folder(a.name, *x, file);
                     if (!x) throw PaperError(where(file, v.source()), fmt::format("{}: a value must be a string, a whole number or a boolean", a.name));
                     if (std::find(a.values.begin(), a.values.end(), *x) != a.values.end()) // one cell, one file: twice would clash
                         throw PaperError(where(file, v.source()), fmt::format("{}: {} is listed twice", a.name, *x));
@@ -226,6 +241,16 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
                 throw PaperError(where(file, t["axes"][s.axes[i].name].node()->source()), e.message());
             }
         }
+    // As `nesshi render` refuses them: axes that change nothing on model S (one processor runs the
+    // three stages on one clock), where a cell has model S.
+    const auto model = std::find_if(s.axes.begin(), s.axes.end(), [](const SweepAxis& a) { return a.name == "model"; });
+    if (model != s.axes.end() && std::find(model->values.begin(), model->values.end(), "S") != model->values.end())
+        for (const SweepAxis& a : s.axes)
+            if (a.name == "fifo_latency" || a.name == "quantum")
+                throw PaperError(where(file, t["axes"][a.name].node()->source()),
+                                 fmt::format("{} has no effect on model S (one processor runs the three stages on one "
+                                             "clock): drop the axis, or sweep models M and V only",
+                                             a.name));
     check_metric_paths(s, t, file);
     return s;
 }

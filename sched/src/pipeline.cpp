@@ -2218,9 +2218,23 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         return false;
     };
     int last_tried = hi;
+    // Why each II below the one taken failed, for the report: runs of IIs that failed alike.
+    struct Tried {
+        int first, last;
+        int kind; // 0: no stage numbers satisfy the recurrences, 1: no modulo schedule, 2: none assembled
+        std::string detail;
+    };
+    std::vector<Tried> tried;
     for (int ii = lo, unscheduled = 0; ii <= hi; ++ii) {
         const int before_ii = scheduled_count;
+        const bool feasible = feasible_ii(g, ii);
         if (try_ii(ii, std::nullopt)) break;
+        const int kind = !feasible ? 0 : scheduled_count == before_ii ? 1 : 2;
+        const std::string detail = kind == 2 ? why_not.substr(std::min(why_not.size(), why_not.find(": ") + 2)) : "";
+        if (!tried.empty() && tried.back().kind == kind && tried.back().last + 1 == ii)
+            tried.back().last = ii, tried.back().detail = detail;
+        else
+            tried.push_back({ii, ii, kind, detail});
         unscheduled = scheduled_count == before_ii ? unscheduled + 1 : 0;
         if (opts.max_unscheduled_iis > 0 && unscheduled >= opts.max_unscheduled_iis) {
             last_tried = ii;
@@ -2314,6 +2328,17 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     rep += fmt::format("#   recurrence bound (RecMII)  {}{}\n", res.rec_mii, circuit.empty() ? "" : "  (" + circuit + ")");
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
+    if (!tried.empty()) {
+        std::string why;
+        for (const Tried& t : tried) {
+            const std::string iis = t.first == t.last ? fmt::format("II {}", t.first) : fmt::format("IIs {}..{}", t.first, t.last);
+            why += fmt::format("{}{}: {}", why.empty() ? "" : "; ", iis,
+                               t.kind == 0   ? "no stage numbers satisfy the recurrences"
+                               : t.kind == 1 ? "no modulo schedule found"
+                                             : "schedules found, none assembled (the last: " + t.detail + ")");
+        }
+        rep += fmt::format("#   below it: {}\n", why);
+    }
     if (!exact_note.empty()) rep += "#   " + exact_note + "\n";
     rep += fmt::format("#   kernel unrolled {}x (modulo variable expansion)\n", res.unroll);
     if (m.branch_penalty > 0)

@@ -14,7 +14,7 @@ metrics = ["cycles.total"]
 scene = "tetra:1"
 size = 4
 grid = 4
-kernels = ["kernels", "$dir/spin"]
+kernels = ["$(pwd)/kernels", "$dir/spin"]
 max_cycles = 200000
 SPEC
 "$nesshi" sweep "$dir/spec.toml" --out "$dir/out" -q > "$dir/log" 2>&1

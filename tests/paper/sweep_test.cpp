@@ -77,6 +77,24 @@ TEST_CASE("Sweep spec: bad input is a located error", "[unit][sweep]") {
     CHECK_THAT(error_of("[axes]\nsize = [4, 8, 4]\n"), Catch::StartsWith("s.toml:2:15: error: size: 4 is listed twice"));
 }
 
+TEST_CASE("Sweep spec: an axis that changes nothing on a model it sweeps is a located error", "[unit][sweep]") {
+    CHECK_THAT(error_of("[axes]\nmodel = [\"V\", \"S\"]\nfifo_latency = [0, 4]\n"),
+               Catch::StartsWith("s.toml:3:16: error: fifo_latency has no effect on model S"));
+    CHECK_THAT(error_of("[axes]\nmodel = \"S\"\nquantum = 8\n"), Catch::Contains("quantum has no effect on model S"));
+    CHECK(error_of("[axes]\nmodel = [\"V\", \"M\"]\nfifo_latency = [0, 4]\n") == "no error");
+}
+
+TEST_CASE("Sweep spec: file values are relative to the spec's folder, presets and built-in scenes are names",
+          "[unit][sweep]") {
+    const SweepSpec s = parse_sweep_spec("[axes]\nscene = [\"tetra:1\", \"my.nff\"]\nos_machine = [\"os-real\", \"m/x.toml\", "
+                                         "\"/abs/y.toml\"]\nkernels = \"k\"\n",
+                                         "specs/s.toml");
+    REQUIRE(s.axes.size() == 3);
+    CHECK(s.axes[0].values == std::vector<std::string>{"tetra:1", "specs/my.nff"});
+    CHECK(s.axes[1].values == std::vector<std::string>{"os-real", "specs/m/x.toml", "/abs/y.toml"});
+    CHECK(s.axes[2].values == std::vector<std::string>{"specs/k"});
+}
+
 // Findings S1-S3 of the robustness campaign (issue 24).
 TEST_CASE("Sweep spec: unknown metric paths are located errors", "[unit][sweep]") {
     for (const char* bad : {"no.such.path", "", ".", "cycles..total", "cycles.os", "cycles.total."}) {
