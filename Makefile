@@ -36,10 +36,13 @@ ifeq ($(CI),true)
 	@$(MAKE) --no-print-directory test-asan
 endif
 
+# Two property tests that schedule kernels for many machines run in the release suite only: under
+# the sanitizers they took 345 s and 151 s of the unit tests' 899 s (2 cores).
+ASAN_SKIP := never busier than its preset|scheduled from its .pk source, the preset
 test-asan: deps
 	@cmake --preset asan >/dev/null
 	@cmake --build build-asan -j $(JOBS)
-	@ctest --test-dir build-asan --output-on-failure -j $(JOBS) -L unit
+	@ctest --test-dir build-asan --output-on-failure -j $(JOBS) -L unit -E "$(ASAN_SKIP)"
 
 # libFuzzer harnesses (tests/fuzz/), each for FUZZ_SECONDS (default 60); needs clang, unlike `make test`.
 fuzz:
