@@ -44,9 +44,12 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
     } catch (const CLI::Success& e) { // --help, --help-all, --version
         return app.exit(e);
     } catch (const CLI::RequiredError& e) {
-        // CLI11 reads an unknown first word as a missing subcommand.
-        if (who == "nesshi" && !app.remaining().empty())
-            print_usage_error(who, fmt::format("unknown command '{}' (see the list in 'nesshi --help')", app.remaining().front()));
+        // CLI11 reads an unknown first word as a missing subcommand (`nesshi frob`, `nesshi scene frob`).
+        const CLI::App* deepest = &app;
+        while (!deepest->get_subcommands().empty()) deepest = deepest->get_subcommands().front();
+        if (!deepest->remaining().empty() && std::string(e.what()).find("subcommand is required") != std::string::npos)
+            print_usage_error(who, fmt::format("unknown command '{}' (see the list in '{} --help')",
+                                               deepest->remaining().front(), who));
         else
             print_usage_error(who, e.what());
         return kExitUsage;

@@ -6,6 +6,8 @@
 
 #include <csignal>
 #include <exception>
+#include <string_view>
+#include <vector>
 
 namespace {
 
@@ -45,9 +47,16 @@ int main(int argc, char** argv) {
     // A closed pipe (`nesshi isa | head -1`) is an EPIPE write error, which ends the command
     // quietly (errors.cpp), instead of a SIGPIPE that kills it half-way through writing a file.
     std::signal(SIGPIPE, SIG_IGN);
+    // `nesshi help [COMMAND...]` is `nesshi [COMMAND...] --help`, as git and cargo have it.
+    std::vector<char*> args(argv, argv + argc);
+    static char help_flag[] = "--help";
+    if (args.size() > 1 && std::string_view(args[1]) == "help") {
+        args.erase(args.begin() + 1);
+        args.push_back(help_flag);
+    }
     int status = nesshi::cli::kExitOk;
     try {
-        app.parse(argc, argv);
+        app.parse(static_cast<int>(args.size()), args.data());
     } catch (...) {
         status = nesshi::cli::report_error(app, std::current_exception());
     }
