@@ -97,7 +97,7 @@ void run_render(const RenderArgs& a) {
     check_combinations(a, native, mo.model);
     // One output may be stdout ('-'); the report then goes to stderr.
     const bool output_on_stdout = stdout_output({{"-o", a.out}, {"--stats-json", a.stats_json}, {"--id-buffer", a.id_buffer},
-                                                 {"--t-buffer", a.t_buffer}, {"--trace-json", mo.trace_json}});
+                                                 {"--t-buffer", a.t_buffer}, {"--trace", mo.trace_json}});
     std::FILE* report = output_on_stdout ? stderr : stdout;
     check_outputs({a.out, a.stats_json, a.id_buffer, a.t_buffer, mo.trace_json});
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
@@ -233,7 +233,9 @@ void add_render(CLI::App& app) {
     cmd->add_flag("--detail", a->detail, "also print the OS's and IC's processor statistics (units, ports, ILP histogram, regions)")
         ->group(m);
     cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);
-    cmd->add_option("--trace-json", a->mo.trace_json, "Chrome/Perfetto trace of stage activity and FIFO words")->group(m);
+    cmd->add_option("--trace,--trace-json", a->mo.trace_json,
+                    "Chrome/Perfetto trace (JSON) of stage activity and FIFO words; --trace as `sim` names it")
+        ->group(m);
     cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);
     add_stage_machine_options(cmd, a->mo.os_machine, a->mo.ic_machine, a->mo.seq_machine, m);
     for (const CLI::Option* o : cmd->get_options())
