@@ -73,9 +73,15 @@ void MemorySystem::load_data(uint32_t addr, std::span<const uint8_t> bytes) {
     if (bytes.empty()) return;
     if (bytes.size() > UINT32_MAX) throw LoadError("data section too large");
     const MemRegion* r = find(addr, uint32_t(bytes.size()));
-    if (!r)
-        throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region",
-                                    addr, bytes.size()));
+    if (!r) {
+        std::string where; // the memory it starts in, and what would hold it
+        for (const MemRegion& m : regions_)
+            if (addr >= m.desc.base && addr - m.desc.base < m.desc.size)
+                where = fmt::format(": it starts in {} (0x{:08x}, {} bytes), which would need {} bytes to hold it", m.desc.name,
+                                    m.desc.base, m.desc.size, std::uint64_t{addr - m.desc.base} + bytes.size());
+        throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region{}", addr,
+                                    bytes.size(), where));
+    }
     r->store->write_bytes(addr - r->desc.base, bytes);
 }
 

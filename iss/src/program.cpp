@@ -73,9 +73,17 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     // Data must fit a memory region here, at load, as LoadError promises: the message is the one
     // MemorySystem::load_data would give each Processor.
     for (const auto& sec : obj.data)
-        if (!sec.bytes.empty() && (sec.bytes.size() > UINT32_MAX || !m.memory_at(sec.address, uint32_t(sec.bytes.size()))))
-            throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region",
-                                        sec.address, sec.bytes.size()));
+        if (!sec.bytes.empty() && (sec.bytes.size() > UINT32_MAX || !m.memory_at(sec.address, uint32_t(sec.bytes.size())))) {
+            // Name the machine, the memory the section starts in, and what would hold it.
+            std::string where;
+            for (const isa::MemoryDesc& r : m.memories)
+                if (sec.address >= r.base && sec.address - r.base < r.size)
+                    where = fmt::format(": it starts in {} (0x{:08x}, {} bytes), which would need {} bytes to hold it", r.name,
+                                        r.base, r.size, std::uint64_t{sec.address - r.base} + sec.bytes.size());
+            throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region of machine "
+                                        "'{}' ({}){}",
+                                        sec.address, sec.bytes.size(), m.name, m.source, where));
+        }
 
     for (uint32_t pc = 0; pc < decoded.size(); ++pc) {
         const auto& ops = decoded[pc];

@@ -238,10 +238,21 @@ class Pe {
             for (std::uint32_t ch = 0; ch < std::size(s->out); ++ch) // the output channels named above
                 if (s->out[ch]) s->proc->attach_channel(ch, s->out[ch]);
         }
-        os_.proc->memory().load_data(setup.os_image.base, setup.os_image.bytes);
+        // The host's images: a machine whose memory cannot hold them is named with its stage.
+        auto load = [](Stage& st, const char* stage, const char* what, std::uint32_t base, std::span<const std::uint8_t> bytes) {
+            try {
+                st.proc->memory().load_data(base, bytes);
+            } catch (const iss::LoadError& e) {
+                const isa::Machine& m = st.proc->program().machine();
+                throw iss::LoadError(fmt::format("{} stage, machine '{}' ({}): {}: {}", stage, m.name, m.source, what,
+                                                 e.message()));
+            }
+        };
+        load(os_, "OS", "the voxel map", setup.os_image.base, setup.os_image.bytes);
         ic_.proc->attach_memory("global", setup.global);
         if (!setup.ic_resident.bytes.empty())
-            ic_.proc->memory().load_data(setup.ic_resident.base, setup.ic_resident.bytes);
+            load(ic_, "IC", "the scene's resident data (header, voxel lists and shapes)", setup.ic_resident.base,
+                 setup.ic_resident.bytes);
         os_in_.consumer_proc = os_.proc.get();
         ic_in_.consumer_proc = ic_.proc.get();
         sc_os_.consumer_clock = sc_ic_.consumer_clock = &sc_.clock_ref();

@@ -219,7 +219,15 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
         if (!dropped.empty()) out.build.choice = fmt::format("{}: {}", all[0].what, fmt::join(dropped, "; "));
         return out;
     }
-    for (Candidate& k : all) k.cycles = workload_busy_cycles(k.prog, path);
+    for (Candidate& k : all) {
+        try {
+            k.cycles = workload_busy_cycles(k.prog, path);
+        } catch (const iss::LoadError& e) { // the workloads' data need the memory a scene's would
+            throw iss::LoadError(fmt::format("machine '{}' ({}): measuring the {} candidates on their workloads: {} (a "
+                                             "scene's data need as much)",
+                                             m.name, m.source, path, e.message()));
+        }
+    }
     std::size_t best = 0;
     for (std::size_t i = 1; i < all.size(); ++i)
         if (all[i].cycles < all[best].cycles) best = i;

@@ -307,9 +307,11 @@ TEST_CASE("bad objects and programs give clean load errors") {
         auto obj = make_object(os, {{op("halt")}});
         obj.data.push_back({0x00300000, {1, 2, 3, 4}});
         REQUIRE_THROWS_AS(load_program(obj, os), LoadError);
-        REQUIRE_THROWS_WITH(load_program(obj, os), "data section at 0x00300000 (4 bytes) is outside every memory region");
-        obj.data.back().address = 0x001ffffe; // straddles the end of the OS SRAM
-        REQUIRE_THROWS_WITH(load_program(obj, os), Catch::Contains("outside every memory region"));
+        REQUIRE_THROWS_WITH(load_program(obj, os), Catch::StartsWith("data section at 0x00300000 (4 bytes) is outside every "
+                                                                     "memory region of machine 'os'"));
+        obj.data.back().address = 0x001ffffe; // straddles the end of the OS SRAM: the memory and the size it would need
+        REQUIRE_THROWS_WITH(load_program(obj, os), Catch::EndsWith(": it starts in sram (0x00000000, 2097152 bytes), which "
+                                                                   "would need 2097154 bytes to hold it"));
         obj.data.back() = {0x00300000, {}};    // an empty section occupies nothing
         REQUIRE_NOTHROW(Processor(load_program(obj, os)));
     }
