@@ -4,6 +4,8 @@
 
 #include "base/write_file.hpp"
 
+#include <fmt/format.h>
+
 #include <csignal>
 #include <exception>
 #include <string_view>
@@ -56,6 +58,14 @@ int main(int argc, char** argv) {
     }
     int status = nesshi::cli::kExitOk;
     try {
+        // Options belong to commands: `nesshi -q render` read -q as the top level's and then said
+        // "scene is required".
+        if (args.size() > 1 && args[1][0] == '-') {
+            const std::string_view first = args[1];
+            if (first != "-h" && first != "--help" && first != "--help-all" && first != "--version")
+                throw nesshi::cli::UsageError(fmt::format(
+                    "'{}' is an option of a command: write it after the command (nesshi COMMAND {} ...)", first, first));
+        }
         app.parse(static_cast<int>(args.size()), args.data());
     } catch (...) {
         status = nesshi::cli::report_error(app, std::current_exception());
