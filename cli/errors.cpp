@@ -14,14 +14,18 @@ namespace nesshi::cli {
 
 namespace {
 
+// The last of the chain of subcommands that parsed (`app` itself when none did).
+const CLI::App& deepest(const CLI::App& app) {
+    const CLI::App* a = &app;
+    while (!a->get_subcommands().empty()) a = a->get_subcommands().front();
+    return *a;
+}
+
 // "nesshi scene info": the chain of subcommands that parsed.
 std::string command_name(const CLI::App& app) {
     std::string name = "nesshi";
-    const CLI::App* a = &app;
-    for (;;) {
-        const auto subs = a->get_subcommands();
-        if (subs.empty()) break;
-        a = subs.front();
+    for (const CLI::App* a = &app; !a->get_subcommands().empty();) {
+        a = a->get_subcommands().front();
         name += " " + a->get_name();
     }
     return name;
@@ -45,11 +49,9 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         return app.exit(e);
     } catch (const CLI::RequiredError& e) {
         // CLI11 reads an unknown first word as a missing subcommand (`nesshi frob`, `nesshi scene frob`).
-        const CLI::App* deepest = &app;
-        while (!deepest->get_subcommands().empty()) deepest = deepest->get_subcommands().front();
-        if (!deepest->remaining().empty() && std::string(e.what()).find("subcommand is required") != std::string::npos)
-            print_usage_error(who, fmt::format("unknown command '{}' (see the list in '{} --help')",
-                                               deepest->remaining().front(), who));
+        const std::vector<std::string> rest = deepest(app).remaining();
+        if (!rest.empty() && std::string(e.what()).find("subcommand is required") != std::string::npos)
+            print_usage_error(who, fmt::format("unknown command '{}' (see the list in '{} --help')", rest.front(), who));
         else
             print_usage_error(who, e.what());
         return kExitUsage;

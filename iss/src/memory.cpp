@@ -69,18 +69,25 @@ bool MemorySystem::poke(uint32_t addr, uint32_t bytes, uint32_t value) {
     return true;
 }
 
+std::string data_outside_memories(const std::vector<isa::MemoryDesc>& memories, uint32_t addr, std::size_t bytes,
+                                  const std::string& owner) {
+    std::string where; // the memory it starts in, and what would hold it
+    for (const isa::MemoryDesc& m : memories)
+        if (addr >= m.base && addr - m.base < m.size)
+            where = fmt::format(": it starts in {} (0x{:08x}, {} bytes), which would need {} bytes to hold it", m.name, m.base,
+                                m.size, std::uint64_t{addr - m.base} + bytes);
+    return fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region{}{}", addr, bytes,
+                       owner.empty() ? "" : " of " + owner, where);
+}
+
 void MemorySystem::load_data(uint32_t addr, std::span<const uint8_t> bytes) {
     if (bytes.empty()) return;
     if (bytes.size() > UINT32_MAX) throw LoadError("data section too large");
     const MemRegion* r = find(addr, uint32_t(bytes.size()));
     if (!r) {
-        std::string where; // the memory it starts in, and what would hold it
-        for (const MemRegion& m : regions_)
-            if (addr >= m.desc.base && addr - m.desc.base < m.desc.size)
-                where = fmt::format(": it starts in {} (0x{:08x}, {} bytes), which would need {} bytes to hold it", m.desc.name,
-                                    m.desc.base, m.desc.size, std::uint64_t{addr - m.desc.base} + bytes.size());
-        throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region{}", addr,
-                                    bytes.size(), where));
+        std::vector<isa::MemoryDesc> memories;
+        for (const MemRegion& m : regions_) memories.push_back(m.desc);
+        throw LoadError(data_outside_memories(memories, addr, bytes.size()));
     }
     r->store->write_bytes(addr - r->desc.base, bytes);
 }

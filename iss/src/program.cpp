@@ -4,6 +4,7 @@
 #include "handlers.hpp"
 
 #include "iss/compiled.hpp"
+#include "iss/memory.hpp"
 
 #include "base/hash.hpp"
 
@@ -71,19 +72,11 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
     for (const auto& le : obj.lines)
         if (le.file >= obj.files.size() && le.line != 0) throw LoadError("line table names a missing file");
     // Data must fit a memory region here, at load, as LoadError promises: the message is the one
-    // MemorySystem::load_data would give each Processor.
+    // MemorySystem::load_data would give each Processor (data_outside_memories), naming the machine.
     for (const auto& sec : obj.data)
-        if (!sec.bytes.empty() && (sec.bytes.size() > UINT32_MAX || !m.memory_at(sec.address, uint32_t(sec.bytes.size())))) {
-            // Name the machine, the memory the section starts in, and what would hold it.
-            std::string where;
-            for (const isa::MemoryDesc& r : m.memories)
-                if (sec.address >= r.base && sec.address - r.base < r.size)
-                    where = fmt::format(": it starts in {} (0x{:08x}, {} bytes), which would need {} bytes to hold it", r.name,
-                                        r.base, r.size, std::uint64_t{sec.address - r.base} + sec.bytes.size());
-            throw LoadError(fmt::format("data section at 0x{:08x} ({} bytes) is outside every memory region of machine "
-                                        "'{}' ({}){}",
-                                        sec.address, sec.bytes.size(), m.name, m.source, where));
-        }
+        if (!sec.bytes.empty() && (sec.bytes.size() > UINT32_MAX || !m.memory_at(sec.address, uint32_t(sec.bytes.size()))))
+            throw LoadError(data_outside_memories(m.memories, sec.address, sec.bytes.size(),
+                                                  fmt::format("machine '{}' ({})", m.name, m.source)));
 
     for (uint32_t pc = 0; pc < decoded.size(); ++pc) {
         const auto& ops = decoded[pc];

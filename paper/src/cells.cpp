@@ -114,9 +114,11 @@ std::vector<std::string> stale_reasons(const std::string& json_text, const machi
         throw PaperError(base::SourceLoc(file), "malformed cell file: \"provenance\" is not an object of strings "
                                                 "(delete it to run the cell again)");
     }
-    if (other_build) *other_build = !machine::provenance_differences(stored, expected).empty();
     const auto why = machine::provenance_differences(stored, expected, other_build == nullptr);
-    if (other_build && !why.empty()) *other_build = false;
+    if (other_build) { // kept, and of another build, when nothing but the build differs
+        const auto build = [](const machine::Provenance& p) { return p.contains("build") ? p.at("build") : std::string(); };
+        *other_build = why.empty() && build(stored) != build(expected);
+    }
     return why;
 }
 

@@ -101,10 +101,13 @@ Comparison compare_runs(const std::vector<std::pair<std::string, std::string>>& 
             any |= !r.back().empty();
         }
         if (!any) continue;
-        for (std::size_t i = 2; i <= docs.size(); ++i) r.push_back(r[i] == r[1] ? "same" : "differs");
+        bool differs = false;
+        for (std::size_t i = 2; i <= docs.size(); ++i) {
+            differs |= r[i] != r[1];
+            r.push_back(r[i] == r[1] ? "same" : "differs");
+        }
         for (std::size_t i = 1; i <= docs.size(); ++i)
             if (r[i].empty()) r[i] = "—";
-        const bool differs = std::find(r.begin() + static_cast<std::ptrdiff_t>(docs.size()) + 1, r.end(), "differs") != r.end();
         if (differs && (std::string(key) == "scene" || std::string(key) == "size"))
             c.warnings.push_back(fmt::format("the runs are of different {}s ({}): their cycles do not compare", key,
                                              fmt::join(r.begin() + 1, r.begin() + static_cast<std::ptrdiff_t>(docs.size()) + 1, ", ")));

@@ -2177,8 +2177,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         out.push_back(s);
         return out;
     };
+    // The caller has checked that the dependences admit stage numbers at this II (feasible_ii).
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
-        if (!feasible_ii(g, ii)) return false;
         if (r.is_while && !deadline) { // of every attempt's schedule, the fewest stages, then the smallest
             // unroll, is the cheapest to enter and to leave (a while loop does both often); the
             // earlier attempt on a tie. Ranked first, then assembled in that order until one does
@@ -2228,7 +2228,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     for (int ii = lo, unscheduled = 0; ii <= hi; ++ii) {
         const int before_ii = scheduled_count;
         const bool feasible = feasible_ii(g, ii);
-        if (try_ii(ii, std::nullopt)) break;
+        if (feasible && try_ii(ii, std::nullopt)) break;
         const int kind = !feasible ? 0 : scheduled_count == before_ii ? 1 : 2;
         const std::string detail = kind == 2 ? why_not.substr(std::min(why_not.size(), why_not.find(": ") + 2)) : "";
         if (!tried.empty() && tried.back().kind == kind && tried.back().last + 1 == ii)

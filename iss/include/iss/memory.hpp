@@ -116,7 +116,7 @@ class MemorySystem {
     // Debugger / host access: false when out of range (alignment not required).
     bool peek(uint32_t addr, uint32_t bytes, uint32_t& out) const;
     bool poke(uint32_t addr, uint32_t bytes, uint32_t value);
-    void load_data(uint32_t addr, std::span<const uint8_t> bytes); // throws LoadError
+    void load_data(uint32_t addr, std::span<const uint8_t> bytes); // throws LoadError (data_outside_memories)
     uint64_t hash() const;
 
   private:
@@ -131,5 +131,12 @@ class MemorySystem {
     std::vector<MemRegion> regions_;
     mutable std::array<TlbEntry, kTlbEntries> tlb_{};
 };
+
+// The LoadError text for `bytes` bytes of data at `addr` that no memory of `memories` holds: "data
+// section at 0x00400000 (5744 bytes) is outside every memory region[ of OWNER]: it starts in
+// resident (0x00400000, 4096 bytes), which would need 5744 bytes to hold it" (the last part when it
+// starts in one).
+std::string data_outside_memories(const std::vector<isa::MemoryDesc>& memories, uint32_t addr, std::size_t bytes,
+                                  const std::string& owner = "");
 
 } // namespace nesshi::iss
