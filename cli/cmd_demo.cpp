@@ -31,9 +31,14 @@ namespace nesshi::cli {
 namespace {
 namespace fs = std::filesystem;
 
-// The examples of the source tree the tool was built from (NESSHI_EXAMPLES_DIR); a different
-// location can be given with --examples.
-fs::path default_examples_dir() { return fs::path(NESSHI_EXAMPLES_DIR); }
+// An installed tool's examples (PREFIX/share/nesshisen/examples beside PREFIX/bin/nesshi), else
+// those of the source tree it was built from (NESSHI_EXAMPLES_DIR); --examples names another folder.
+fs::path default_examples_dir() {
+    std::error_code ec;
+    const fs::path installed = fs::read_symlink("/proc/self/exe", ec).parent_path().parent_path() / "share/nesshisen/examples";
+    if (!ec && fs::is_directory(installed, ec)) return installed;
+    return fs::path(NESSHI_EXAMPLES_DIR);
+}
 
 std::vector<std::string> file_names(const std::vector<fs::path>& files) {
     std::vector<std::string> names;

@@ -22,4 +22,5 @@ void add_loop(CLI::App& app);
 void add_schedule(CLI::App& app);
 void add_sweep(CLI::App& app);
 void add_compare(CLI::App& app);
+void add_completion(CLI::App& app);
 } // namespace nesshi::cli

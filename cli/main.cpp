@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_schedule(app);
     nesshi::cli::add_sweep(app);
     nesshi::cli::add_compare(app);
+    nesshi::cli::add_completion(app);
     one_value_per_option(app);
     // A closed pipe (`nesshi isa | head -1`) is an EPIPE write error, which ends the command
     // quietly (errors.cpp), instead of a SIGPIPE that kills it half-way through writing a file.

@@ -2,7 +2,7 @@
 # Installs the Debian packages Nesshisen builds with, only those missing.
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libfmt-dev libcli11-dev catch2
-      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev python3
+      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev python3 help2man
       libopenmpi-dev openmpi-bin) # OpenMPI: `mpirun -n K nesshi sweep|paper` (the build runs without it)
 # `install-deps.sh fuzz` (make fuzz): clang and libFuzzer too; `make test` never needs them.
 [ "${1:-}" = fuzz ] && pkgs+=(clang libclang-rt-14-dev)

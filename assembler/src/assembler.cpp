@@ -53,6 +53,10 @@ AsmResult assemble_sources(SourceSet& sources, int main_file, const isa::Machine
     r.warnings = diags.warnings();
     r.ok = r.errors == 0;
     r.diagnostics = diags.render();
+    for (const Diagnostic* d : diags.in_order()) {
+        const std::string file = d->loc.file >= 0 ? diags.sources().files[size_t(d->loc.file)].name : "";
+        r.messages.push_back({d->severity == Severity::Error, file, d->loc.line, d->loc.col, d->message});
+    }
     std::string counts;
     if (r.warnings) counts = fmt::format("{} warning{}", r.warnings, r.warnings == 1 ? "" : "s");
     if (r.warnings && r.errors) counts += " and ";
@@ -82,6 +86,7 @@ AsmResult assemble_file(const std::string& path, const isa::Machine& m, const As
         AsmResult r;
         r.errors = 1;
         r.diagnostics = std::string(e.what()) + "\n";
+        r.messages.push_back({true, path, 0, 0, e.message()});
         return r;
     }
     return assemble_string(text, path, m, opts);

@@ -95,13 +95,18 @@ std::string Diagnostics::render_one(const Diagnostic& d) const {
     return out;
 }
 
-std::string Diagnostics::render() const {
+std::vector<const Diagnostic*> Diagnostics::in_order() const {
     // In source order (the passes find problems in different orders); ties keep discovery order.
     std::vector<const Diagnostic*> sorted;
     for (const auto& d : list_) sorted.push_back(&d);
     std::stable_sort(sorted.begin(), sorted.end(), [](const Diagnostic* a, const Diagnostic* b) {
         return std::tie(a->loc.file, a->loc.line, a->loc.col) < std::tie(b->loc.file, b->loc.line, b->loc.col);
     });
+    return sorted;
+}
+
+std::string Diagnostics::render() const {
+    const std::vector<const Diagnostic*> sorted = in_order();
     std::string out;
     for (const Diagnostic* p : sorted) {
         const Diagnostic& d = *p;

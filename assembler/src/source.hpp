@@ -52,6 +52,9 @@ class Diagnostics {
     int warnings() const { return warnings_; }
     bool stopped() const { return stopped_; }
     std::string render() const;
+    // Errors and warnings in render()'s order, without their notes.
+    std::vector<const Diagnostic*> in_order() const;
+    const SourceSet& sources() const { return sources_; }
 
   private:
     std::string render_one(const Diagnostic& d) const;

@@ -27,12 +27,23 @@ struct AsmOptions {
     std::function<bool(const std::string& path, std::string& text)> read_file;
 };
 
+// One error or warning, as data (the rendered text is AsmResult::diagnostics): for tools and
+// bindings that point at the place themselves. Line and column are 1-based, 0 when unknown.
+struct AsmMessage {
+    bool error = true; // else a warning
+    std::string file;
+    int line = 0;
+    int col = 0;
+    std::string message;
+};
+
 struct AsmResult {
     bool ok = false;            // no errors (warnings allowed)
     isa::ObjectFile object;     // valid only when ok
     std::string diagnostics;    // rendered errors/warnings/notes with source line and caret (long
                                 // lines cut around it)
     std::string listing;        // when requested
+    std::vector<AsmMessage> messages; // the errors and warnings of `diagnostics`, in its order (notes left out)
     int errors = 0;
     int warnings = 0;
 };

@@ -1,0 +1,40 @@
+# cmake -DNESSHI=<nesshi> -DOUT=<dir> -DVERSION=<x.y.z> -P ManPages.cmake
+# Man pages from the commands' own --help (help2man): nesshi(1) and nesshi-<command>(1) for every
+# command path `nesshi completion commands` lists ("paper gaps" gives nesshi-paper-gaps.1).
+cmake_minimum_required(VERSION 3.25)
+find_program(HELP2MAN help2man REQUIRED)
+execute_process(COMMAND "${NESSHI}" completion commands OUTPUT_VARIABLE paths RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${NESSHI} completion commands failed")
+endif()
+string(REPLACE "\n" ";" paths "${paths}")
+file(REMOVE_RECURSE "${OUT}")
+file(MAKE_DIRECTORY "${OUT}/man1" "${OUT}/wrappers")
+set(see_also "")
+foreach(path "" ${paths})
+  if(path STREQUAL "")
+    set(page nesshi)
+    set(args "")
+  else()
+    string(REPLACE " " "-" page "nesshi-${path}")
+    set(args "${path}")
+  endif()
+  # help2man runs a program: each command path gets a two-line script that runs it.
+  set(wrapper "${OUT}/wrappers/${page}")
+  file(WRITE "${wrapper}" "#!/bin/sh\nexec \"${NESSHI}\" ${args} \"$@\"\n")
+  file(CHMOD "${wrapper}" PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
+  execute_process(COMMAND "${NESSHI}" ${args} --help OUTPUT_VARIABLE help)
+  string(REGEX MATCH "^[^\n]*" name "${help}")
+  if(path STREQUAL "")
+    set(name "toolchain and simulator for the VLIW processors of a 1993 ray-tracing machine")
+  endif()
+  string(REPLACE " " ";" args_list "${args}")
+  execute_process(
+    COMMAND "${HELP2MAN}" --no-info --no-discard-stderr "--version-string=${VERSION}" "--name=${name}"
+            "--section=1" "--source=Nesshisen ${VERSION}" "--output=${OUT}/man1/${page}.1" "${wrapper}"
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "help2man for '${page}' failed: ${err}")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${OUT}/wrappers")

@@ -1,0 +1,24 @@
+// An outside program built against an installed Nesshisen (find_package or pkg-config): assembles
+// a bundle for the os preset, runs it on the simulator and reads the statistics.
+#include "assembler/assembler.hpp"
+#include "isa/machine.hpp"
+#include "iss/processor.hpp"
+#include "iss/stats.hpp"
+
+#include <cstdio>
+
+int main() {
+    using namespace nesshi;
+    const isa::Machine m = isa::load_machine("os");
+    const auto r = assembler::assemble_string("li r1, 6\nli r2, 7\nmul r3, r1, r2\nhalt\n", "six_by_seven.s", m, {});
+    if (!r.ok) {
+        std::fprintf(stderr, "%s", r.diagnostics.c_str());
+        return 1;
+    }
+    iss::Processor p(iss::load_program(r.object, m));
+    if (p.run(1000) != iss::Status::Halted) return 1;
+    const iss::Stats s = iss::compute_stats(p);
+    std::printf("r3 = %u after %llu cycles, %llu ops\n", p.reg(3), static_cast<unsigned long long>(s.cycles),
+                static_cast<unsigned long long>(s.ops));
+    return p.reg(3) == 42 ? 0 : 1;
+}
