@@ -38,7 +38,8 @@ void print_usage_error(const std::string& who, const std::string& msg) {
 } // namespace
 
 const char* exit_status_help() {
-    return "Exit status: 0 success, 1 bad input, failed check or failed write, 2 usage error, 3 simulated fault.";
+    return "Exit status: 0 success, 1 bad input, failed check or failed write, 2 usage error, 3 simulated fault.\n"
+           "A reader that stops early (| head) ends a command quietly with 0, however much it had written.";
 }
 
 int report_error(const CLI::App& app, std::exception_ptr error) {
@@ -69,7 +70,7 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
     } catch (const Reported& e) {
         return e.status();
     } catch (const base::WriteError& e) {
-        if (e.broken_pipe()) return kExitInput; // the reader went away (`| head -1`): end quietly
+        if (e.broken_pipe()) return kExitOk; // the reader went away (`| head -1`): end quietly (exit_status_help)
         status("{}: error: {}\n", who, e.message());
         return kExitInput;
     } catch (const base::Error& e) {
@@ -79,7 +80,7 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
     } catch (const std::system_error& e) {
         // fmt::print throws this when a write fails. Files go through base::write_file and
         // OutputFile (WriteError, which names them), so this one was a print to standard output.
-        if (e.code() == std::errc::broken_pipe) return kExitInput;
+        if (e.code() == std::errc::broken_pipe) return kExitOk;
         status("{}: error: {}\n", who, base::WriteError("-", e.code().value()).message());
         return kExitInput;
     } catch (const std::exception& e) {

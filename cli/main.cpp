@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
     try {
         nesshi::base::flush_stdout(); // what was printed really arrived (`nesshi isa > /dev/full`, --help too)
     } catch (...) {
-        const int s = nesshi::cli::report_error(app, std::current_exception());
-        if (status == nesshi::cli::kExitOk) status = s;
+        // Said once: a command that failed (a full disk while printing, say) has reported it already.
+        if (status == nesshi::cli::kExitOk) status = nesshi::cli::report_error(app, std::current_exception());
     }
     return status;
 }
