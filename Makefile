@@ -5,17 +5,21 @@ BUILD  := build
 JOBS   ?= $(shell nproc)
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build demo test test-asan fuzz bench clean
+.PHONY: all deps deps-test configure build demo test test-asan fuzz bench clean
 
 all: build
 
 deps:
 	@scripts/install-deps.sh
 
+# The whole build also makes the man pages and the Python module (and `make test` runs its tests).
+deps-test:
+	@scripts/install-deps.sh test
+
 configure: deps
 	@cmake --preset $(PRESET) >/dev/null
 
-build: configure
+build: deps-test configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # The demo needs the command line only; `make test` builds the rest.
@@ -24,7 +28,7 @@ demo: configure
 	@$(BUILD)/nesshi demo
 
 # In CI (CI=true) warnings are errors and the unit tests also run under ASan+UBSan.
-test: deps
+test: deps-test
 ifeq ($(CI),true)
 	@cmake --preset ci >/dev/null
 else
@@ -39,7 +43,7 @@ endif
 # Two property tests that schedule kernels for many machines run in the release suite only: under
 # the sanitizers they took 345 s and 151 s of the unit tests' 899 s (2 cores).
 ASAN_SKIP := never busier than its preset|scheduled from its .pk source, the preset
-test-asan: deps
+test-asan: deps-test
 	@cmake --preset asan >/dev/null
 	@cmake --build build-asan -j $(JOBS)
 	@ctest --test-dir build-asan --output-on-failure -j $(JOBS) -L unit -E "$(ASAN_SKIP)"

@@ -11,7 +11,7 @@
 #include "base/read_file.hpp"
 #include "base/write_file.hpp"
 #include "isa/machine.hpp"
-#include "iss/differential.hpp"
+#include "machine/verify_pipeline.hpp"
 #include "sched/pipeline.hpp"
 
 #include <fmt/core.h>
@@ -29,46 +29,6 @@ struct PipelineArgs {
     bool no_verify = false, quiet = false;
 };
 
-constexpr int kWhileRuns = 64; // random data sets for a while loop: each exits somewhere else
-
-// Runs the region's sequential meaning and its pipelined code on random data (memory, registers
-// and FIFO words) and returns what was checked, or throws on the first difference.
-std::string verify_while_loop(const PipelineArgs& a, const std::string& text, const isa::Machine& m, const sched::PipelineOptions& po,
-                              iss::DiffOptions d, const sched::PipelineResult& r) {
-    d.observe = {r.iteration_register};
-    const sched::WhileVerification v = sched::verify_while(
-        text, a.input, m, po, kWhileRuns,
-        [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip, std::uint64_t seed, std::uint32_t& exits) {
-            iss::DiffOptions o = d;
-            o.seed = seed;
-            std::vector<std::uint32_t> seen;
-            auto diff = iss::run_differential(lin, pip, m, o, &seen);
-            exits = seen.empty() ? 0 : seen[0];
-            return diff;
-        });
-    if (v.failure) throw base::Error(base::SourceLoc(a.input), fmt::format("verification failed: {}", *v.failure));
-    std::string exits;
-    for (std::uint32_t e : v.exits) exits += (exits.empty() ? "" : ", ") + std::to_string(e);
-    return fmt::format("equals the sequential one (memory, registers and FIFO words) on {} random data sets, exiting after {} "
-                       "iterations; {} of its {} exit paths taken", kWhileRuns, exits, v.paths.size(), v.path_count);
-}
-
-std::string verify_loop(const PipelineArgs& a, const std::string& text, const isa::Machine& m, const sched::PipelineOptions& po,
-                        const sched::PipelineResult& r) {
-    iss::DiffOptions d;
-    d.registers = r.source_registers;
-    if (r.is_while) return verify_while_loop(a, text, m, po, d, r);
-    const std::vector<std::uint32_t> trips = sched::verification_trips(r);
-    const auto diff = sched::verify(text, a.input, m, po, trips,
-                                    [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip) {
-                                        return iss::run_differential(lin, pip, m, d);
-                                    });
-    if (diff) throw base::Error(base::SourceLoc(a.input), fmt::format("verification failed: {}", *diff));
-    std::string list;
-    for (std::uint32_t t : trips) list += (list.empty() ? "" : ", ") + std::to_string(t);
-    return fmt::format("equals the sequential one (memory, registers and FIFO words) on random data for trip counts {}", list);
-}
-
 void run_pipeline(const PipelineArgs& a) {
     refuse_stdout("--sequential", a.sequential, "stdout holds the pipelined code or its report; give a file");
     check_outputs({a.out, a.sequential});
@@ -79,13 +39,8 @@ void run_pipeline(const PipelineArgs& a) {
     po.exact_seconds = a.exact;
     const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
     // Verified before anything is written: code that differs from its meaning is never output.
-    std::string verdict = a.no_verify ? std::string("not run (--no-verify)") : "";
-    if (!a.no_verify && r.regions == 1) verdict = verify_loop(a, text, m, po, r);
-    for (int k = 0; !a.no_verify && r.regions > 1 && k < r.regions; ++k) { // one region at a time, the others sequential
-        sched::PipelineOptions one = po;
-        one.region = k;
-        verdict += fmt::format("{}region {}: {}", k ? "; " : "", k + 1, verify_loop(a, text, m, one, sched::pipeline_source(text, a.input, m, one)));
-    }
+    const std::string verdict =
+        a.no_verify ? std::string("not run (--no-verify)") : machine::verify_pipeline(text, a.input, m, po, r);
     const std::string report = r.report + fmt::format("#   verification: {}\n", verdict);
     const std::string pipelined = fmt::format("# machine: {}\n", m.reference()) + report + r.code;
     const bool to_file = !a.out.empty() && a.out != "-"; // -o -: stdout, as without -o

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# tests/install/run.sh BUILD_DIR: installs the build into a temporary prefix, then builds and runs
-# an outside program against it twice (CMake's find_package, then pkg-config), and checks that the
-# tool, man pages, completion and examples are in place.
+# tests/install/run.sh BUILD_DIR [PYTHON]: installs the build into a temporary prefix, then builds
+# and runs an outside program against it twice (CMake's find_package, then pkg-config), checks
+# that the tool, man pages, completion and examples are in place, and, given the Python the module
+# was built for, imports the installed module.
 set -euo pipefail
 build=$(cd "$1" && pwd)
 here=$(cd "$(dirname "$0")" && pwd)
@@ -34,4 +35,10 @@ got=$(bash -c 'source "$1"; COMP_WORDS=(nesshi ren); COMP_CWORD=1; _nesshi; echo
       "$prefix/share/bash-completion/completions/nesshi")
 [ "$got" = $'render\nic-real' ] || { echo "bash completion gave: $got"; exit 1; }
 if command -v zsh >/dev/null; then zsh -n "$prefix/share/zsh/site-functions/_nesshi"; fi
+if [ -n "${2:-}" ]; then
+  echo "== import nesshi from the prefix"
+  site=$(dirname "$(find "$prefix" -name 'nesshi.cpython-*.so')")
+  (cd "$tmp" && PYTHONPATH="$site" "$2" -c 'import nesshi; print(nesshi.__file__); assert nesshi.machine("ic").name == "ic"') \
+    | grep -q "^$prefix/"
+fi
 echo "installed and used: ok"

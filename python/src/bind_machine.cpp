@@ -1,0 +1,121 @@
+// nesshi.machine() and nesshi.Machine: a description's slots, ports, latencies and memories.
+#include "convert.hpp"
+
+#include "base/error.hpp"
+#include "base/write_file.hpp"
+
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+namespace nesshi::python {
+namespace {
+
+// A Python-side machine: the description and its TOML text (what a stage option needs to load
+// it again when it came from a string).
+struct PyMachine {
+    isa::Machine m;
+    std::string toml;     // the text it was parsed from ("" for presets and files: they reload by name)
+};
+
+bool looks_like_toml(const std::string& s) { return s.find('\n') != std::string::npos || s.find('=') != std::string::npos; }
+
+PyMachine make_machine(const std::string& spec, const std::string& toml) {
+    if (!toml.empty() || looks_like_toml(spec)) {
+        const std::string& text = toml.empty() ? spec : toml;
+        return {isa::parse_machine(text, "<string>"), text};
+    }
+    return {isa::load_machine(spec), ""};
+}
+
+py::dict latencies(const isa::Machine& m) {
+    py::dict d;
+    for (int c = 0; c < isa::kNumOpClasses; ++c) d[py::str(std::string(isa::kOpClassNames[c]))] = m.latency[c];
+    return d;
+}
+
+py::list slots(const isa::Machine& m) {
+    py::list out;
+    for (const isa::SlotDesc& s : m.slots) {
+        py::list accepts;
+        for (int c = 0; c < isa::kNumOpClasses; ++c)
+            if (s.accepts(static_cast<isa::OpClass>(c))) accepts.append(std::string(isa::kOpClassNames[c]));
+        out.append(py::dict(py::arg("name") = s.name, py::arg("accepts") = accepts));
+    }
+    return out;
+}
+
+py::dict registers(const isa::Machine& m) {
+    py::dict d;
+    const char* names[isa::kNumRegFiles] = {"int", "float"}; // the TOML's [registers.int], [registers.float]
+    for (int f = 0; f < isa::kNumRegFiles; ++f)
+        d[names[f]] = py::dict(py::arg("count") = m.regs[f].count, py::arg("read_ports") = m.regs[f].read_ports,
+                               py::arg("write_ports") = m.regs[f].write_ports);
+    return d;
+}
+
+py::list memories(const isa::Machine& m) {
+    py::list out;
+    for (const isa::MemoryDesc& r : m.memories)
+        out.append(py::dict(py::arg("name") = r.name, py::arg("base") = r.base, py::arg("size") = r.size,
+                            py::arg("latency") = r.latency, py::arg("cached") = r.cached));
+    return out;
+}
+
+} // namespace
+
+isa::Machine machine_arg(const py::handle& arg, const std::string& fallback) {
+    if (arg.is_none()) return isa::load_machine(fallback);
+    if (py::isinstance<PyMachine>(arg)) return arg.cast<const PyMachine&>().m;
+    return make_machine(py::str(arg).cast<std::string>(), "").m;
+}
+
+std::string machine_reference(const py::handle& arg) {
+    if (arg.is_none()) return "";
+    if (!py::isinstance<PyMachine>(arg)) return py::str(arg).cast<std::string>();
+    const PyMachine& pm = arg.cast<const PyMachine&>();
+    if (pm.toml.empty()) return pm.m.reference();
+    // One private folder per process; the file is named after the machine, as its messages name it.
+    static const std::filesystem::path dir = [] {
+        std::string tmpl = (std::filesystem::temp_directory_path() / "nesshi-py-XXXXXX").string();
+        if (!mkdtemp(tmpl.data())) throw base::Error("cannot create a temporary folder for a machine description");
+        return std::filesystem::path(tmpl);
+    }();
+    const std::filesystem::path file = dir / (pm.m.name + "-" + std::to_string(pm.m.fingerprint()) + ".toml");
+    if (!std::filesystem::exists(file)) base::write_file(file.string(), pm.toml);
+    return file.string();
+}
+
+void bind_machine(py::module_& m) {
+    py::class_<PyMachine>(m, "Machine", "A machine description (a preset, a TOML file or TOML text): issue slots, "
+                                         "latencies, register files and memories.")
+        .def_property_readonly("name", [](const PyMachine& p) { return p.m.name; })
+        .def_property_readonly("description", [](const PyMachine& p) { return p.m.description; })
+        .def_property_readonly("source", [](const PyMachine& p) { return p.m.source; }, "\"builtin:os\", the file, or \"<string>\"")
+        .def_property_readonly("slots", [](const PyMachine& p) { return slots(p.m); },
+                               "[{'name': 'iu0', 'accepts': ['alu', ...]}, ...] in issue order")
+        .def_property_readonly("latency", [](const PyMachine& p) { return latencies(p.m); }, "cycles by operation class")
+        .def_property_readonly("registers", [](const PyMachine& p) { return registers(p.m); },
+                               "{'int': {'count', 'read_ports', 'write_ports'}, 'float': {...}}")
+        .def_property_readonly("memories", [](const PyMachine& p) { return memories(p.m); })
+        .def_property_readonly("branch_penalty", [](const PyMachine& p) { return p.m.branch_penalty; },
+                               "extra cycles after a taken branch")
+        .def_property_readonly("fingerprint", [](const PyMachine& p) { return p.m.fingerprint(); },
+                               "hash of everything that affects assembly or timing, and the name")
+        .def("same_as", [](const PyMachine& a, const PyMachine& b) { return a.m.same_as(b.m); },
+             "the same machine under any name (a file that only inherits a preset is that preset)")
+        .def("__eq__", [](const PyMachine& a, const PyMachine& b) { return a.m.fingerprint() == b.m.fingerprint(); })
+        .def("__hash__", [](const PyMachine& p) { return p.m.fingerprint(); })
+        .def("__repr__", [](const PyMachine& p) { return "nesshi.machine('" + p.m.reference() + "')"; });
+    m.def("machine", &make_machine, py::arg("spec") = "os", py::arg("toml") = "",
+          "A machine: a preset name (os, ic, seq, os-real, ic-real, seq-real), a TOML file, or TOML text (spec "
+          "with a newline or '=', or toml=...). A malformed description raises nesshi.Error at its line and column.");
+    m.def("presets", [] {
+        std::vector<std::string> names;
+        for (std::string_view n : isa::preset_names()) names.emplace_back(n);
+        return names;
+    }, "The names of the built-in machine presets.");
+}
+
+} // namespace nesshi::python

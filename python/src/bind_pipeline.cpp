@@ -1,0 +1,85 @@
+// nesshi.pipeline(): a linear-assembly loop software-pipelined for a machine (nesshi pipeline).
+#include "convert.hpp"
+
+#include "assembler/assembler.hpp"
+#include "base/error.hpp"
+#include "machine/verify_pipeline.hpp"
+#include "sched/loop_report.hpp"
+#include "sched/pipeline.hpp"
+
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+namespace nesshi::python {
+namespace {
+
+struct Pipelined {
+    sched::PipelineResult r;
+    isa::Machine machine;
+    std::string verification;
+    std::string text() const { // the file `nesshi pipeline` writes
+        return fmt::format("# machine: {}\n{}#   verification: {}\n{}", machine.reference(), r.report, verification, r.code);
+    }
+};
+
+Pipelined pipeline(const py::object& source, const py::object& machine, int ii, double exact, bool verify) {
+    const Source src = source_arg(source);
+    const std::string header = assembler::header_machine(src.text);
+    const isa::Machine m = machine_arg(machine, header.empty() ? "os" : header);
+    sched::PipelineOptions po;
+    po.ii = ii;
+    po.exact_seconds = exact;
+    Pipelined p{sched::pipeline_source(src.text, src.name, m, po), m, "not run (verify=False)"};
+    if (verify) p.verification = machine::verify_pipeline(src.text, src.name, m, po, p.r);
+    return p;
+}
+
+} // namespace
+
+void bind_pipeline(py::module_& m) {
+    py::class_<Pipelined>(m, "Pipelined", "A software-pipelined loop: the report as data, and the code.")
+        .def_property_readonly("ii", [](const Pipelined& p) { return p.r.ii; })
+        .def_property_readonly("mii", [](const Pipelined& p) { return p.r.mii; })
+        .def_property_readonly("res_mii", [](const Pipelined& p) { return p.r.res_mii; })
+        .def_property_readonly("rec_mii", [](const Pipelined& p) { return p.r.rec_mii; })
+        .def_property_readonly("stages", [](const Pipelined& p) { return p.r.stages; })
+        .def_property_readonly("unroll", [](const Pipelined& p) { return p.r.unroll; }, "kernel copies")
+        .def_property_readonly("min_pipelined_trip", [](const Pipelined& p) { return p.r.min_pipelined_trip; },
+                               "smaller trip counts run the sequential copy only")
+        .def_property_readonly("is_while", [](const Pipelined& p) { return p.r.is_while; })
+        .def_property_readonly("registers", [](const Pipelined& p) { return p.r.scratch; },
+                               "physical registers the tool allocated")
+        .def_property_readonly("source_registers", [](const Pipelined& p) { return p.r.source_registers; })
+        .def_property_readonly("regions", [](const Pipelined& p) {
+            py::list out;
+            for (const sched::LoopSummary& l : p.r.loops)
+                out.append(py::dict(py::arg("line") = l.line, py::arg("is_while") = l.is_while, py::arg("ii") = l.ii,
+                                    py::arg("mii") = l.mii, py::arg("res_mii") = l.res_mii, py::arg("rec_mii") = l.rec_mii,
+                                    py::arg("stages") = l.stages, py::arg("unroll") = l.unroll));
+            return out;
+        }, "each .pipeline region, in file order")
+        .def_property_readonly("verification", [](const Pipelined& p) { return p.verification; })
+        .def_property_readonly("report", [](const Pipelined& p) { return p.r.report; }, "the report block, as text")
+        .def_property_readonly("code", [](const Pipelined& p) { return p.text(); },
+                               "the pipelined file, as nesshi pipeline writes it")
+        .def_property_readonly("sequential", [](const Pipelined& p) { return p.r.linear; },
+                               "the region's sequential meaning (what verification compares with)")
+        .def("loop_report", [](const Pipelined& p) {
+            const assembler::AsmResult a = assembler::assemble_string(p.text(), "<pipelined>", p.machine, {});
+            if (!a.ok) throw base::Error("the pipelined code does not assemble:\n" + a.diagnostics);
+            py::list out;
+            for (const sched::LoopReport& l : sched::analyse_loops(a.object, p.machine)) {
+                py::dict d = to_python_json_text(l.json());
+                d["text"] = l.text();
+                out.append(d);
+            }
+            return out;
+        }, "The assembled code's loops: II, resources, lifetimes and the modulo reservation table (nesshi loop).");
+    m.def("pipeline", &pipeline, py::arg("source"), py::arg("machine") = py::none(), py::arg("ii") = 0,
+          py::arg("exact") = 0.0, py::arg("verify") = true,
+          "Software-pipeline the .pipeline region(s) of linear assembly (text or a file) for a machine (default: the "
+          "file's '# machine:' line, else os). ii: this II only; exact: seconds of branch and bound below the II found. "
+          "verify (default): the code runs against its sequential meaning on random data, or nesshi.Error is raised.");
+}
+
+} // namespace nesshi::python

@@ -1,0 +1,32 @@
+import nesshi
+import pytest
+
+from conftest import cli
+
+
+def test_pipeline_equals_the_command_line(source):
+    sa = source / "examples/linear/saxpy.sa"
+    r = nesshi.pipeline(sa)
+    status, out, _ = cli("pipeline", sa)
+    assert status == 0 and r.code == out
+    assert r.ii >= r.mii == max(r.res_mii, r.rec_mii) and r.stages >= 1
+    assert r.verification.startswith("equals the sequential one")
+    assert r.registers and "r9" in r.source_registers or r.source_registers
+
+
+def test_pipeline_on_another_machine_and_its_loop_report(source):
+    r = nesshi.pipeline(source / "examples/linear/saxpy.sa", machine=nesshi.machine("os-real"))
+    assert r.code.startswith("# machine: os-real\n")
+    loops = r.loop_report()
+    assert loops and all("mrt" in l or "text" in l for l in loops)
+
+
+def test_pipeline_at_a_given_ii(source):
+    r = nesshi.pipeline(source / "examples/linear/saxpy.sa", ii=5, verify=False)
+    assert r.ii == 5 and r.verification.startswith("not run")
+
+
+def test_a_bad_region_is_an_error():
+    with pytest.raises(nesshi.Error) as e:
+        nesshi.pipeline("        .pipeline f1\n        fadd %a, %a, f0\n        .endpipeline\n")
+    assert e.value.file == "<string>" and e.value.line == 1
