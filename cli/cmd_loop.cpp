@@ -14,22 +14,27 @@
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <filesystem>
 
 namespace nesshi::cli {
 
 void add_loop(CLI::App& app) {
     auto* cmd = app.add_subcommand("loop", "Report each loop of an assembly file: II, bounds, resources, lifetimes");
     struct Args {
-        std::string input, machine, label, json;
+        std::string input, machine, label, json, svg;
     };
     auto a = std::make_shared<Args>();
     cmd->add_option("input", a->input, "Assembly source (.s)")->required();
     cmd->add_option("-m,--machine", a->machine, "Machine (default: the file's '# machine:' line, else os)");
     cmd->add_option("--label", a->label, "Only the loop at this label");
     cmd->add_option("--json", a->json, "Also write the reports as JSON to FILE ('-': the JSON on stdout, the text on stderr)");
+    cmd->add_option("--svg", a->svg, "Also draw each loop's reservation table and register lifetimes as SVG: FILE for one "
+                                     "loop, else FILE with each loop's label before its extension (loop.svg: loop-body.svg)");
     cmd->callback([a] {
         std::FILE* report = stdout_output({{"--json", a->json}}) ? stderr : stdout;
         check_output(a->json);
+        refuse_stdout("--svg", a->svg, "each loop's picture is a file of its own");
+        check_output(a->svg);
         const std::string text = base::read_file(a->input);
         const isa::Machine m = source_machine(a->machine, text);
         const assembler::AsmResult r = assembler::assemble_string(text, a->input, m, {});
@@ -45,6 +50,13 @@ void add_loop(CLI::App& app) {
             json += (k ? ",\n" : "\n") + loops[k].json();
         }
         if (!a->json.empty()) base::write_file(a->json, json + "\n]\n");
+        for (const sched::LoopReport& l : loops) {
+            if (a->svg.empty()) break;
+            const std::filesystem::path p(a->svg);
+            const std::string file = loops.size() == 1 ? a->svg
+                                                       : (p.parent_path() / (p.stem().string() + "-" + l.label + p.extension().string())).string();
+            base::write_file(file, l.svg());
+        }
     });
 }
 

@@ -62,6 +62,8 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
                           const isa::Machine& m, const std::string& label, const std::vector<std::uint32_t>& path) {
     LoopReport r;
     r.label = label;
+    r.machine = m.name;
+    for (const isa::SlotDesc& s : m.slots) r.slots.push_back(s.name);
     r.first = path.front();
     r.last = path.back();
     if (r.first < obj.lines.size() && obj.lines[r.first].file < obj.files.size())
@@ -105,6 +107,8 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
         r.resources.push_back(rd);
         r.resources.push_back(wr);
         r.file_size[f] = m.regs[static_cast<std::size_t>(f)].count;
+        r.read_ports[f] = m.regs[static_cast<std::size_t>(f)].read_ports;
+        r.write_ports[f] = m.regs[static_cast<std::size_t>(f)].write_ports;
     }
     // Lifetimes: each register written in the body, from the write's issue to its last read.
     std::map<std::pair<int, int>, int> life;
@@ -123,7 +127,7 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
     live[0].assign(static_cast<std::size_t>(r.ii), 0);
     live[1].assign(static_cast<std::size_t>(r.ii), 0);
     for (const auto& [key, cycles] : life) {
-        r.lifetimes.push_back({reg_name(static_cast<isa::RegFile>(key.first), key.second), cycles});
+        r.lifetimes.push_back({reg_name(static_cast<isa::RegFile>(key.first), key.second), cycles, born[key]});
         for (int c = 0; c < std::max(1, cycles); ++c) ++live[key.first][static_cast<std::size_t>((born[key] + c) % r.ii)];
     }
     for (int f = 0; f < 2; ++f) r.max_live[f] = *std::max_element(live[f].begin(), live[f].end());
@@ -131,8 +135,18 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
         std::vector<isa::Instr> in = bundles[path[c]];
         const isa::BundleUsage u = isa::bundle_usage(in);
         std::string cells;
+        TableRow row;
         for (const isa::Instr& x : in)
-            if (x.info().kind != isa::Kind::Nop) cells += fmt::format(" {}:{}", m.slots[x.slot].name, x.info().mnemonic);
+            if (x.info().kind != isa::Kind::Nop) {
+                cells += fmt::format(" {}:{}", m.slots[x.slot].name, x.info().mnemonic);
+                row.ops.push_back({m.slots[x.slot].name, std::string(x.info().mnemonic),
+                                   std::string(isa::kOpClassNames[static_cast<std::size_t>(x.info().cls)])});
+            }
+        for (int f = 0; f < 2; ++f) {
+            row.reads[f] = u.reads[static_cast<std::size_t>(f)];
+            row.writes[f] = u.writes[static_cast<std::size_t>(f)];
+        }
+        r.table.push_back(row);
         r.mrt.push_back(fmt::format("{:>3} |{:<44} IRF r{}/w{}  FPRF r{}/w{}", c, cells, u.reads[0], u.writes[0],
                                     u.reads[1], u.writes[1]));
     }

@@ -29,6 +29,16 @@ struct ResourceUse {
 struct Lifetime {
     std::string reg;
     int cycles = 0; // from the write's issue to its last read (reads in the next iteration add II)
+    int born = 0;   // the body cycle its write issues in
+};
+
+// One cycle of the reservation table as data (LoopReport::mrt is its text).
+struct TableRow {
+    struct Op {
+        std::string slot, op, op_class; // "fpu0", "fmul", "fmul" (the machine description's class name)
+    };
+    std::vector<Op> ops;
+    int reads[2] = {0, 0}, writes[2] = {0, 0}; // register file ports used, IRF and FPRF
 };
 
 struct LoopReport {
@@ -46,6 +56,10 @@ struct LoopReport {
     int max_live[2] = {0, 0};
     std::uint32_t file_size[2] = {0, 0};
     std::vector<std::string> mrt;  // one line per body bundle
+    std::vector<TableRow> table;   // the same, as data
+    std::vector<std::string> slots;            // the machine's issue slots, in order
+    std::uint32_t read_ports[2] = {0, 0}, write_ports[2] = {0, 0};
+    std::string machine;
     std::string verdict;
     bool dispatch = false;             // a pass of a jr-dispatched loop (a body), not a branch-back loop
     std::vector<std::string> through;  // the labels its path jumps to after its first bundle
@@ -53,6 +67,9 @@ struct LoopReport {
 
     std::string text() const;
     std::string json() const;
+    // A picture: the reservation table (slots and ports by cycle, ops by class) above the register
+    // lifetimes on a cycle axis marked every II (sched/src/loop_svg.cpp).
+    std::string svg() const;
 };
 
 // Every loop of the program, or only the one at `label` (empty: all). Throws std::runtime_error
