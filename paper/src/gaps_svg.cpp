@@ -13,6 +13,7 @@ namespace nesshi::paper {
 namespace {
 
 constexpr double kLeft = 150, kRight = 760, kTop = 70, kRow = 17, kWidth = 1100;
+constexpr double kGap = 8; // between a scene and grid's two rows and the next's: the separator's room
 
 struct Axis {
     double lo = 7, hi = 11; // decades
@@ -33,7 +34,8 @@ std::string gaps_svg(std::span<const GapRow> rows) {
         ax.lo = std::floor(std::log10(lo));
         ax.hi = std::max(ax.lo + 1, std::ceil(std::log10(hi)));
     }
-    const double height = kTop + static_cast<double>(rows.size()) * 2 * kRow + 50;
+    const double group = 2 * kRow + kGap;
+    const double height = kTop + static_cast<double>(rows.size()) * group + 50;
     std::string o = fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{:.0f}\" "
                                 "font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
                                 kWidth, height);
@@ -46,7 +48,7 @@ std::string gaps_svg(std::span<const GapRow> rows) {
          "<text x=\"166\" y=\"40\">explained: our kernels' speed x the adopted hypothesis</text>"
          "<line x1=\"520\" y1=\"36\" x2=\"550\" y2=\"36\" stroke=\"#d62728\" stroke-width=\"5\"/>"
          "<text x=\"556\" y=\"40\">unexplained (green above, red below the row: each may point either way)</text>\n";
-    const double bottom = kTop + static_cast<double>(rows.size()) * 2 * kRow;
+    const double bottom = kTop + static_cast<double>(rows.size()) * group;
     for (double d = ax.lo; d <= ax.hi + 1e-9; d += 1) {
         const double x = ax.x(std::pow(10.0, d));
         o += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.0f}\" x2=\"{0:.1f}\" y2=\"{2:.0f}\" stroke=\"#ddd\"/>"
@@ -57,7 +59,10 @@ std::string gaps_svg(std::span<const GapRow> rows) {
                      bottom + 32);
     double y = kTop;
     for (const GapRow& r : rows) {
-        o += fmt::format("<line x1=\"10\" y1=\"{0:.0f}\" x2=\"{1}\" y2=\"{0:.0f}\" stroke=\"#bbb\"/>\n", y - 4, kWidth - 10);
+        // The separator in the middle of the gap above the group, clear of both groups' labels.
+        o += fmt::format("<line x1=\"10\" y1=\"{0:.0f}\" x2=\"{1}\" y2=\"{0:.0f}\" stroke=\"#bbb\"/>\n", y + kGap / 2 + 1,
+                         kWidth - 10);
+        y += kGap;
         struct S {
             const char* name;
             double ours, explained, paper;

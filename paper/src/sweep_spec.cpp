@@ -208,6 +208,7 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
                     if (v->get() != "linear" && v->get() != "log")
                         throw PaperError(where(file, cv.source()), "chart y_scale is \"linear\" or \"log\"");
                     s.chart_log_y = v->get() == "log";
+                    s.chart_scale_given = true;
                 } else {
                     (name == "x" ? s.chart_x : s.chart_y) = v->get();
                 }

@@ -6,6 +6,7 @@
 
 #include <pybind11/stl.h>
 
+#include <cctype>
 #include <filesystem>
 #include <unistd.h>
 
@@ -76,13 +77,18 @@ std::string machine_reference(const py::handle& arg) {
     if (!py::isinstance<PyMachine>(arg)) return py::str(arg).cast<std::string>();
     const PyMachine& pm = arg.cast<const PyMachine&>();
     if (pm.toml.empty()) return pm.m.reference();
-    // One private folder per process; the file is named after the machine, as its messages name it.
+    // One private folder per process, removed when the interpreter exits; the file is named after
+    // the machine, as its messages name it (a name's '/' or '..' must not lead out of the folder).
     static const std::filesystem::path dir = [] {
         std::string tmpl = (std::filesystem::temp_directory_path() / "nesshi-py-XXXXXX").string();
         if (!mkdtemp(tmpl.data())) throw base::Error("cannot create a temporary folder for a machine description");
+        py::module_::import("atexit").attr("register")(py::module_::import("shutil").attr("rmtree"), tmpl, true);
         return std::filesystem::path(tmpl);
     }();
-    const std::filesystem::path file = dir / (pm.m.name + "-" + std::to_string(pm.m.fingerprint()) + ".toml");
+    std::string stem = pm.m.name;
+    for (char& c : stem)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+    const std::filesystem::path file = dir / (stem + "-" + std::to_string(pm.m.fingerprint()) + ".toml");
     if (!std::filesystem::exists(file)) base::write_file(file.string(), pm.toml);
     return file.string();
 }
@@ -105,9 +111,12 @@ void bind_machine(py::module_& m) {
                                "hash of everything that affects assembly or timing, and the name")
         .def("same_as", [](const PyMachine& a, const PyMachine& b) { return a.m.same_as(b.m); },
              "the same machine under any name (a file that only inherits a preset is that preset)")
-        .def("__eq__", [](const PyMachine& a, const PyMachine& b) { return a.m.fingerprint() == b.m.fingerprint(); })
+        .def("__eq__", [](const PyMachine& a, const PyMachine& b) { return a.m.fingerprint() == b.m.fingerprint(); },
+             py::is_operator()) // another type: NotImplemented, so `m == 5` is False and `m in [None]` works
         .def("__hash__", [](const PyMachine& p) { return p.m.fingerprint(); })
-        .def("__repr__", [](const PyMachine& p) { return "nesshi.machine('" + p.m.reference() + "')"; });
+        .def("__repr__", [](const PyMachine& p) {
+            return p.toml.empty() ? "nesshi.machine('" + p.m.reference() + "')" : "<nesshi.Machine '" + p.m.name + "' from TOML text>";
+        });
     m.def("machine", &make_machine, py::arg("spec") = "os", py::arg("toml") = "",
           "A machine: a preset name (os, ic, seq, os-real, ic-real, seq-real), a TOML file, or TOML text (spec "
           "with a newline or '=', or toml=...). A malformed description raises nesshi.Error at its line and column.");

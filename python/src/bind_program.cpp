@@ -83,28 +83,57 @@ class PyProcessor {
         }
     }
 
-    std::string step(uint64_t n) { return std::string(iss::status_name(p_->step(n))); }
+    std::string step(uint64_t n) { return std::string(iss::status_name(p().step(n))); }
 
     // Runs to halt, a fault, a block on a FIFO, the cycle limit or a breakpoint (checked before
-    // each bundle once the first has issued, so run() again continues past it).
+    // each bundle once the first has issued, so run() again continues past it). The GIL is
+    // released for a slice of cycles at a time, and Ctrl-C (KeyboardInterrupt) is honoured
+    // between slices; meanwhile every other call on this Processor raises RuntimeError.
     std::string run(std::optional<uint64_t> max_cycles) {
+        static constexpr uint64_t kSlice = uint64_t(1) << 24; // ~0.1 s of the fast engine
         const uint64_t budget = max_cycles.value_or(std::numeric_limits<uint64_t>::max());
-        py::gil_scoped_release unlocked;
-        if (breakpoints_.empty()) return std::string(iss::status_name(p_->run(budget)));
-        const uint64_t start = p_->cycle();
+        iss::Processor& proc = p();
+        const uint64_t start = proc.cycle();
         iss::Status st = iss::Status::Running;
-        for (bool first = true; st == iss::Status::Running && p_->cycle() - start < budget; first = false) {
-            if (!first && breakpoints_.count(p_->pc())) break;
-            st = p_->step(1, budget - (p_->cycle() - start));
+        bool first = true;
+        while (st == iss::Status::Running && proc.cycle() - start < budget) {
+            const uint64_t end = proc.cycle() - start + std::min(kSlice, budget - (proc.cycle() - start));
+            {
+                busy_ = true; // set and cleared with the GIL held, so no other thread sees it half-set
+                struct Clear {
+                    bool& busy;
+                    ~Clear() { busy = false; } // after the GIL is back (destroyed after `unlocked`)
+                } clear{busy_};
+                py::gil_scoped_release unlocked;
+                if (breakpoints_.empty()) {
+                    st = proc.run(end - (proc.cycle() - start));
+                } else {
+                    for (; st == iss::Status::Running && proc.cycle() - start < end; first = false) {
+                        if (!first && breakpoints_.count(proc.pc())) break;
+                        st = proc.step(1, end - (proc.cycle() - start));
+                    }
+                }
+            }
+            if (st == iss::Status::Running && !first && breakpoints_.count(proc.pc())) break;
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
         return std::string(iss::status_name(st));
     }
 
     uint32_t address(const py::object& where) const {
-        if (py::isinstance<py::int_>(where)) return where.cast<uint32_t>();
+        if (py::isinstance<py::int_>(where)) {
+            try {
+                return where.cast<uint32_t>();
+            } catch (const py::cast_error&) {
+                throw py::value_error("no bundle " + py::repr(where).cast<std::string>());
+            }
+        }
+        if (!py::isinstance<py::str>(where)) throw py::type_error("a breakpoint is a code label (str) or a bundle index (int)");
         const std::string label = where.cast<std::string>();
         const isa::Symbol* s = prog_->find_symbol(label);
         if (!s) throw py::key_error("no label '" + label + "'");
+        if (s->kind != isa::SymbolKind::Code)
+            throw py::key_error("'" + label + "' is a data label; a breakpoint takes a code label or a bundle index");
         return s->value;
     }
 
@@ -112,7 +141,7 @@ class PyProcessor {
         iss::DumpSpec spec{label, count, iss::DumpFormat::hex};
         std::vector<uint32_t> words;
         try {
-            words = iss::dump_memory(*p_, spec).words;
+            words = iss::dump_memory(p(), spec).words;
         } catch (const std::invalid_argument& e) {
             throw py::key_error(e.what());
         }
@@ -124,18 +153,28 @@ class PyProcessor {
         if (!s || s->kind != isa::SymbolKind::Data) throw py::key_error("no data label '" + label + "'");
         const std::vector<uint32_t> words = as_words(values, dtype);
         for (size_t i = 0; i < words.size(); ++i)
-            if (!p_->memory().poke(uint32_t(s->value + 4 * i), 4, words[i]))
+            if (!p().memory().poke(uint32_t(s->value + 4 * i), 4, words[i]))
                 throw py::index_error("word " + std::to_string(i) + " after '" + label + "' is outside every memory");
     }
 
     void feed(uint32_t ch, const py::object& words, const std::string& dtype) {
+        (void)p(); // not while it runs: the queue is the processor's
         iss::QueueChannel& q = queue(ch);
         for (uint32_t w : as_words(words, dtype)) q.feed(w);
     }
-    py::object received(uint32_t ch, const std::string& dtype) { return as_array(queue(ch).drain_all(), dtype); }
+    py::object received(uint32_t ch, const std::string& dtype) {
+        (void)p();
+        return as_array(queue(ch).drain_all(), dtype);
+    }
 
-    iss::Processor& p() { return *p_; }
-    const iss::Processor& p() const { return *p_; }
+    // The processor, unless run() is running it in another thread (with the GIL released).
+    iss::Processor& p() const {
+        if (busy_) {
+            PyErr_SetString(PyExc_RuntimeError, "this Processor is running in another thread");
+            throw py::error_already_set();
+        }
+        return *p_;
+    }
     std::set<uint32_t> breakpoints_;
 
   private:
@@ -167,9 +206,15 @@ class PyProcessor {
         check_dtype(dtype);
         std::vector<uint32_t> out;
         for (const py::handle v : values) {
-            if (dtype == "f32") out.push_back(std::bit_cast<uint32_t>(v.cast<float>()));
-            else if (dtype == "i32") out.push_back(uint32_t(v.cast<int32_t>()));
-            else out.push_back(v.cast<uint32_t>());
+            try {
+                if (dtype == "f32") out.push_back(std::bit_cast<uint32_t>(v.cast<float>()));
+                else if (dtype == "i32") out.push_back(uint32_t(v.cast<int32_t>()));
+                else out.push_back(v.cast<uint32_t>());
+            } catch (const py::cast_error&) {
+                throw py::value_error("value " + std::to_string(out.size()) + ", " + py::repr(v).cast<std::string>() + ", is not " +
+                                      (dtype == "f32" ? "a number" : dtype == "i32" ? "an int32" : "a uint32") +
+                                      " (dtype '" + dtype + "')");
+            }
         }
         return out;
     }
@@ -182,6 +227,7 @@ class PyProcessor {
     std::shared_ptr<const iss::Program> prog_;
     std::unique_ptr<iss::Processor> p_;
     std::map<uint32_t, std::unique_ptr<iss::QueueChannel>> queues_;
+    bool busy_ = false;
 };
 
 } // namespace
@@ -190,8 +236,16 @@ std::string path_arg(const py::object& path) { return py::str(py::module_::impor
 
 Source source_arg(const py::object& source) {
     const bool path_like = py::isinstance(source, py::module_::import("os").attr("PathLike"));
+    if (!path_like && !py::isinstance<py::str>(source))
+        throw py::type_error("source is text (str) or a file (str or os.PathLike), not " +
+                             py::str(py::type::of(source).attr("__name__")).cast<std::string>());
     std::string text = py::str(path_like ? py::module_::import("os").attr("fspath")(source) : source).cast<std::string>();
-    if (path_like || (text.find('\n') == std::string::npos && std::filesystem::is_regular_file(text)))
+    // One word with a '/' or a source file's suffix is never code: a path, even when missing
+    // (then "cannot open", not "unknown operation").
+    const bool one_word = text.find_first_of(" \t\r\n") == std::string::npos;
+    const auto ends = [&](std::string_view s) { return text.size() > s.size() && text.ends_with(s); };
+    const bool names_file = one_word && (text.find('/') != std::string::npos || ends(".s") || ends(".sa") || ends(".pk"));
+    if (path_like || names_file || (text.find('\n') == std::string::npos && std::filesystem::is_regular_file(text)))
         return {text, base::read_file(text)};
     return {"<string>", text};
 }
@@ -242,9 +296,15 @@ void bind_program(py::module_& m) {
         .def("run", &PyProcessor::run, py::arg("max_cycles") = py::none(),
              "Run until halt, a fault, a FIFO block, max_cycles more cycles or a breakpoint; returns the status: "
              "'running' (stopped at a limit or breakpoint), 'blocked', 'halted' or 'faulted'.")
-        .def("break_at", [](PyProcessor& p, const py::object& where) { p.breakpoints_.insert(p.address(where)); },
+        .def("break_at", [](PyProcessor& p, const py::object& where) {
+            (void)p.p(); // not while it runs in another thread
+            p.breakpoints_.insert(p.address(where));
+        },
              py::arg("where"), "A breakpoint at a code label or bundle index.")
-        .def("clear_breakpoints", [](PyProcessor& p) { p.breakpoints_.clear(); })
+        .def("clear_breakpoints", [](PyProcessor& p) {
+            (void)p.p();
+            p.breakpoints_.clear();
+        })
         .def_property_readonly("breakpoints", [](const PyProcessor& p) { return p.breakpoints_; })
         .def_property_readonly("cycle", [](const PyProcessor& p) { return p.p().cycle(); })
         .def_property_readonly("pc", [](const PyProcessor& p) { return p.p().pc(); })
@@ -260,9 +320,25 @@ void bind_program(py::module_& m) {
         .def("reg_bits", [](const PyProcessor& p, const std::string& name) { return p.p().reg(reg_index(name)); }, py::arg("name"))
         .def("set_reg", [](PyProcessor& p, const std::string& name, const py::object& v) {
             const uint16_t r = reg_index(name);
-            p.p().set_reg(r, r >= isa::kMaxRegs && py::isinstance<py::float_>(v) ? std::bit_cast<uint32_t>(v.cast<float>())
-                                                                                  : uint32_t(v.cast<int64_t>()));
-        }, py::arg("name"), py::arg("value"), "Set a register (a float for f registers, an int for bits or r registers).")
+            // An f register takes any number but an int (numpy.float32 included) as a float; an int is its bits.
+            const bool as_float = r >= isa::kMaxRegs && !PyIndex_Check(v.ptr());
+            uint32_t bits = 0;
+            try {
+                if (as_float) {
+                    bits = std::bit_cast<uint32_t>(v.cast<float>());
+                } else {
+                    const int64_t n = v.cast<int64_t>();
+                    if (n < INT32_MIN || n > int64_t(UINT32_MAX)) throw py::cast_error();
+                    bits = uint32_t(n);
+                }
+            } catch (const py::cast_error&) {
+                throw py::value_error(name + " takes " + (r >= isa::kMaxRegs ? "a float, or its bits as an int" : "an int") +
+                                      " in -2**31 .. 2**32-1, not " + py::repr(v).cast<std::string>());
+            }
+            p.p().set_reg(r, bits);
+        }, py::arg("name"), py::arg("value"),
+           "Set a register: an r register to an int (-2**31 .. 2**32-1), an f register to a float (numpy's too), or "
+           "to its bits given as an int.")
         .def("read", &PyProcessor::read, py::arg("label"), py::arg("count") = py::none(), py::arg("dtype") = "f32",
              "Memory words at a data label (default: up to the next data label) as a numpy array of f32, i32 or u32.")
         .def("write", &PyProcessor::write, py::arg("label"), py::arg("values"), py::arg("dtype") = "f32",

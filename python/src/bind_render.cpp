@@ -7,6 +7,7 @@
 #include "rt/render.hpp"
 #include "rt/scene.hpp"
 
+#include <fmt/format.h>
 #include <pybind11/stl.h>
 
 #include <optional>
@@ -53,12 +54,21 @@ py::dict info(const PyScene& p) {
 
 py::object image_array(const rt::Image& img) {
     const py::bytes raw(reinterpret_cast<const char*>(img.rgb.data()), img.rgb.size());
+    py::object np;
     try {
-        py::object np = py::module_::import("numpy");
-        return np.attr("frombuffer")(raw, np.attr("uint8")).attr("reshape")(img.height, img.width, 3);
+        np = py::module_::import("numpy");
     } catch (const py::error_already_set&) {
         return raw; // no numpy: rows of RGB bytes, top row first
     }
+    return np.attr("frombuffer")(raw, np.attr("uint8")).attr("reshape")(img.height, img.width, 3);
+}
+
+// The command line's ranges for its options (nesshi render --help), with its words.
+template <typename T>
+void check_range(const char* name, const std::optional<T>& v, T lo, T hi) {
+    if (v && (*v < lo || *v > hi))
+        throw py::value_error(fmt::format("{} must be {} between {} and {} (got {})", name,
+                                          std::is_integral_v<T> ? "an integer" : "a number", lo, hi, *v));
 }
 
 using Size = std::variant<int, std::pair<int, int>>;
@@ -87,10 +97,17 @@ py::tuple render(const RenderArgs& a, const PyScene& scene_in) {
     if (a.size) {
         if (const int* n = std::get_if<int>(&*a.size)) opt.width = opt.height = *n;
         else std::tie(opt.width, opt.height) = std::get<std::pair<int, int>>(*a.size);
+        if (opt.width < 1 || opt.height < 1 || opt.width > 16384 || opt.height > 16384)
+            throw py::value_error(fmt::format("bad size {}x{} (size is N or (W, H), each an integer between 1 and 16384)",
+                                              opt.width, opt.height));
     }
     int grid = 0;
-    if (const int* n = std::get_if<int>(&a.grid)) grid = *n;
-    else if (std::get<std::string>(a.grid) != "auto") throw py::value_error("grid is an int or 'auto'");
+    if (const int* n = std::get_if<int>(&a.grid)) {
+        grid = *n;
+        if (grid < 1) throw py::value_error(fmt::format("bad grid resolution {} (grid is 'auto' or an integer from 1)", grid));
+    } else if (std::get<std::string>(a.grid) != "auto") {
+        throw py::value_error("grid is 'auto' or an integer from 1, not '" + std::get<std::string>(a.grid) + "'");
+    }
     rt::check_grid_resolution(grid);
     opt.threads = mo.threads = a.threads;
     opt.cutoff = a.cutoff;
@@ -126,6 +143,19 @@ void bind_render(py::module_& m) {
              std::optional<uint32_t> cache_size, std::optional<uint32_t> cache_ways, std::optional<uint32_t> cache_line,
              std::optional<uint32_t> miss_cycles, bool resident, std::optional<uint64_t> quantum, uint64_t max_cycles, bool checked,
              const std::string& kernels) {
+              check_range("threads", std::optional<int>(threads), 0, 1024);
+              check_range("cutoff", std::optional<double>(cutoff), 0.0, 1.0);
+              check_range("pes", std::optional<int>(pes), 1, 64);
+              check_range<uint64_t>("epoch", epoch, 1, 1000000000);
+              check_range("window", window, 1, 1048576);
+              check_range<size_t>("fifo_capacity", std::optional<size_t>(fifo_capacity), 0, 268435456);
+              check_range("ray_slots", ray_slots, 1, 4096);
+              check_range<uint32_t>("fifo_latency", std::optional<uint32_t>(fifo_latency), 0, 1000000);
+              check_range<uint32_t>("cache_size", cache_size, 16, 1073741824);
+              check_range<uint32_t>("cache_ways", cache_ways, 1, 1024);
+              check_range<uint32_t>("cache_line", cache_line, 4, 4096);
+              check_range<uint32_t>("miss_cycles", miss_cycles, 0, 1000000);
+              check_range<uint64_t>("quantum", quantum, 1, 1000000);
               if (!cache && (cache_size || cache_ways || cache_line || miss_cycles || !resident))
                   throw py::value_error("cache_size, cache_ways, cache_line, miss_cycles and resident=False need cache=True "
                                         "(without it the IC cache is ideal: every access hits)");

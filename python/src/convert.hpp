@@ -23,8 +23,9 @@ isa::Machine machine_arg(const py::handle& arg, const std::string& fallback);
 // from a TOML string is written once to a private temporary file.
 std::string machine_reference(const py::handle& arg);
 
-// A source argument: a path (os.PathLike, or a str naming an existing file and holding no newline)
-// read from disk, else the text itself, named "<string>" in diagnostics.
+// A source argument: a path (os.PathLike, a str naming an existing file and holding no newline, or
+// one word with a '/' or ending .s, .sa or .pk) read from disk, else the text itself, named
+// "<string>" in diagnostics. Anything but a str or an os.PathLike raises TypeError.
 struct Source {
     std::string name, text;
 };

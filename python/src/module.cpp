@@ -23,6 +23,7 @@ PYBIND11_MODULE(nesshi, m) {
     m.attr("__version__") = NESSHI_VERSION;
     // The exception classes are Python classes (attributes as keyword arguments), made once here.
     py::dict ns;
+    ns["__name__"] = "nesshi"; // so the classes are nesshi.Error and nesshi.AssemblyError in tracebacks
     py::exec(R"(
 class Error(Exception):
     """A Nesshisen error: `message` without its place; `file`, `line`, `column` when known (else None / 0).
@@ -50,6 +51,13 @@ class AssemblyError(Error):
             py::object err = cls(e.what(), e.message(), loc.known() ? py::object(py::str(*loc.file)) : py::object(py::none()),
                                  loc.line, loc.col);
             PyErr_SetObject(cls.ptr(), err.ptr());
+        } catch (const py::builtin_exception&) {
+            throw; // pybind11's own (cast_error, value_error, ...): its translator
+        } catch (const std::runtime_error& e) {
+            // The libraries' other failures ("cache line must be a power of two", "the PE passed
+            // the cycle limit"): the command line prints them as errors too.
+            py::object cls = py::module_::import("nesshi").attr("Error");
+            PyErr_SetObject(cls.ptr(), cls(e.what()).ptr());
         }
     });
     bind_machine(m);

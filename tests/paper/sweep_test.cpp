@@ -175,3 +175,31 @@ TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a c
     CHECK(log_svg.find(">200</text>") == std::string::npos);
     CHECK(log_svg.find(">20</text>") == std::string::npos);
 }
+
+TEST_CASE("Sweep chart: machines as a categorical axis, series apart without colour, labels that do not collide",
+          "[unit][sweep]") {
+    const SweepSpec s = parse_sweep_spec("[axes]\nscene = [\"balls:1\", \"tetra:1\"]\nic_machine = [\"ic\", "
+                                         "\"machines/ic-with-a-rather-long-file-name.toml\", \"ic-real\"]\n"
+                                         "[chart]\nx = \"ic_machine\"\n",
+                                         "s.toml");
+    const std::vector<SweepCell> cells = sweep_cells(s);
+    REQUIRE(cells.size() == 6);
+    std::vector<std::string> json;
+    for (std::uint64_t t : {100000, 2000, 120000, 2400, 150000, 3000}) json.push_back(stats(t));
+    const std::string svg = sweep_chart_svg(s, cells, json);
+    CHECK(svg.find(">ic-with-a-rather-long-file-name</text>") != std::string::npos); // a file by its stem
+    CHECK(svg.find("machines/") == std::string::npos);
+    CHECK(svg.find("rotate(-30") != std::string::npos);                            // long labels turn
+    CHECK(svg.find("fill=\"none\" stroke") == std::string::npos);                  // no lines across machines
+    CHECK(svg.find("<circle") != std::string::npos);                                // two series: two shapes
+    CHECK(svg.find("<rect x=") != std::string::npos);
+    CHECK(svg.find("(log scale: values span 75x)") != std::string::npos);          // 2000 .. 150000
+
+    // A spec that says y_scale = "linear" gets it; a series equal to another says so.
+    SweepSpec lin = s;
+    lin.chart_scale_given = true;
+    CHECK(sweep_chart_svg(lin, cells, json).find("log scale") == std::string::npos);
+    std::vector<std::string> equal;
+    for (std::uint64_t t : {100, 120, 150, 100, 120, 150}) equal.push_back(stats(t));
+    CHECK(sweep_chart_svg(s, cells, equal).find("scene=tetra:1 (the same as above)") != std::string::npos);
+}

@@ -44,6 +44,7 @@ struct SweepSpec {
     std::vector<std::string> metrics;
     std::string chart_x, chart_y;  // "" = none asked: x = the first swept numeric axis, y = cycles.total
     bool chart_log_y = false;      // y_scale = "log": a log y axis (series far apart in size stay readable)
+    bool chart_scale_given = false; // y_scale written; else the chart goes log when values span 30x or more
 };
 
 // The axes a spec may name (scene, size, grid, model, pes, balance, epoch, window, ray_slots,
