@@ -99,7 +99,7 @@ void run_render(const RenderArgs& a) {
     const bool output_on_stdout = stdout_output({{"-o", a.out}, {"--stats-json", a.stats_json}, {"--id-buffer", a.id_buffer},
                                                  {"--t-buffer", a.t_buffer}, {"--trace", mo.trace_json}});
     std::FILE* report = output_on_stdout ? stderr : stdout;
-    check_outputs({a.out, a.stats_json, a.id_buffer, a.t_buffer, mo.trace_json});
+    check_outputs({a.out, a.stats_json, a.id_buffer, a.t_buffer, mo.trace_json, mo.timeline_svg});
     // Bounded FIFOs without a chosen window: limit the rays in flight so that no FIFO can fill
     // (machine::Options::ray_slots); the window alone bounds corners, and small FIFOs deadlock.
     const bool auto_slots = mo.fifo_capacity > 0 && a.window->count() == 0 && a.ray_slots->count() == 0;
@@ -235,6 +235,9 @@ void add_render(CLI::App& app) {
     cmd->add_flag("--checked", a->mo.checked, "ISS checked engine (ports and hazards checked dynamically)")->group(m);
     cmd->add_option("--trace,--trace-json", a->mo.trace_json,
                     "Chrome/Perfetto trace (JSON) of stage activity and FIFO words; --trace as `sim` names it")
+        ->group(m);
+    cmd->add_option("--timeline-svg", a->mo.timeline_svg, "the run as a picture (SVG): each stage's busy fraction and each FIFO's "
+                                                          "words over time")
         ->group(m);
     cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);
     add_stage_machine_options(cmd, a->mo.os_machine, a->mo.ic_machine, a->mo.seq_machine, m);

@@ -231,7 +231,7 @@ class Pe {
         ic_.out[abi::kChIcOs] = &os_in_;
         ic_.out[abi::kChIcSc] = &sc_ic_;
         for (Stage* s : {&os_, &ic_}) {
-            if (!mo.trace_json.empty())
+            if (mo.traced())
                 for (std::uint32_t pc = 0; pc < s->proc->program().size(); ++pc)
                     if (s->proc->program().bundles()[pc].fifo) s->fifo_pcs.push_back(pc);
             s->proc->attach_channel(abi::kChIn, s->in);
@@ -293,7 +293,7 @@ class Pe {
                 corners_done += sc_.corners_done() - reported_;
                 reported_ = sc_.corners_done();
             }
-            if (!mo_.trace_json.empty()) {
+            if (mo_.traced()) {
                 sample();
                 log_activity();
             }
@@ -452,7 +452,7 @@ class Pe {
         ic_.proc->idle_until(end);
         sc_.idle_until(end);
         PeResult r;
-        if (!mo_.trace_json.empty()) {
+        if (mo_.traced()) {
             log_activity();
             for (int i = 0; i < 3; ++i) r.activity[i] = activity_[i].finish();
         }

@@ -102,5 +102,8 @@ std::vector<PeResult> run_dynamic(const MachineSetup& setup, const rt::PreparedS
 // a stretch drawn in that order), counter tracks of FIFO words, and of each stage's busy
 // fraction (processing + communication over the sample interval, from the same slices).
 void write_trace_json(const std::string& path, const std::vector<PeResult>& pes);
+// The run as a picture (--timeline-svg): each stage's busy fraction (processing + communication)
+// and each FIFO's words over time, from the same activity and samples (timeline_svg.cpp).
+std::string timeline_svg(const std::vector<PeResult>& pes);
 
 } // namespace nesshi::machine

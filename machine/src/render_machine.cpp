@@ -2,6 +2,7 @@
 // host thread, and gathers image, buffers and statistics.
 #include "pe.hpp"
 
+#include "base/write_file.hpp"
 #include "kernels/abi.hpp"
 #include "kernels/image.hpp"
 #include "machine/runner.hpp"
@@ -145,6 +146,7 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
     res.render.stats.threads = threads;
     res.render.stats.epsilon = opt.epsilon;
     if (!mo.trace_json.empty()) write_trace_json(mo.trace_json, results);
+    if (!mo.timeline_svg.empty()) base::write_file(mo.timeline_svg, timeline_svg(results));
     return res;
 }
 

@@ -23,6 +23,9 @@ struct Pipelined {
 };
 
 Pipelined pipeline(const py::object& source, const py::object& machine, int ii, double exact, bool verify) {
+    if (ii < 0 || ii > 4096) throw py::value_error(fmt::format("ii must be 0 (search) or an integer between 1 and 4096 (got {})", ii));
+    if (!(exact >= 0 && exact <= 86400))
+        throw py::value_error(fmt::format("exact must be a number of seconds between 0 and 86400 (got {})", exact));
     const Source src = source_arg(source);
     const std::string header = assembler::header_machine(src.text);
     const isa::Machine m = machine_arg(machine, header.empty() ? "os" : header);

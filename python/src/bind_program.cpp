@@ -77,13 +77,30 @@ class PyProcessor {
         if (engine != "fast" && engine != "checked") throw py::value_error("engine is 'fast' or 'checked', not '" + engine + "'");
         prog_ = iss::load_program(o.obj, o.machine);
         p_ = std::make_unique<iss::Processor>(prog_, engine == "checked" ? iss::Engine::Checked : iss::Engine::Fast);
-        for (uint32_t ch : prog_->channel_ids()) {
-            queues_[ch] = std::make_unique<iss::QueueChannel>();
-            p_->attach_channel(ch, queues_[ch].get());
-        }
+        new_queues();
     }
 
-    std::string step(uint64_t n) { return std::string(iss::status_name(p().step(n))); }
+    // The loaded state: memory, registers and empty FIFO queues (words fed or sent before are gone).
+    void reset() {
+        p().reset();
+        new_queues();
+    }
+
+    // Issues n bundles, a slice at a time as run() does (a bundle count stops exactly, so the
+    // slices add up): Ctrl-C stops a large count.
+    std::string step(uint64_t n) {
+        static constexpr uint64_t kSlice = uint64_t(1) << 22;
+        iss::Processor& proc = p();
+        iss::Status st = iss::Status::Running;
+        for (uint64_t left = n; st == iss::Status::Running && left > 0;) {
+            const uint64_t now = std::min(kSlice, left);
+            left -= now;
+            unlocked([&] { st = proc.step(now); });
+            if (st == iss::Status::Running && left > 0 && PyErr_CheckSignals() != 0) throw py::error_already_set();
+        }
+        if (n == 0) st = proc.step(0);
+        return std::string(iss::status_name(st));
+    }
 
     // Runs to halt, a fault, a block on a FIFO, the cycle limit or a breakpoint (checked before
     // each bundle once the first has issued, so run() again continues past it). The GIL is
@@ -98,13 +115,7 @@ class PyProcessor {
         bool first = true;
         while (st == iss::Status::Running && proc.cycle() - start < budget) {
             const uint64_t end = proc.cycle() - start + std::min(kSlice, budget - (proc.cycle() - start));
-            {
-                busy_ = true; // set and cleared with the GIL held, so no other thread sees it half-set
-                struct Clear {
-                    bool& busy;
-                    ~Clear() { busy = false; } // after the GIL is back (destroyed after `unlocked`)
-                } clear{busy_};
-                py::gil_scoped_release unlocked;
+            unlocked([&] {
                 if (breakpoints_.empty()) {
                     st = proc.run(end - (proc.cycle() - start));
                 } else {
@@ -113,7 +124,7 @@ class PyProcessor {
                         st = proc.step(1, end - (proc.cycle() - start));
                     }
                 }
-            }
+            });
             if (st == iss::Status::Running && !first && breakpoints_.count(proc.pc())) break;
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
@@ -178,6 +189,26 @@ class PyProcessor {
     std::set<uint32_t> breakpoints_;
 
   private:
+    // f() with the GIL released; meanwhile the processor is busy (p() refuses other threads). The
+    // flag is set and cleared with the GIL held, so no thread sees it half-set.
+    template <typename F>
+    void unlocked(F f) {
+        busy_ = true;
+        struct Clear {
+            bool& busy;
+            ~Clear() { busy = false; } // after the GIL is back (destroyed after `released`)
+        } clear{busy_};
+        py::gil_scoped_release released;
+        f();
+    }
+
+    void new_queues() {
+        for (uint32_t ch : prog_->channel_ids()) {
+            queues_[ch] = std::make_unique<iss::QueueChannel>();
+            p_->attach_channel(ch, queues_[ch].get());
+        }
+    }
+
     iss::QueueChannel& queue(uint32_t ch) {
         auto it = queues_.find(ch);
         if (it == queues_.end()) throw py::key_error("the program neither sends nor receives on channel " + std::to_string(ch));
@@ -295,7 +326,8 @@ void bind_program(py::module_& m) {
         .def("step", &PyProcessor::step, py::arg("bundles") = 1, "Issue this many bundles; returns the status.")
         .def("run", &PyProcessor::run, py::arg("max_cycles") = py::none(),
              "Run until halt, a fault, a FIFO block, max_cycles more cycles or a breakpoint; returns the status: "
-             "'running' (stopped at a limit or breakpoint), 'blocked', 'halted' or 'faulted'.")
+             "'running' (stopped at a limit or breakpoint), 'blocked', 'halted' or 'faulted'. Ctrl-C stops it "
+             "(KeyboardInterrupt); the GIL is released meanwhile, and other calls on this Processor raise RuntimeError.")
         .def("break_at", [](PyProcessor& p, const py::object& where) {
             (void)p.p(); // not while it runs in another thread
             p.breakpoints_.insert(p.address(where));
@@ -356,7 +388,7 @@ void bind_program(py::module_& m) {
              "The words the program sent on a channel since the last call.")
         .def("stats", [](const PyProcessor& p) { return to_python(iss::stats_json(iss::compute_stats(p.p()))); },
              "The statistics, the same dict as nesshi sim --stats-json.")
-        .def("reset", [](PyProcessor& p) { p.p().reset(); }, "Back to the loaded state.");
+        .def("reset", &PyProcessor::reset, "Back to the loaded state: memory, registers, cycle 0, empty FIFO queues.");
 }
 
 } // namespace nesshi::python

@@ -198,8 +198,11 @@ void bind_render(py::module_& m) {
           py::arg("miss_cycles") = py::none(), py::arg("resident") = true, py::arg("quantum") = py::none(),
           py::arg("max_cycles") = 0, py::arg("checked") = false, py::arg("kernels") = "",
           "Render a scene (a nesshi.Scene or what nesshi.scene takes) as nesshi render does: model 'native', 'S', 'M' or "
-          "'V' (default); size N or (W, H) (default: the scene's); grid N or 'auto'; machines as presets, TOML files or "
-          "nesshi.Machine. Returns (image, stats): image an H x W x 3 uint8 numpy array (bytes without numpy), stats "
+          "'V' (default here; the command's default is native); size N or (W, H) (default: the scene's); grid N or "
+          "'auto'; machines as presets, TOML files or nesshi.Machine. The other keywords are the command's options "
+          "with '_' for '-' and its ranges (pes, balance, epoch, window, fifo_capacity, ray_slots, fifo_latency, cache, "
+          "cache_size, cache_ways, cache_line, miss_cycles, resident=False for --no-resident, quantum, max_cycles, "
+          "checked, kernels). Returns (image, stats): image an H x W x 3 uint8 numpy array (bytes without numpy), stats "
           "the dict nesshi render --stats-json writes. The GIL is released while it runs.");
 }
 

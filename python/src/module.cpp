@@ -19,7 +19,9 @@ PYBIND11_MODULE(nesshi, m) {
     namespace py = pybind11;
     using namespace nesshi::python;
     m.doc() = "Nesshisen: toolchain and simulator for the VLIW processors of a 1993 ray-tracing machine.\n\n"
-              "machine(), assemble(), disassemble(), Processor, pipeline(), loop_report(), scene(), render().";
+              "machine(), presets(), assemble(), load_object(), disassemble(), loop_report(), Processor, pipeline(), scene(), "
+              "render().\n\nA library's error raises nesshi.Error (nesshi.AssemblyError for assembly) with the command "
+              "line's message; a wrong argument raises TypeError, ValueError or KeyError.";
     m.attr("__version__") = NESSHI_VERSION;
     // The exception classes are Python classes (attributes as keyword arguments), made once here.
     py::dict ns;

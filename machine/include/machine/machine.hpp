@@ -70,6 +70,8 @@ struct Options {
     // they cannot run on is an error that names the first problem.
     std::string os_machine, ic_machine, seq_machine;
     std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
+    std::string timeline_svg;         // the same as a picture: stage busy fractions and FIFO words over time ("" = none)
+    bool traced() const { return !trace_json.empty() || !timeline_svg.empty(); } // activity and FIFO samples kept
     std::uint64_t max_cycles = 0;     // per PE; 0 = no limit. Exceeding it is an error.
     // Called from the calling thread about 10 times a second with (corner rays done, total).
     std::function<void(std::uint64_t, std::uint64_t)> progress;
