@@ -101,7 +101,7 @@ std::string TripChoice::text() const {
         o += fmt::format("#   chosen among {} schedule{} at {}: the first found is the fastest\n", candidates,
                          candidates == 1 ? "" : "s", iis);
     else
-        o += fmt::format("#   chosen among {} schedule{} at {}; the first found, {} would be {:.2f} ({} cycles)\n", candidates,
+        o += fmt::format("#   chosen among {} schedule{} at {}; the first found, {} would take {:.2f} cycles per iteration ({} cycles)\n", candidates,
                          candidates == 1 ? "" : "s", iis, fmt::format("II {}, {} stage{}, kernel {}x,", first.ii, first.stages,
                                                                       first.stages == 1 ? "" : "s", first.unroll),
                          per(first), first.cycles);
