@@ -2167,27 +2167,30 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         b.stages = em.stages();
         return b;
     };
-    // Whether the code assembles, in the file (a while loop's entry may get nops first).
+    // Whether the code assembles, in the file (a while loop's entry, or a counted loop's without
+    // its zero-trip test, may get nops first).
     auto assembles = [&](Built& b) {
         std::string& code = b.code;
-        assembler::AsmResult check =
-            assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, asm_options(opts));
-        // A while loop starts with its first pass (the counted loop with its trip test): results
-        // of the code before it may still be in flight. As many nops as the assembler's check asks.
+        const std::string lead_in = before + force_trip_line(r, opts, m);
+        assembler::AsmResult check = assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
+        // A while loop starts with its first pass (the counted loop with its trip test, unless
+        // .trip drops it): results of the code before it may still be in flight. As many nops as
+        // the assembler's check asks.
         std::uint32_t longest = 1;
         for (std::uint32_t l : m.latency) longest = std::max(longest, l);
         auto clean = [](const assembler::AsmResult& a) { return a.ok && a.warnings == 0; };
-        if (r.is_while && !clean(check) && longest > 1) {
+        if ((r.is_while || !b.shape.guard) && !clean(check) && longest > 1) {
             // The most nops first: when even they do not help, the fault is not at the entry
             // (one assembly, not one per count); else the fewest that do.
             std::string nops;
             for (std::uint32_t k = 1; k < longest; ++k) nops += "        nop\n";
-            assembler::AsmResult most = assembler::assemble_string(before + nops + code + after, filename, m, asm_options(opts));
+            assembler::AsmResult most = assembler::assemble_string(lead_in + nops + code + after, filename, m, asm_options(opts));
             if (!clean(most)) check = std::move(most);
             for (std::uint32_t lead = 1; clean(most) && !clean(check) && lead < longest; ++lead) {
                 code = "        nop\n" + code;
+                ++b.shape.lead;
                 check = lead + 1 == longest ? std::move(most)
-                                            : assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
+                                            : assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
             }
         }
         if (!check.ok || check.warnings > 0) {
@@ -2291,6 +2294,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             for (std::size_t k = 0; k < found.size() && !first_ok; ++k)
                 if (assembles(found[k])) first_ok = k;
             if (!first_ok) return false;
+            cost[*first_ok] = option(found[*first_ok]); // with the nops its entry may have got
             choice = TripChoice{trip.min, trip.expected, trip.line, cost[*first_ok], cost[*first_ok], 0, ii, ii};
         }
         choice->candidates += static_cast<int>(found.size());
@@ -2302,13 +2306,19 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         });
         for (std::size_t k : order) {
             if (!first_ok && cost[k].cycles >= choice->chosen.cycles) break;
-            if (k == first_ok || assembles(found[k])) {
-                choice->chosen = cost[k];
-                choice->short_path = found[k].shape.short_path;
-                choice->remainder = found[k].shape.remainder();
-                keep(std::move(found[k]));
-                return true;
+            // Entry nops (assembles) are known only once assembled: the order is by the cost
+            // without them (they are rare: code just before the region feeding it), and one that
+            // they make no cheaper than the one to beat is passed over.
+            if (k != first_ok) {
+                if ((first_ok && k < *first_ok) || !assembles(found[k])) continue; // those before it failed
+                const std::int64_t with_nops = option(found[k]).cycles;
+                if (first_ok ? with_nops > cost[*first_ok].cycles : with_nops >= choice->chosen.cycles) continue;
             }
+            choice->chosen = option(found[k]);
+            choice->short_path = found[k].shape.short_path;
+            choice->remainder = found[k].shape.remainder();
+            keep(std::move(found[k]));
+            return true;
         }
         return false;
     };

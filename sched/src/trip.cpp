@@ -54,7 +54,7 @@ TripDirective parse_trip(const std::string& code, const std::string& text, std::
 
 std::int64_t whole_run_cycles(const CountedShape& s, std::int64_t trips) {
     const std::int64_t a = s.alu_latency, b = s.penalty, p = s.prologue_passes, u = s.unroll;
-    std::int64_t c = 0, n = trips;
+    std::int64_t c = s.lead, n = trips;
     if (s.guard) {
         c += 1; // beqz TRIP, done
         if (n == 0) return c + b;

@@ -22,6 +22,7 @@ struct TripDirective {
 TripDirective parse_trip(const std::string& code, const std::string& text, std::string_view file, int line);
 
 // The bundles of each part of a counted loop's code (Emitter::code), in program order:
+//   [nops]                                              lead (without the guard)
 //   [beqz TRIP, done]                                   guard
 //   check: [slti; bnez seq]  [addi; andi; beqz pipe | jmp pipe]   short path, remainder
 //   seq:   body; addi TRIP, -1; bnez TRIP, check; [jmp done]
@@ -37,6 +38,7 @@ struct CountedShape {
     int setup = 0;           // bundles from `pipe` to the prologue (the counter's set-up)
     int entry_nops = 0;
     int tail = 0;            // bundles after the kernel: epilogue, drain, `li TRIP, 0`
+    int lead = 0;            // nops first, for results of the code before the region (no guard)
     int min_trip() const { return prologue_passes + unroll; }
     bool remainder() const { return unroll > 1; }
     bool sequential_copy() const { return short_path || remainder(); }
