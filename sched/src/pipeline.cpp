@@ -2348,8 +2348,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     }
     if (choice) {
         // Larger IIs while one could still be cheaper: the prologue and the kernel passes alone
-        // take EXPECTED x II cycles, a sequential iteration at least its ops' latencies. From one
-        // sequential iteration's length on, a schedule has one stage: the sequential loop.
+        // take EXPECTED x II cycles, a remainder iteration at least the sequential copy's length.
+        // No further than that length: a kernel pass as long gains nothing on the sequential loop.
         int sequential = 1 + std::max(1, static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]));
         for (const Node& nd : g.nodes) sequential += std::max(1, nd.latency);
         for (int ii = sched->ii + 1; ii <= std::min(hi, sequential); ++ii) {
