@@ -2275,7 +2275,10 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     std::optional<TripChoice> choice;
     const bool by_trip = trip.min > 0 && !r.is_while;
     auto option = [&](const Built& b) {
-        return TripChoice::Option{b.s.ii, b.stages, b.alloc.unroll, whole_run_cycles(b.shape, trip.expected)};
+        TripChoice::Option o;
+        static_cast<RunParts&>(o) = whole_run_parts(b.shape, trip.expected);
+        o.ii = b.s.ii, o.stages = b.stages, o.unroll = b.alloc.unroll, o.cycles = o.total();
+        return o;
     };
     auto try_ii_trip = [&](int ii) {
         std::vector<Built> found;

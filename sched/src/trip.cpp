@@ -52,12 +52,18 @@ TripDirective parse_trip(const std::string& code, const std::string& text, std::
     return {value[0], args.size() == 2 ? value[1] : value[0], line};
 }
 
-std::int64_t whole_run_cycles(const CountedShape& s, std::int64_t trips) {
+RunParts whole_run_parts(const CountedShape& s, std::int64_t trips) {
     const std::int64_t a = s.alu_latency, b = s.penalty, p = s.prologue_passes, u = s.unroll;
-    std::int64_t c = s.lead, n = trips;
+    RunParts r;
+    std::int64_t& c = r.outside;
+    std::int64_t n = trips;
+    c = s.lead;
     if (s.guard) {
         c += 1; // beqz TRIP, done
-        if (n == 0) return c + b;
+        if (n == 0) {
+            c += b;
+            return r;
+        }
     }
     // The check, and one iteration of the sequential copy, until the pipelined path is entered.
     while (s.sequential_copy()) {
@@ -79,12 +85,20 @@ std::int64_t whole_run_cycles(const CountedShape& s, std::int64_t trips) {
             }
         }
         c += s.body + a + 1; // the body, addi TRIP, its nops, bnez TRIP, check
-        if (--n == 0) return c + 1 + b; // falls through to jmp done
+        ++r.sequential_iterations;
+        if (--n == 0) { // falls through to jmp done
+            c += 1 + b;
+            return r;
+        }
         c += b;
     }
     const std::int64_t passes = (n - p) / u;
-    return c + s.setup + p * s.ii + s.entry_nops + passes * u * s.ii + (passes - 1) * b + s.tail;
+    r.fill_drain = s.setup + p * s.ii + s.entry_nops + s.tail;
+    r.kernel = passes * u * s.ii + (passes - 1) * b;
+    return r;
 }
+
+std::int64_t whole_run_cycles(const CountedShape& s, std::int64_t trips) { return whole_run_parts(s, trips).total(); }
 
 std::string TripChoice::text() const {
     const auto per = [&](const Option& o) { return static_cast<double>(o.cycles) / expected; };
@@ -92,19 +106,29 @@ std::string TripChoice::text() const {
         return fmt::format("II {}, {} stage{}, kernel {}x: {:.2f} cycles per iteration", o.ii, o.stages, o.stages == 1 ? "" : "s",
                            o.unroll, per(o));
     };
+    // Where the cycles go: what makes one schedule beat another.
+    const auto parts = [&](const Option& o) {
+        std::string t = fmt::format("{} cycles: kernel {}, fill and drain {}", o.cycles, o.kernel, o.fill_drain);
+        if (o.sequential_iterations > 0)
+            t += fmt::format(", {} sequential iteration{} and the tests {}", o.sequential_iterations,
+                             o.sequential_iterations == 1 ? "" : "s", o.outside);
+        else if (o.outside > 0)
+            t += fmt::format(", tests {}", o.outside);
+        return t;
+    };
     std::string o = fmt::format("#   trip count: at least {}{} (.trip, line {}; fewer is an error, not checked)\n", min,
                                 expected != min ? fmt::format(", expected {}", expected) : "", line);
-    o += fmt::format("#   whole run at {} trips: {} ({} cycles)\n", expected, what(chosen), chosen.cycles);
+    o += fmt::format("#   whole run at {} trips: {} ({})\n", expected, what(chosen), parts(chosen));
     const bool same = chosen.ii == first.ii && chosen.stages == first.stages && chosen.unroll == first.unroll;
     const std::string iis = ii_first == ii_last ? fmt::format("II {}", ii_first) : fmt::format("IIs {}..{}", ii_first, ii_last);
     if (same)
         o += fmt::format("#   chosen among {} schedule{} at {}: the first found is the fastest\n", candidates,
                          candidates == 1 ? "" : "s", iis);
     else
-        o += fmt::format("#   chosen among {} schedule{} at {}; the first found, {} would take {:.2f} cycles per iteration ({} cycles)\n", candidates,
-                         candidates == 1 ? "" : "s", iis, fmt::format("II {}, {} stage{}, kernel {}x,", first.ii, first.stages,
-                                                                      first.stages == 1 ? "" : "s", first.unroll),
-                         per(first), first.cycles);
+        o += fmt::format("#   chosen among {} schedule{} at {}; the first found, {} would take {:.2f} cycles per iteration ({})\n",
+                         candidates, candidates == 1 ? "" : "s", iis,
+                         fmt::format("II {}, {} stage{}, kernel {}x,", first.ii, first.stages, first.stages == 1 ? "" : "s", first.unroll),
+                         per(first), parts(first));
     return o;
 }
 
@@ -114,6 +138,10 @@ std::string TripChoice::json() const {
                                       {"stages", o.stages},
                                       {"unroll", o.unroll},
                                       {"cycles", o.cycles},
+                                      {"kernel", o.kernel},
+                                      {"fill_drain", o.fill_drain},
+                                      {"outside", o.outside},
+                                      {"sequential_iterations", o.sequential_iterations},
                                       {"cycles_per_iteration", static_cast<double>(o.cycles) / expected}};
     };
     const nlohmann::ordered_json j = {{"min", min},

@@ -3,6 +3,8 @@
 // by that figure, so it must be exact: tests/sched/trip_test.cpp compares it with the ISS.
 #pragma once
 
+#include "sched/pipeline.hpp"
+
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -45,7 +47,9 @@ struct CountedShape {
 };
 
 // Cycles from the region's first bundle to its `done` label for `trips` iterations, without
-// memory stalls (the same for every schedule: each iteration's accesses run once on any path).
+// memory stalls (the same for every schedule: each iteration's accesses run once on any path),
+// and where they go (RunParts, in the public header with TripChoice).
+RunParts whole_run_parts(const CountedShape& s, std::int64_t trips);
 std::int64_t whole_run_cycles(const CountedShape& s, std::int64_t trips);
 
 } // namespace nesshi::sched

@@ -117,6 +117,10 @@ TEST_CASE(".trip chooses fewer stages and copies where the whole run is shorter,
         CHECK(before.ii == before.mii);
         CHECK((c.first.ii == before.ii && c.first.stages == before.stages && c.first.unroll == before.unroll));
         CHECK(c.chosen.cycles < c.first.cycles);
+        // Why: the first schedule runs more of the loop through the sequential copy.
+        CHECK(c.first.outside > c.chosen.outside);
+        CHECK(c.first.sequential_iterations > c.chosen.sequential_iterations);
+        CHECK(c.chosen.kernel + c.chosen.fill_drain + c.chosen.outside == c.chosen.cycles);
         CHECK(after.stages - 1 + after.unroll < before.stages - 1 + before.unroll);
         // Measured: both files run 8 iterations; the one chosen by .trip takes fewer cycles.
         sched::PipelineOptions eight;

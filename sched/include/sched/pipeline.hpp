@@ -83,11 +83,20 @@ struct PipelineOptions {
 // takes the fewest cycles at EXPECTED trips (default MIN), among the schedules the search finds
 // at each II from the first that works up to where EXPECTED x II alone exceeds the best; and the
 // code omits what MIN makes dead (the zero-trip test, the short-trip path).
+// A whole run's cycles by where they go: the kernel passes (with their bubbles), the fill and
+// drain (counter set-up, prologue, entry nops, epilogue and drain), and the rest: the tests, the
+// sequential copy's iterations (the remainder, or every one of a short trip) and their branches.
+struct RunParts {
+    std::int64_t kernel = 0, fill_drain = 0, outside = 0;
+    std::int64_t sequential_iterations = 0;
+    std::int64_t total() const { return kernel + fill_drain + outside; }
+};
+
 struct TripChoice {
     int min = 0, expected = 0, line = 0; // line: of the .trip
-    struct Option {
+    struct Option : RunParts {
         int ii = 0, stages = 0, unroll = 1;
-        std::int64_t cycles = 0; // whole run at `expected` trips, without memory stalls
+        std::int64_t cycles = 0; // whole run at `expected` trips, without memory stalls: total()
     };
     Option chosen;
     Option first;                 // the schedule the rule without .trip takes (the first found that assembles)
