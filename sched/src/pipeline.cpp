@@ -1346,6 +1346,14 @@ class Emitter {
         return ind.step * (after - seen_minus_i);
     }
 
+    // Offset change of memory op `op` in an iteration run alone at the schedule's times: its
+    // own induction step has landed when the op issues after it (m >= 1), no other.
+    std::int64_t delta_alone(int op) const {
+        const auto view = induction_view(op);
+        if (!view) return 0;
+        return view->ind->step * (view->after - (view->m >= 1 ? 1 : 0));
+    }
+
     std::string instance(int op, int iteration_mod, std::optional<Iter> it) const {
         std::vector<std::string> vreg;
         for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
@@ -1400,10 +1408,32 @@ class Emitter {
             o += fmt::format("{}_seq:\n", uid);
             std::vector<std::string> vreg0;
             for (std::size_t v = 0; v < r_.virtuals.size(); ++v) vreg0.push_back(a_.regs[v][0]);
+            // One iteration alone: each op after the previous one's result has landed, or, with
+            // .trip (the default's code stays as it was), the modulo schedule's own placement of
+            // one iteration when that is shorter: each bundle a subset of a kernel row (slots,
+            // ports and landings hold), every dependence within the iteration met by the schedule,
+            // and every result landed before the next iteration starts.
+            int serial = 0, first = s_.time[0], flat = 0;
             for (std::size_t k = 0; k < r_.ops.size(); ++k) {
-                o += "        " + op_text(r_.ops[k], r_, vreg0, 0) + "\n";
-                o += nops(g_.nodes[k].latency - 1);
-                sh.body += std::max(1, g_.nodes[k].latency);
+                serial += std::max(1, g_.nodes[k].latency);
+                first = std::min(first, s_.time[k]);
+                flat = std::max(flat, s_.time[k] + std::max(1, g_.nodes[k].latency));
+            }
+            flat -= first;
+            if (trip_min > 0 && flat < serial) {
+                for (int t = first; t < first + flat; ++t) {
+                    std::vector<std::string> ops;
+                    for (std::size_t k = 0; k < r_.ops.size(); ++k)
+                        if (s_.time[k] == t) ops.push_back(op_text(r_.ops[k], r_, vreg0, delta_alone(static_cast<int>(k))));
+                    o += bundle(ops);
+                }
+                sh.body = flat;
+            } else {
+                for (std::size_t k = 0; k < r_.ops.size(); ++k) {
+                    o += "        " + op_text(r_.ops[k], r_, vreg0, 0) + "\n";
+                    o += nops(g_.nodes[k].latency - 1);
+                }
+                sh.body = serial;
             }
             o += fmt::format("        addi {}, {}, -1\n", trip, trip) + nops(alu_lat - 1);
             o += fmt::format("        bnez {}, {}_check\n", trip, uid);
