@@ -119,7 +119,8 @@ std::string TripChoice::text() const {
     std::string o = fmt::format("#   trip count: at least {}{} (.trip, line {}; fewer is an error, not checked)\n", min,
                                 expected != min ? fmt::format(", expected {}", expected) : "", line);
     o += fmt::format("#   whole run at {} trips: {} ({})\n", expected, what(chosen), parts(chosen));
-    const bool same = chosen.ii == first.ii && chosen.stages == first.stages && chosen.unroll == first.unroll;
+    const bool same = chosen.ii == first.ii && chosen.stages == first.stages && chosen.unroll == first.unroll &&
+                      chosen.cycles == first.cycles;
     const std::string iis = ii_first == ii_last ? fmt::format("II {}", ii_first) : fmt::format("IIs {}..{}", ii_first, ii_last);
     if (same)
         o += fmt::format("#   chosen among {} schedule{} at {}: the first found is the fastest\n", candidates,
