@@ -23,7 +23,7 @@ namespace nesshi::cli {
 namespace {
 
 struct PipelineArgs {
-    std::string input, machine, out, sequential;
+    std::string input, machine, out, sequential, json;
     int ii = 0;
     double exact = 0;
     bool no_verify = false, quiet = false;
@@ -31,7 +31,8 @@ struct PipelineArgs {
 
 void run_pipeline(const PipelineArgs& a) {
     refuse_stdout("--sequential", a.sequential, "stdout holds the pipelined code or its report; give a file");
-    check_outputs({a.out, a.sequential});
+    refuse_stdout("--json", a.json, "stdout holds the pipelined code or its report; give a file");
+    check_outputs({a.out, a.sequential, a.json});
     const std::string text = base::read_file(a.input);
     const isa::Machine m = source_machine(a.machine, text);
     sched::PipelineOptions po;
@@ -46,6 +47,11 @@ void run_pipeline(const PipelineArgs& a) {
     const bool to_file = !a.out.empty() && a.out != "-"; // -o -: stdout, as without -o
     if (to_file) base::write_file(a.out, pipelined);
     if (!a.sequential.empty()) base::write_file(a.sequential, r.linear);
+    if (!a.json.empty()) {
+        std::string json = "[";
+        for (std::size_t k = 0; k < r.loops.size(); ++k) json += (k ? ",\n" : "\n") + r.loops[k].json();
+        base::write_file(a.json, json + "\n]\n");
+    }
     if (!to_file) fmt::print("{}", pipelined); // the data: printed even with -q
     else if (!a.quiet) fmt::print("{}", report);
     base::flush_stdout();
@@ -63,6 +69,8 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("-o,--output", a->out, "Write the pipelined assembly to FILE and print the report (default, or '-': the code on stdout)");
     cmd->add_option("--sequential", a->sequential, "Also write the region's sequential meaning (the reference "
                                                    "--verify compares with) to FILE (a file, never stdout)");
+    cmd->add_option("--json", a->json, "Also write each region's schedule as JSON to FILE (II, bounds, stages, "
+                                       "unroll and, with .trip, the whole-run cycles it was chosen by)");
     cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only")->check(between(1, 4096));
     cmd->add_option("--exact", a->exact, "When the II is above the MII, branch and bound over the smaller IIs for up to SECONDS; "
                                          "the report says whether the II is proven optimal")

@@ -6,6 +6,7 @@
 #include "circuits.hpp"
 #include "stages.hpp"
 #include "text.hpp"
+#include "trip.hpp"
 #include "sched/block.hpp"
 #include "sched/bounds.hpp"
 
@@ -95,6 +96,7 @@ struct Region {
     std::map<std::string, Carry> carry;
     std::map<std::string, std::string> liveout;
     int line_of_directives = 0, line_of_speculate = 0;
+    TripDirective trip_count; // `.trip MIN[, EXPECTED]` (counted loops)
 };
 
 bool opens_region(const std::string& code) {
@@ -160,6 +162,12 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
                 fa != isa::RegFile::Int || fb != isa::RegFile::Int)
                 fail(file, ln, ".noalias takes two integer base registers: .noalias rA, rB");
             r.noalias.emplace_back(a, b);
+            continue;
+        }
+        if (code.rfind(".trip", 0) == 0 && (code.size() == 5 || std::isspace(static_cast<unsigned char>(code[5])))) {
+            if (r.is_while) fail(file, ln, ".trip belongs in a counted .pipeline region (a while loop has no trip count)");
+            if (r.trip_count.min > 0) fail(file, ln, fmt::format(".trip given twice (first at line {})", r.trip_count.line));
+            r.trip_count = parse_trip(code, lines[i], file, ln);
             continue;
         }
         if (code.rfind(".speculate", 0) == 0) {
@@ -1338,6 +1346,14 @@ class Emitter {
         return ind.step * (after - seen_minus_i);
     }
 
+    // Offset change of memory op `op` in an iteration run alone at the schedule's times: its
+    // own induction step has landed when the op issues after it (m >= 1), no other.
+    std::int64_t delta_alone(int op) const {
+        const auto view = induction_view(op);
+        if (!view) return 0;
+        return view->ind->step * (view->after - (view->m >= 1 ? 1 : 0));
+    }
+
     std::string instance(int op, int iteration_mod, std::optional<Iter> it) const {
         std::vector<std::string> vreg;
         for (std::size_t v = 0; v < r_.virtuals.size(); ++v) {
@@ -1355,7 +1371,9 @@ class Emitter {
         return s + " }\n";
     }
 
-    std::string code(const std::string& trip, const std::string& uid) const {
+    // `trip_min` (.trip, 0: none) drops the paths no run can take; `shape` receives the bundles
+    // of each part (whole_run_cycles).
+    std::string code(const std::string& trip, const std::string& uid, int trip_min = 0, CountedShape* shape = nullptr) const {
         const int ii = s_.ii, p = stages_ - 1, u = a_.unroll;
         const std::string rk = reg_name(isa::RegFile::Int, a_.counter);
         const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
@@ -1365,35 +1383,69 @@ class Emitter {
             return s;
         };
         const int min_trip = p + u;
+        CountedShape sh;
+        sh.alu_latency = std::max(1, alu_lat);
+        sh.penalty = static_cast<int>(m_.branch_penalty);
+        sh.guard = trip_min < 1;
+        sh.short_path = trip_min < min_trip;
+        sh.prologue_passes = p, sh.unroll = u, sh.ii = ii, sh.entry_nops = a_.entry_nops;
         std::string o;
         // Sequential copy: trip counts below the pipeline's minimum, and the unroll remainder.
-        o += fmt::format("        beqz {}, {}_done\n", trip, uid);
-        o += fmt::format("{}_check:\n", uid);
-        o += fmt::format("        slti {}, {}, {}\n", rk, trip, min_trip) + nops(alu_lat - 1);
-        o += fmt::format("        bnez {}, {}_seq\n", rk, uid);
-        if (u > 1) {
-            o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
-            o += fmt::format("        andi {}, {}, {}\n", rk, rk, u - 1) + nops(alu_lat - 1);
-            o += fmt::format("        beqz {}, {}_pipe\n", rk, uid);
-        } else {
-            o += fmt::format("        jmp {}_pipe\n", uid);
+        if (sh.guard) o += fmt::format("        beqz {}, {}_done\n", trip, uid);
+        if (sh.sequential_copy()) {
+            o += fmt::format("{}_check:\n", uid);
+            if (sh.short_path) {
+                o += fmt::format("        slti {}, {}, {}\n", rk, trip, min_trip) + nops(alu_lat - 1);
+                o += fmt::format("        bnez {}, {}_seq\n", rk, uid);
+            }
+            if (u > 1) {
+                o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
+                o += fmt::format("        andi {}, {}, {}\n", rk, rk, u - 1) + nops(alu_lat - 1);
+                o += fmt::format("        beqz {}, {}_pipe\n", rk, uid);
+            } else {
+                o += fmt::format("        jmp {}_pipe\n", uid);
+            }
+            o += fmt::format("{}_seq:\n", uid);
+            std::vector<std::string> vreg0;
+            for (std::size_t v = 0; v < r_.virtuals.size(); ++v) vreg0.push_back(a_.regs[v][0]);
+            // One iteration alone: each op after the previous one's result has landed, or, with
+            // .trip (the default's code stays as it was), the modulo schedule's own placement of
+            // one iteration when that is shorter: each bundle a subset of a kernel row (slots,
+            // ports and landings hold), every dependence within the iteration met by the schedule,
+            // and every result landed before the next iteration starts.
+            int serial = 0, first = s_.time[0], flat = 0;
+            for (std::size_t k = 0; k < r_.ops.size(); ++k) {
+                serial += std::max(1, g_.nodes[k].latency);
+                first = std::min(first, s_.time[k]);
+                flat = std::max(flat, s_.time[k] + std::max(1, g_.nodes[k].latency));
+            }
+            flat -= first;
+            if (trip_min > 0 && flat < serial) {
+                for (int t = first; t < first + flat; ++t) {
+                    std::vector<std::string> ops;
+                    for (std::size_t k = 0; k < r_.ops.size(); ++k)
+                        if (s_.time[k] == t) ops.push_back(op_text(r_.ops[k], r_, vreg0, delta_alone(static_cast<int>(k))));
+                    o += bundle(ops);
+                }
+                sh.body = flat;
+            } else {
+                for (std::size_t k = 0; k < r_.ops.size(); ++k) {
+                    o += "        " + op_text(r_.ops[k], r_, vreg0, 0) + "\n";
+                    o += nops(g_.nodes[k].latency - 1);
+                }
+                sh.body = serial;
+            }
+            o += fmt::format("        addi {}, {}, -1\n", trip, trip) + nops(alu_lat - 1);
+            o += fmt::format("        bnez {}, {}_check\n", trip, uid);
+            if (sh.short_path) o += fmt::format("        jmp {}_done\n", uid); // else the count never reaches 0 here
         }
-        o += fmt::format("{}_seq:\n", uid);
-        std::vector<std::string> vreg0;
-        for (std::size_t v = 0; v < r_.virtuals.size(); ++v) vreg0.push_back(a_.regs[v][0]);
-        for (std::size_t k = 0; k < r_.ops.size(); ++k) {
-            o += "        " + op_text(r_.ops[k], r_, vreg0, 0) + "\n";
-            o += nops(g_.nodes[k].latency - 1);
-        }
-        o += fmt::format("        addi {}, {}, -1\n", trip, trip) + nops(alu_lat - 1);
-        o += fmt::format("        bnez {}, {}_check\n", trip, uid);
-        o += fmt::format("        jmp {}_done\n", uid);
         // Pipelined: N >= P + U and (N - P) % U == 0; the counter holds the kernel passes.
         o += fmt::format("{}_pipe:\n", uid);
         const int lag = lag_passes(alu_lat);
         o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
         if (u > 1) o += fmt::format("        srli {}, {}, {}\n", rk, rk, std::countr_zero(static_cast<unsigned>(u))) + nops(alu_lat - 1);
         if (lag > 0) o += fmt::format("        addi {}, {}, {}\n", rk, rk, -lag) + nops(alu_lat - 1);
+        sh.setup = sh.alu_latency * (1 + (u > 1 ? 1 : 0) + (lag > 0 ? 1 : 0));
         o += fmt::format("# prologue: {} pass{} of {} cycles\n", p, p == 1 ? "" : "es", ii);
         for (int pass = 0; pass < p; ++pass)
             for (int row = 0; row < ii; ++row) {
@@ -1441,6 +1493,8 @@ class Emitter {
         o += nops(drain);
         o += fmt::format("        li {}, 0\n", trip);
         o += fmt::format("{}_done:\n", uid);
+        sh.tail = static_cast<int>(std::count(epilogue.begin(), epilogue.end(), '\n')) + drain + 1; // a bundle a line
+        if (shape) *shape = sh;
         return o;
     }
 
@@ -2104,8 +2158,16 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // One II: schedules in different op orders (until `deadline` when given), the first that
     // also assembles is kept.
     using Clock = std::chrono::steady_clock;
-    // A schedule is kept when its code also assembles.
-    auto accept = [&](const Schedule& s) {
+    // A schedule's code (registers allocated, text emitted), before it is assembled.
+    struct Built {
+        Schedule s;
+        Allocation alloc;
+        std::string code;
+        int stages = 1;
+        CountedShape shape; // a counted loop's
+    };
+    const TripDirective& trip = r.trip_count;
+    auto build = [&](const Schedule& s) -> std::optional<Built> {
         std::optional<Allocation> fitted;
         try {
             // More kernel copies where the taken-branch bubble makes writes meet on a port.
@@ -2120,46 +2182,64 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                     why_not = fmt::format("II {}: writes meet on a register file's ports across the kernel's back edge "
                                           "(its {}-cycle branch bubble) with up to {} kernel copies", s.ii,
                                           m.branch_penalty, fitted->unroll);
-                    return false;
+                    return std::nullopt;
                 }
                 least = fitted->unroll;
             }
         } catch (const RegisterPressure& e) {
             const std::string what = e.what();
             why_not = fmt::format("II {}: {}", s.ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
-            return false;
+            return std::nullopt;
         }
-        Allocation alloc = std::move(*fitted);
-        const Emitter em(r, g, s, alloc, m);
-        std::string code = r.is_while ? em.while_code(uid) : em.code(r.trip, uid);
-        assembler::AsmResult check =
-            assembler::assemble_string(before + force_trip_line(r, opts, m) + code + after, filename, m, asm_options(opts));
-        // A while loop starts with its first pass (the counted loop with its trip test): results
-        // of the code before it may still be in flight. As many nops as the assembler's check asks.
+        Built b{s, std::move(*fitted), "", 1, {}};
+        const Emitter em(r, g, s, b.alloc, m);
+        b.code = r.is_while ? em.while_code(uid) : em.code(r.trip, uid, trip.min, &b.shape);
+        b.stages = em.stages();
+        return b;
+    };
+    // Whether the code assembles, in the file (a while loop's entry, or a counted loop's without
+    // its zero-trip test, may get nops first).
+    auto assembles = [&](Built& b) {
+        std::string& code = b.code;
+        const std::string lead_in = before + force_trip_line(r, opts, m);
+        assembler::AsmResult check = assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
+        // A while loop starts with its first pass (the counted loop with its trip test, unless
+        // .trip drops it): results of the code before it may still be in flight. As many nops as
+        // the assembler's check asks.
         std::uint32_t longest = 1;
         for (std::uint32_t l : m.latency) longest = std::max(longest, l);
         auto clean = [](const assembler::AsmResult& a) { return a.ok && a.warnings == 0; };
-        if (r.is_while && !clean(check) && longest > 1) {
+        if ((r.is_while || !b.shape.guard) && !clean(check) && longest > 1) {
             // The most nops first: when even they do not help, the fault is not at the entry
             // (one assembly, not one per count); else the fewest that do.
             std::string nops;
             for (std::uint32_t k = 1; k < longest; ++k) nops += "        nop\n";
-            assembler::AsmResult most = assembler::assemble_string(before + nops + code + after, filename, m, asm_options(opts));
+            assembler::AsmResult most = assembler::assemble_string(lead_in + nops + code + after, filename, m, asm_options(opts));
             if (!clean(most)) check = std::move(most);
             for (std::uint32_t lead = 1; clean(most) && !clean(check) && lead < longest; ++lead) {
                 code = "        nop\n" + code;
+                ++b.shape.lead;
                 check = lead + 1 == longest ? std::move(most)
-                                            : assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
+                                            : assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
             }
         }
         if (!check.ok || check.warnings > 0) {
-            why_not = fmt::format("II {}: {}", s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
+            why_not = fmt::format("II {}: {}", b.s.ii, check.diagnostics.substr(0, check.diagnostics.find('\n')));
             return false;
         }
-        sched = s;
-        emitted = std::move(code);
-        stages = em.stages();
-        alloc_found = std::move(alloc);
+        return true;
+    };
+    auto keep = [&](Built&& b) {
+        sched = std::move(b.s);
+        emitted = std::move(b.code);
+        stages = b.stages;
+        alloc_found = std::move(b.alloc);
+    };
+    // A schedule is kept when its code also assembles.
+    auto accept = [&](const Schedule& s) {
+        std::optional<Built> b = build(s);
+        if (!b || !assembles(*b)) return false;
+        keep(std::move(*b));
         return true;
     };
     // Each schedule found is first tried with its ops moved by whole stages to fewer stages and
@@ -2217,6 +2297,64 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         }
         return false;
     };
+    // `.trip`: every schedule found at an II is costed by its whole run at the expected trip
+    // count (whole_run_cycles, from the code's shape); they are assembled cheapest first, and the
+    // first that assembles is kept when it beats the best so far. At the first II that works, the
+    // schedule the rule without .trip takes (the first found that assembles) is assembled first:
+    // the report compares with it.
+    std::optional<TripChoice> choice;
+    const bool by_trip = trip.min > 0 && !r.is_while;
+    auto option = [&](const Built& b) {
+        TripChoice::Option o;
+        static_cast<RunParts&>(o) = whole_run_parts(b.shape, trip.expected);
+        o.ii = b.s.ii, o.stages = b.stages, o.unroll = b.alloc.unroll, o.cycles = o.total();
+        return o;
+    };
+    auto try_ii_trip = [&](int ii) {
+        std::vector<Built> found;
+        std::set<std::vector<int>> seen;
+        for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
+            std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, -1).run();
+            if (!s) continue;
+            for (const Schedule& k : shifted(*s))
+                if (seen.insert(k.time).second)
+                    if (std::optional<Built> b = build(k)) found.push_back(std::move(*b));
+        }
+        std::vector<TripChoice::Option> cost;
+        for (const Built& b : found) cost.push_back(option(b));
+        std::optional<std::size_t> first_ok;
+        if (!choice) {
+            for (std::size_t k = 0; k < found.size() && !first_ok; ++k)
+                if (assembles(found[k])) first_ok = k;
+            if (!first_ok) return false;
+            cost[*first_ok] = option(found[*first_ok]); // with the nops its entry may have got
+            choice = TripChoice{trip.min, trip.expected, trip.line, cost[*first_ok], cost[*first_ok], 0, ii, ii};
+        }
+        choice->candidates += static_cast<int>(found.size());
+        choice->ii_last = ii;
+        std::vector<std::size_t> order(found.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { // the smaller code on a tie
+            return std::tie(cost[a].cycles, cost[a].stages, cost[a].unroll) < std::tie(cost[b].cycles, cost[b].stages, cost[b].unroll);
+        });
+        for (std::size_t k : order) {
+            if (!first_ok && cost[k].cycles >= choice->chosen.cycles) break;
+            // Entry nops (assembles) are known only once assembled: the order is by the cost
+            // without them (they are rare: code just before the region feeding it), and one that
+            // they make no cheaper than the one to beat is passed over.
+            if (k != first_ok) {
+                if ((first_ok && k < *first_ok) || !assembles(found[k])) continue; // those before it failed
+                const std::int64_t with_nops = option(found[k]).cycles;
+                if (first_ok ? with_nops > cost[*first_ok].cycles : with_nops >= choice->chosen.cycles) continue;
+            }
+            choice->chosen = option(found[k]);
+            choice->short_path = found[k].shape.short_path;
+            choice->remainder = found[k].shape.remainder();
+            keep(std::move(found[k]));
+            return true;
+        }
+        return false;
+    };
     int last_tried = hi;
     // Why each II below the one taken failed, for the report: runs of IIs that failed alike.
     struct Tried {
@@ -2228,7 +2366,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     for (int ii = lo, unscheduled = 0; ii <= hi; ++ii) {
         const int before_ii = scheduled_count;
         const bool feasible = feasible_ii(g, ii);
-        if (feasible && try_ii(ii, std::nullopt)) break;
+        if (feasible && (by_trip ? try_ii_trip(ii) : try_ii(ii, std::nullopt))) break;
         const int kind = !feasible ? 0 : scheduled_count == before_ii ? 1 : 2;
         const std::string detail = kind == 2 ? why_not.substr(std::min(why_not.size(), why_not.find(": ") + 2)) : "";
         if (!tried.empty() && tried.back().kind == kind && tried.back().last + 1 == ii)
@@ -2241,12 +2379,26 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             break;
         }
     }
+    if (choice) {
+        // Larger IIs while one could still be cheaper: the prologue and the kernel passes alone
+        // take EXPECTED x II cycles, a remainder iteration at least the sequential copy's length.
+        // No further than that length: a kernel pass as long gains nothing on the sequential loop.
+        int sequential = 1 + std::max(1, static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]));
+        for (const Node& nd : g.nodes) sequential += std::max(1, nd.latency);
+        for (int ii = sched->ii + 1; ii <= std::min(hi, sequential); ++ii) {
+            if (static_cast<std::int64_t>(trip.expected) * std::min(ii, sequential) >= choice->chosen.cycles) break;
+            choice->ii_last = ii;
+            if (feasible_ii(g, ii)) try_ii_trip(ii);
+        }
+    }
     // --exact: branch and bound at each II from the bound up to the one found; the first II with
     // a schedule that assembles is the answer, and it is proven optimal when every II below it
     // was exhausted with no modulo schedule at all.
     std::string exact_note;
     if (sched && opts.exact_seconds > 0) {
-        if (r.is_while && sched->ii > res.mii) {
+        if (choice) {
+            exact_note = "--exact is not combined with .trip yet (the schedule is chosen by whole-run cycles)";
+        } else if (r.is_while && sched->ii > res.mii) {
             exact_note = "--exact is not implemented for .pipeline while loops yet (heuristic schedule only)";
         } else if (sched->ii == res.mii) {
             exact_note = "II proven optimal: it equals the lower bound max(ResMII, RecMII)";
@@ -2314,7 +2466,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     res.trip_register = r.trip;
     if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
-    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll}};
+    res.min_trip = by_trip ? trip.min : 0;
+    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, choice}};
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
@@ -2350,9 +2503,13 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                            "back edge meet no others on a port)\n", alloc.entry_nops, alloc.entry_nops == 1 ? "" : "s");
     if (r.is_while)
         rep += while_report(g, r, *sched, res);
+    else if (choice && !choice->short_path)
+        rep += fmt::format("#   minimum pipelined trip count {} (.trip's minimum is at least that: no sequential copy for short "
+                           "trips{})\n", res.min_pipelined_trip, choice->remainder ? "; the unroll remainder runs it" : " and no remainder");
     else
         rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
                            res.min_pipelined_trip);
+    if (choice) rep += choice->text();
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         std::string regs;
         for (const std::string& s : alloc.regs[v]) regs += (regs.empty() ? "" : " ") + s;

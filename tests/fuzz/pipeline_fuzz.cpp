@@ -8,7 +8,8 @@
 // sched::pipeline_source pipelines it; a base::Error (no schedule, registers, malformed) is fine.
 // Otherwise the pipelined code runs against the region's sequential meaning (r.linear) with
 // iss::run_differential on random data and FIFO words, at one trip count
-// 0..23 from the bytes (a while loop: sched::verify_while on two data sets).
+// 0..23 from the bytes, sometimes with a `.trip` whose minimum it honours (a while loop:
+// sched::verify_while on two data sets).
 // Broken: a crash, any difference in memory, registers or words sent, the pipelined code faulting
 // or not halting where the sequential one halts, or a verification that does not assemble.
 #include "bytes.hpp"
@@ -361,6 +362,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // pipelining and one run per input keep the executions per second up.
         sched::PipelineResult r;
         const std::uint32_t t0 = first_trip % 24;
+        // Sometimes a `.trip MIN[, EXPECTED]` that the count run honours: the code drops the paths
+        // MIN makes dead and the schedule is chosen by whole-run cycles; it must still be exact.
+        if ((pick & 8) && t0 > 0) {
+            const std::uint32_t min = 1 + (pick >> 4) % t0;
+            const std::size_t at = text.find('\n', text.find(".pipeline r9")) + 1;
+            text.insert(at, pick & 4 ? fmt::format("        .trip {}, {}\n", min, min + pick % 4 * 8) : fmt::format("        .trip {}\n", min));
+        }
         try {
             sched::PipelineOptions o = opts;
             o.force_trip = t0;

@@ -31,6 +31,7 @@
 // `.liveout %v, REG` hands the exiting iteration's %v out.
 //
 // `.noalias rA, rB` inside the region declares that accesses based on rA and on rB never overlap.
+// `.trip MIN[, EXPECTED]` in a counted region: at least MIN iterations run (TripChoice).
 // Not yet: virtual registers carried from one iteration to the next of a counted loop (use a
 // physical register, as for an accumulator), branches inside the region other than a while loop's exit test.
 //
@@ -77,11 +78,43 @@ struct PipelineOptions {
     std::optional<int> region;
 };
 
+// `.trip MIN[, EXPECTED]` in a counted region: the schedule is the one whose whole run (the
+// sequential copy for the remainder, prologue, kernel passes with their branch bubbles, epilogue)
+// takes the fewest cycles at EXPECTED trips (default MIN), among the schedules the search finds
+// at each II from the first that works up to where EXPECTED x II alone exceeds the best; and the
+// code omits what MIN makes dead (the zero-trip test, the short-trip path).
+// A whole run's cycles by where they go: the kernel passes (with their bubbles), the fill and
+// drain (counter set-up, prologue, entry nops, epilogue and drain), and the rest: the tests, the
+// sequential copy's iterations (the remainder, or every one of a short trip) and their branches.
+struct RunParts {
+    std::int64_t kernel = 0, fill_drain = 0, outside = 0;
+    std::int64_t sequential_iterations = 0;
+    std::int64_t total() const { return kernel + fill_drain + outside; }
+};
+
+struct TripChoice {
+    int min = 0, expected = 0, line = 0; // line: of the .trip
+    struct Option : RunParts {
+        int ii = 0, stages = 0, unroll = 1;
+        std::int64_t cycles = 0; // whole run at `expected` trips, without memory stalls: total()
+    };
+    Option chosen;
+    Option first;                 // the schedule the rule without .trip takes (the first found that assembles)
+    int candidates = 0;           // schedules costed
+    int ii_first = 0, ii_last = 0; // the IIs searched
+    bool short_path = true;       // the chosen code still has the sequential path for short trips
+    bool remainder = true;        // ... and the sequential copy for the unroll remainder
+    std::string text() const;     // report lines, "#   " each
+    std::string json() const;     // one object
+};
+
 // One region's schedule, for whoever builds code with the tool (machine::KernelBuild).
 struct LoopSummary {
     int line = 0; // of its .pipeline
     bool is_while = false;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0, stages = 0, unroll = 1;
+    std::optional<TripChoice> trip; // with `.trip`
+    std::string json() const;       // one object; `trip` null without .trip
 };
 
 struct PipelineResult {
@@ -92,6 +125,7 @@ struct PipelineResult {
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
     int stages = 0, unroll = 1;
     int min_pipelined_trip = 0;          // smaller trip counts run the sequential copy only
+    int min_trip = 0;                    // `.trip MIN`: smaller counts are the user's error (0: none)
     // The file's .pipeline regions. With several and no PipelineOptions::region, the code and the
     // report (one block per region) cover them all; the fields above and below describe the first.
     int regions = 1;
@@ -131,7 +165,8 @@ std::optional<std::string> verify(std::string_view text, std::string_view filena
                                   const PipelineOptions& opts, const std::vector<std::uint32_t>& trip_counts,
                                   const DifferentialRun& run);
 // The trip counts that cover the sequential path, the shortest pipelined run and every unroll
-// remainder: 0, 1, min - 1, min, min + 1, ..., min + 2 * unroll.
+// remainder: 0, 1, min - 1, min, min + 1, ..., min + 2 * unroll; with `.trip MIN`, those of at
+// least MIN, and MIN, MIN + 1, ..., MIN + 2 * unroll + 1.
 std::vector<std::uint32_t> verification_trips(const PipelineResult& r);
 
 // Verification of a while loop: the data decide where it exits, so each run draws new random data
