@@ -114,10 +114,18 @@ void bind_machine(py::module_& m) {
         .def("__eq__", [](const PyMachine& a, const PyMachine& b) { return a.m.fingerprint() == b.m.fingerprint(); },
              py::is_operator()) // another type: NotImplemented, so `m == 5` is False and `m in [None]` works
         .def("__hash__", [](const PyMachine& p) { return p.m.fingerprint(); })
+        .def(py::pickle([](const PyMachine& p) { return py::make_tuple(p.toml.empty() ? p.m.reference() : "", p.toml); },
+                        [](const py::tuple& t) { return make_machine(t[0].cast<std::string>(), t[1].cast<std::string>()); }))
         .def("__repr__", [](const PyMachine& p) {
             return p.toml.empty() ? "nesshi.machine('" + p.m.reference() + "')" : "<nesshi.Machine '" + p.m.name + "' from TOML text>";
         });
-    m.def("machine", &make_machine, py::arg("spec") = "os", py::arg("toml") = "",
+    m.def("machine", [](const py::object& spec, const std::string& toml) {
+        if (py::isinstance(spec, py::module_::import("os").attr("PathLike"))) return make_machine(path_arg(spec), toml);
+        if (!py::isinstance<py::str>(spec))
+            throw py::type_error("a machine is a preset name, a TOML file (str or os.PathLike) or TOML text, not " +
+                                 py::str(py::type::of(spec).attr("__name__")).cast<std::string>());
+        return make_machine(spec.cast<std::string>(), toml);
+    }, py::arg("spec") = "os", py::arg("toml") = "",
           "A machine: a preset name (os, ic, seq, os-real, ic-real, seq-real), a TOML file, or TOML text (spec "
           "with a newline or '=', or toml=...). A malformed description raises nesshi.Error at its line and column.");
     m.def("presets", [] {

@@ -21,9 +21,18 @@ struct PyScene {
 };
 
 // "balls", "balls:1", an NFF file, or NFF text (anything holding a newline).
-PyScene load(const std::string& spec) {
+PyScene load_text(const std::string& spec) {
     if (spec.find('\n') != std::string::npos) return {rt::parse_nff(spec, "<string>")};
     return {rt::load_scene(spec)};
+}
+
+// The same from a str or an os.PathLike (a file), as assemble() takes its source.
+PyScene load(const py::object& spec) {
+    if (py::isinstance(spec, py::module_::import("os").attr("PathLike"))) return load_text(path_arg(spec));
+    if (!py::isinstance<py::str>(spec))
+        throw py::type_error("a scene is a nesshi.Scene, a name, NFF text, or a file (str or os.PathLike), not " +
+                             py::str(py::type::of(spec).attr("__name__")).cast<std::string>());
+    return load_text(spec.cast<std::string>());
 }
 
 py::dict info(const PyScene& p) {
@@ -134,7 +143,7 @@ void bind_render(py::module_& m) {
         .def("info", &info, "Counts, lights, materials, view, background and bounds (nesshi scene info).")
         .def_property_readonly("name", [](const PyScene& p) { return p.s.name; })
         .def("__repr__", [](const PyScene& p) { return "nesshi.scene('" + p.s.name + "')"; });
-    m.def("scene", &load, py::arg("spec"), "A scene: 'balls', 'tetra:3', an NFF file, or NFF text.");
+    m.def("scene", &load, py::arg("spec"), "A scene: 'balls', 'tetra:3', an NFF file (a str or a pathlib.Path), or NFF text.");
     m.def("render",
           [](const py::object& scene, const std::string& model, std::optional<Size> size, Grid grid, int threads,
              double cutoff, const py::object& os_machine, const py::object& ic_machine, const py::object& seq_machine,
@@ -159,6 +168,17 @@ void bind_render(py::module_& m) {
               if (!cache && (cache_size || cache_ways || cache_line || miss_cycles || !resident))
                   throw py::value_error("cache_size, cache_ways, cache_line, miss_cycles and resident=False need cache=True "
                                         "(without it the IC cache is ideal: every access hits)");
+              if (model == "native") { // the command's rule for its Machine options (a value other than the default)
+                  const char* given = pes != 1 ? "pes" : balance != "interleaved" ? "balance" : epoch ? "epoch"
+                                    : window ? "window" : fifo_capacity ? "fifo_capacity" : ray_slots ? "ray_slots"
+                                    : fifo_latency ? "fifo_latency" : cache ? "cache" : quantum ? "quantum"
+                                    : max_cycles ? "max_cycles" : checked ? "checked" : !kernels.empty() ? "kernels"
+                                    : !os_machine.is_none() ? "os_machine" : !ic_machine.is_none() ? "ic_machine"
+                                    : !seq_machine.is_none() ? "seq_machine" : nullptr;
+                  if (given)
+                      throw py::value_error(fmt::format("{} needs model S, M or V (the simulated machine); model native is "
+                                                        "the C++ tracer", given));
+              }
               if (epoch && balance != "dynamic") throw py::value_error("epoch needs balance='dynamic'");
               if (balance != "interleaved" && balance != "dynamic") throw py::value_error("balance is 'interleaved' or 'dynamic'");
               if (model == "S" && (fifo_latency || quantum))
@@ -186,7 +206,7 @@ void bind_render(py::module_& m) {
               mo.max_cycles = max_cycles;
               mo.checked = checked;
               mo.kernels_dir = kernels;
-              const PyScene s = py::isinstance<PyScene>(scene) ? scene.cast<PyScene>() : load(py::str(scene).cast<std::string>());
+              const PyScene s = py::isinstance<PyScene>(scene) ? scene.cast<PyScene>() : load(scene);
               return render(a, s);
           },
           py::arg("scene"), py::arg("model") = "V", py::arg("size") = py::none(), py::arg("grid") = 50, py::arg("threads") = 0,

@@ -38,9 +38,9 @@ class Error(Exception):
 class AssemblyError(Error):
     """Assembly failed. The place and message are the first error's; `errors` lists every error and
     warning as (file, line, column, message, is_error); `diagnostics` is the rendered text."""
-    def __init__(self, text, message, file, line, column, errors, diagnostics):
-        super().__init__(text, message, file, line, column)
-        self.errors, self.diagnostics = errors, diagnostics
+    def __init__(self, text, message=None, file=None, line=0, column=0, errors=(), diagnostics=None):
+        super().__init__(text, message, file, line, column)  # defaults: pickle (multiprocessing) rebuilds it from text
+        self.errors, self.diagnostics = list(errors), text if diagnostics is None else diagnostics
 )", ns);
     m.attr("Error") = ns["Error"];
     m.attr("AssemblyError") = ns["AssemblyError"];

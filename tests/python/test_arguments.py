@@ -139,3 +139,35 @@ def test_step_is_interruptible_and_exact_across_slices():
     with pytest.raises(KeyboardInterrupt):
         p.step(10**11)
     assert time.monotonic() - start < 10
+
+
+def test_a_scene_file_as_a_path(tmp_path):
+    nff = tmp_path / "balls.nff"
+    nff.write_text(nesshi_scene_text := "v\nfrom 0 -4 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.01\n"
+                   "resolution 8 8\nb 0 0 0\nl 2 -4 3\nf 1 0 0 1 0 0 0 0\ns 0 0 0 1\n")
+    assert nesshi.scene(nff).info()["spheres"] == 1 == nesshi.scene(nesshi_scene_text).info()["spheres"]
+    with pytest.raises(TypeError, match="a scene is"):
+        nesshi.scene(5)
+
+
+def test_a_machine_file_as_a_path(source):
+    assert nesshi.machine(source / "isa/machines/ic.toml").same_as(nesshi.machine("ic"))
+    with pytest.raises(TypeError, match="a machine is"):
+        nesshi.machine(5)
+
+
+def test_errors_and_machines_pickle_for_multiprocessing():
+    import pickle
+    with pytest.raises(nesshi.AssemblyError) as caught:
+        nesshi.assemble("foo")
+    again = pickle.loads(pickle.dumps(caught.value))
+    assert type(again) is nesshi.AssemblyError and str(again) == str(caught.value) and again.line == 1
+    text = nesshi.machine('inherits = "ic"\nname = "ic-f3"\n[latency]\nfmul = 3\n')
+    for m in (nesshi.machine("ic-real"), text):
+        assert pickle.loads(pickle.dumps(m)) == m
+
+
+def test_machine_options_need_a_simulated_model():
+    for option in (dict(pes=4), dict(os_machine="ic"), dict(cache=True), dict(checked=True)):
+        with pytest.raises(ValueError, match="needs model S, M or V"):
+            nesshi.render("balls:1", model="native", size=4, grid=3, **option)
