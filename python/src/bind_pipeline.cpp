@@ -55,12 +55,10 @@ void bind_pipeline(py::module_& m) {
         .def_property_readonly("source_registers", [](const Pipelined& p) { return p.r.source_registers; })
         .def_property_readonly("regions", [](const Pipelined& p) {
             py::list out;
-            for (const sched::LoopSummary& l : p.r.loops)
-                out.append(py::dict(py::arg("line") = l.line, py::arg("is_while") = l.is_while, py::arg("ii") = l.ii,
-                                    py::arg("mii") = l.mii, py::arg("res_mii") = l.res_mii, py::arg("rec_mii") = l.rec_mii,
-                                    py::arg("stages") = l.stages, py::arg("unroll") = l.unroll));
+            for (const sched::LoopSummary& l : p.r.loops) out.append(to_python_json_text(l.json()));
             return out;
-        }, "each .pipeline region, in file order")
+        }, "each .pipeline region, in file order, as nesshi pipeline --json writes it (II, bounds, stages, unroll, and "
+           "with .trip the whole-run cycles the schedule was chosen by)")
         .def_property_readonly("verification", [](const Pipelined& p) { return p.verification; })
         .def_property_readonly("report", [](const Pipelined& p) { return p.r.report; }, "the report block, as text")
         .def_property_readonly("code", [](const Pipelined& p) { return p.text(); },

@@ -30,3 +30,14 @@ def test_a_bad_region_is_an_error():
     with pytest.raises(nesshi.Error) as e:
         nesshi.pipeline("        .pipeline f1\n        fadd %a, %a, f0\n        .endpipeline\n")
     assert e.value.file == "<string>" and e.value.line == 1
+
+
+def test_regions_as_data_equal_the_command_line_json(source, tmp_path):
+    import json
+
+    sa = source / "examples/linear/horner.sa"  # has a .trip: the whole-run figures the choice was made by
+    r = nesshi.pipeline(sa, machine="os-real")
+    status, _, err = cli("pipeline", sa, "-m", "os-real", "--json", tmp_path / "r.json", "-o", tmp_path / "r.s", "-q")
+    assert status == 0, err
+    assert r.regions == json.loads((tmp_path / "r.json").read_text())
+    assert r.regions[0]["trip"] is not None
