@@ -96,15 +96,16 @@ std::string machine_reference(const py::handle& arg) {
 void bind_machine(py::module_& m) {
     py::class_<PyMachine>(m, "Machine", "A machine description (a preset, a TOML file or TOML text): issue slots, "
                                          "latencies, register files and memories.")
-        .def_property_readonly("name", [](const PyMachine& p) { return p.m.name; })
-        .def_property_readonly("description", [](const PyMachine& p) { return p.m.description; })
+        .def_property_readonly("name", [](const PyMachine& p) { return p.m.name; }, "the description's name")
+        .def_property_readonly("description", [](const PyMachine& p) { return p.m.description; }, "one line on what it is")
         .def_property_readonly("source", [](const PyMachine& p) { return p.m.source; }, "\"builtin:os\", the file, or \"<string>\"")
         .def_property_readonly("slots", [](const PyMachine& p) { return slots(p.m); },
                                "[{'name': 'iu0', 'accepts': ['alu', ...]}, ...] in issue order")
         .def_property_readonly("latency", [](const PyMachine& p) { return latencies(p.m); }, "cycles by operation class")
         .def_property_readonly("registers", [](const PyMachine& p) { return registers(p.m); },
                                "{'int': {'count', 'read_ports', 'write_ports'}, 'float': {...}}")
-        .def_property_readonly("memories", [](const PyMachine& p) { return memories(p.m); })
+        .def_property_readonly("memories", [](const PyMachine& p) { return memories(p.m); },
+                               "[{'name', 'base', 'size', 'latency' (extra stall cycles), 'cached'}, ...]")
         .def_property_readonly("branch_penalty", [](const PyMachine& p) { return p.m.branch_penalty; },
                                "extra cycles after a taken branch")
         .def_property_readonly("fingerprint", [](const PyMachine& p) { return p.m.fingerprint(); },

@@ -41,25 +41,26 @@ Pipelined pipeline(const py::object& source, const py::object& machine, int ii, 
 
 void bind_pipeline(py::module_& m) {
     py::class_<Pipelined>(m, "Pipelined", "A software-pipelined loop: the report as data, and the code.")
-        .def_property_readonly("ii", [](const Pipelined& p) { return p.r.ii; })
-        .def_property_readonly("mii", [](const Pipelined& p) { return p.r.mii; })
-        .def_property_readonly("res_mii", [](const Pipelined& p) { return p.r.res_mii; })
-        .def_property_readonly("rec_mii", [](const Pipelined& p) { return p.r.rec_mii; })
-        .def_property_readonly("stages", [](const Pipelined& p) { return p.r.stages; })
+        .def_property_readonly("ii", [](const Pipelined& p) { return p.r.ii; }, "the initiation interval taken (the first region's)")
+        .def_property_readonly("mii", [](const Pipelined& p) { return p.r.mii; }, "max(res_mii, rec_mii): the bound")
+        .def_property_readonly("res_mii", [](const Pipelined& p) { return p.r.res_mii; }, "the resource bound (slots, ports)")
+        .def_property_readonly("rec_mii", [](const Pipelined& p) { return p.r.rec_mii; }, "the recurrence bound")
+        .def_property_readonly("stages", [](const Pipelined& p) { return p.r.stages; }, "iterations in flight in the kernel")
         .def_property_readonly("unroll", [](const Pipelined& p) { return p.r.unroll; }, "kernel copies")
         .def_property_readonly("min_pipelined_trip", [](const Pipelined& p) { return p.r.min_pipelined_trip; },
                                "smaller trip counts run the sequential copy only")
-        .def_property_readonly("is_while", [](const Pipelined& p) { return p.r.is_while; })
+        .def_property_readonly("is_while", [](const Pipelined& p) { return p.r.is_while; }, "a .pipeline while region (a data-dependent exit)")
         .def_property_readonly("registers", [](const Pipelined& p) { return p.r.scratch; },
                                "physical registers the tool allocated")
-        .def_property_readonly("source_registers", [](const Pipelined& p) { return p.r.source_registers; })
+        .def_property_readonly("source_registers", [](const Pipelined& p) { return p.r.source_registers; },
+                               "registers the source names (live across the region)")
         .def_property_readonly("regions", [](const Pipelined& p) {
             py::list out;
             for (const sched::LoopSummary& l : p.r.loops) out.append(to_python_json_text(l.json()));
             return out;
         }, "each .pipeline region, in file order, as nesshi pipeline --json writes it (II, bounds, stages, unroll, and "
            "with .trip the whole-run cycles the schedule was chosen by)")
-        .def_property_readonly("verification", [](const Pipelined& p) { return p.verification; })
+        .def_property_readonly("verification", [](const Pipelined& p) { return p.verification; }, "what was checked, as the report says")
         .def_property_readonly("report", [](const Pipelined& p) { return p.r.report; }, "the report block, as text")
         .def_property_readonly("code", [](const Pipelined& p) { return p.text(); },
                                "the pipelined file, as nesshi pipeline writes it")

@@ -283,8 +283,9 @@ Source source_arg(const py::object& source) {
 
 void bind_program(py::module_& m) {
     py::class_<Object>(m, "Object", "An assembled program and the machine it was assembled for.")
-        .def_property_readonly("machine", [](const Object& o) { return o.machine.reference(); })
-        .def_property_readonly("bundles", [](const Object& o) { return o.obj.bundle_count(); })
+        .def_property_readonly("machine", [](const Object& o) { return o.machine.reference(); },
+                               "the machine it was assembled for: a preset name or its file")
+        .def_property_readonly("bundles", [](const Object& o) { return o.obj.bundle_count(); }, "bundles of code")
         .def_property_readonly("labels", [](const Object& o) {
             py::dict d;
             for (const isa::Symbol& s : o.obj.symbols) d[py::str(s.name)] = s.value;
@@ -337,10 +338,11 @@ void bind_program(py::module_& m) {
             (void)p.p();
             p.breakpoints_.clear();
         })
-        .def_property_readonly("breakpoints", [](const PyProcessor& p) { return p.breakpoints_; })
-        .def_property_readonly("cycle", [](const PyProcessor& p) { return p.p().cycle(); })
-        .def_property_readonly("pc", [](const PyProcessor& p) { return p.p().pc(); })
-        .def_property_readonly("status", [](const PyProcessor& p) { return std::string(iss::status_name(p.p().status())); })
+        .def_property_readonly("breakpoints", [](const PyProcessor& p) { return p.breakpoints_; }, "bundle indices run() stops before")
+        .def_property_readonly("cycle", [](const PyProcessor& p) { return p.p().cycle(); }, "cycles run so far (waits and bubbles included)")
+        .def_property_readonly("pc", [](const PyProcessor& p) { return p.p().pc(); }, "the bundle to issue next")
+        .def_property_readonly("status", [](const PyProcessor& p) { return std::string(iss::status_name(p.p().status())); },
+                               "'running', 'blocked' (on a FIFO), 'halted' or 'faulted'")
         .def_property_readonly("fault", [](const PyProcessor& p) -> py::object {
             if (!p.p().fault()) return py::none();
             return py::str(iss::format_fault(p.p().program(), *p.p().fault()));

@@ -141,7 +141,7 @@ py::tuple render(const RenderArgs& a, const PyScene& scene_in) {
 void bind_render(py::module_& m) {
     py::class_<PyScene>(m, "Scene", "A scene: a built-in SPD scene (NAME or NAME:SIZE), an NFF file or NFF text.")
         .def("info", &info, "Counts, lights, materials, view, background and bounds (nesshi scene info).")
-        .def_property_readonly("name", [](const PyScene& p) { return p.s.name; })
+        .def_property_readonly("name", [](const PyScene& p) { return p.s.name; }, "the scene's name ('balls:1')")
         .def("__repr__", [](const PyScene& p) { return "nesshi.scene('" + p.s.name + "')"; });
     m.def("scene", &load, py::arg("spec"), "A scene: 'balls', 'tetra:3', an NFF file (a str or a pathlib.Path), or NFF text.");
     m.def("render",
