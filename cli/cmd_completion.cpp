@@ -57,14 +57,20 @@ std::string case_pattern(const std::string& path) {
     return path.empty() ? "" : p;
 }
 
+// Every subcommand's path as a shell case pattern, "/asm|/scene/info|...": the words a completer
+// steps through before it completes.
+std::string every_path(const std::vector<Command>& tree) {
+    std::vector<std::string> paths;
+    for (const Command& c : tree) if (!c.path.empty()) paths.push_back(case_pattern(c.path));
+    return fmt::format("{}", fmt::join(paths, "|"));
+}
+
 void print_bash(const std::vector<Command>& tree) {
     fmt::print("# bash completion for nesshi; made by `nesshi completion bash` from the command tree.\n");
     fmt::print("_nesshi() {{\n");
     fmt::print("    local cur=\"${{COMP_WORDS[COMP_CWORD]}}\" prev=\"${{COMP_WORDS[COMP_CWORD-1]}}\" path=\"\" i\n");
     fmt::print("    for ((i = 1; i < COMP_CWORD; i++)); do\n        case \"$path/${{COMP_WORDS[i]}}\" in\n");
-    std::vector<std::string> paths;
-    for (const Command& c : tree) if (!c.path.empty()) paths.push_back(case_pattern(c.path));
-    fmt::print("            {}) path=\"$path/${{COMP_WORDS[i]}}\" ;;\n", fmt::join(paths, "|"));
+    fmt::print("            {}) path=\"$path/${{COMP_WORDS[i]}}\" ;;\n", every_path(tree));
     fmt::print("        esac\n    done\n");
     // An option's own values after it, where known.
     fmt::print("    case \"$prev\" in\n");
@@ -104,9 +110,7 @@ void print_zsh(const std::vector<Command>& tree) {
     fmt::print("#compdef nesshi\n# zsh completion for nesshi; made by `nesshi completion zsh` from the command tree.\n");
     fmt::print("_nesshi() {{\n    local p=\"\" depth=1 i\n");
     fmt::print("    for ((i = 2; i < CURRENT; i++)); do\n        case \"$p/${{words[i]}}\" in\n");
-    std::vector<std::string> paths;
-    for (const Command& c : tree) if (!c.path.empty()) paths.push_back(case_pattern(c.path));
-    fmt::print("            ({}) p=\"$p/${{words[i]}}\"; depth=$i ;;\n", fmt::join(paths, "|"));
+    fmt::print("            ({}) p=\"$p/${{words[i]}}\"; depth=$i ;;\n", every_path(tree));
     fmt::print("        esac\n    done\n");
     fmt::print("    local -a subs opts\n    case \"$p\" in\n");
     for (const Command& c : tree) {

@@ -50,18 +50,6 @@ std::vector<std::string> common_notes(const PaperData& d) {
 
 namespace nesshi::paper {
 
-std::string xml_escape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '&') o += "&amp;";
-        else if (c == '<') o += "&lt;";
-        else if (c == '>') o += "&gt;";
-        else if (c == '"') o += "&quot;";
-        else o += c;
-    }
-    return o;
-}
-
 double axis_step(double max) {
     if (max <= 0) return 1;
     const double raw = max / 4, p = std::pow(10.0, std::floor(std::log10(raw)));

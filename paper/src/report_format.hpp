@@ -1,5 +1,7 @@
 // Cell formats and notes shared by the tables and the summary (internal to src/paper).
 #pragma once
+
+#include "base/xml.hpp"
 #include "paper/paper.hpp"
 #include "paper/published.hpp"
 
@@ -7,6 +9,8 @@
 #include <vector>
 
 namespace nesshi::paper {
+
+using base::xml_escape;
 
 inline const std::string kMissing = "—";
 
@@ -16,9 +20,6 @@ std::string format_range(const PublishedRange& r);     // 2.21–2.29
 std::string format_ratio(const std::array<int, 3>& r); // 4:20:1
 std::string format_quotient(double num, double den);   // 2.05, or — when den is 0
 std::string format_scale(int size);                    // "×64"
-// SVG charts: text escaped for XML; a round axis step (1, 2, 2.5 or 5 times a power of ten, about
-// four intervals up to `max`).
-std::string xml_escape(const std::string& s);
 double axis_step(double max);
 // The notes every table ends with: the scaling when size != 512, scenes not at the paper's size.
 std::vector<std::string> common_notes(const PaperData& d);

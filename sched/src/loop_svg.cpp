@@ -4,6 +4,8 @@
 // at every multiple of the II. Ops are told apart by name in their cell, and by colour by class.
 #include "sched/loop_report.hpp"
 
+#include "base/xml.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,17 +15,7 @@
 namespace nesshi::sched {
 namespace {
 
-std::string escape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '<') o += "&lt;";
-        else if (c == '>') o += "&gt;";
-        else if (c == '&') o += "&amp;";
-        else if (c == '"') o += "&quot;";
-        else o += c;
-    }
-    return o;
-}
+using base::xml_escape;
 
 // Okabe and Ito's palette (readable with the common colour-vision deficiencies), by op class.
 const std::map<std::string, std::string> kClassColour = {
@@ -40,7 +32,7 @@ constexpr int kMargin = 20, kCycleCol = 56, kSlotCol = 84, kPortCol = 84, kRow =
 void label_at(std::string& o, int x, int y, const std::string& s, const char* anchor = "middle", int size = 12,
           const char* weight = "normal", const char* fill = "black") {
     o += fmt::format(R"(<text x="{}" y="{}" text-anchor="{}" font-size="{}" font-weight="{}" fill="{}">{}</text>)" "\n", x, y,
-                     anchor, size, weight, fill, escape(s));
+                     anchor, size, weight, fill, xml_escape(s));
 }
 
 // Black text, or white on the two darkest fills.
@@ -94,8 +86,8 @@ std::string LoopReport::svg() const {
             const int c = static_cast<int>(it - slots.begin());
             const int cx = x + kCycleCol + c * kSlotCol;
             o += fmt::format(R"(<rect x="{}" y="{}" width="{}" height="{}" fill="{}" stroke="#333333"><title>{} on {} ({})</title></rect>)" "\n",
-                             cx + 2, y + 2, kSlotCol - 4, kRow - 4, colour(op.op_class), escape(op.op), escape(op.slot),
-                             escape(op.op_class));
+                             cx + 2, y + 2, kSlotCol - 4, kRow - 4, colour(op.op_class), xml_escape(op.op), xml_escape(op.slot),
+                             xml_escape(op.op_class));
             label_at(o, cx + kSlotCol / 2, y + 17, op.op, "middle", 12, "normal", ink(op.op_class));
         }
         for (int k = 0; k < 4; ++k) {
