@@ -34,7 +34,8 @@ SourceSet from_directory(const std::string& dir) {
     for (const auto& sub : fs::directory_iterator(dir, ec)) {
         if (!sub.is_directory()) continue;
         for (const auto& f : fs::directory_iterator(sub.path(), ec))
-            if (f.is_regular_file() && f.path().extension() == ".s") kernels.push_back(f.path());
+            if (f.is_regular_file() && (f.path().extension() == ".s" || f.path().extension() == ".pk"))
+                kernels.push_back(f.path());
     }
     std::sort(kernels.begin(), kernels.end());
     for (const auto& k : kernels) read(k);

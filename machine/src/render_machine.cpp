@@ -6,6 +6,7 @@
 #include "kernels/abi.hpp"
 #include "kernels/image.hpp"
 #include "machine/runner.hpp"
+#include "machine/scene_sample.hpp"
 
 #include <fmt/format.h>
 
@@ -37,15 +38,17 @@ OpPrices seq_prices(const isa::Machine& m) {
     return p;
 }
 
-MachineSetup build_setup(const rt::PreparedScene& prep, const Options& mo) {
+MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo) {
     const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
     const bool vliw = mo.model == Model::V;
     MachineSetup s;
     const isa::Machine seq = isa::load_machine(or_preset(mo.seq_machine, "seq"));
     s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? isa::load_machine(or_preset(mo.os_machine, "os")) : seq,
                                 &s.os_build);
+    // The IC kernel's candidates on a machine other than a preset are measured on this scene.
+    const SceneSample sample = vliw ? sample_scene(prep, opt) : SceneSample{};
     s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? isa::load_machine(or_preset(mo.ic_machine, "ic")) : seq,
-                                &s.ic_build);
+                                &s.ic_build, vliw ? &sample : nullptr);
     const rt::Grid& g = prep.grid;
     if (!abi::os_sram_fits(g.geom.n[0], g.geom.n[1], g.geom.n[2]))
         throw std::runtime_error(fmt::format(
@@ -95,7 +98,7 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
     if (mo.ray_slots < 0 || mo.ray_slots > static_cast<int>(abi::kOsSlots))
         throw std::invalid_argument(fmt::format("ray slots must be 1 to {} (0: all)", abi::kOsSlots));
     const auto t0 = std::chrono::steady_clock::now();
-    const MachineSetup setup = build_setup(prep, mo);
+    const MachineSetup setup = build_setup(prep, opt, mo);
 
     const int W = opt.width, H = opt.height;
     const std::size_t ncorners = (static_cast<std::size_t>(W) + 1) * (static_cast<std::size_t>(H) + 1);

@@ -4,6 +4,8 @@
 
 #include "kernel_measure.hpp"
 
+#include "machine/scene_sample.hpp"
+
 #include "assembler/assembler.hpp"
 #include "sched/block.hpp"
 #include "sched/legalize.hpp"
@@ -49,9 +51,10 @@ std::string schedule_key(const kernels::SourceSet& sources, const std::string& p
     return base::hex64(h.value()) + "/" + path + "/" + base::hex64(m.fingerprint());
 }
 
+struct Candidates;
 std::mutex schedule_mutex;
-std::map<std::string, Scheduled>& schedule_cache() {
-    static std::map<std::string, Scheduled> cache;
+std::map<std::string, std::shared_ptr<const Candidates>>& schedule_cache() {
+    static std::map<std::string, std::shared_ptr<const Candidates>> cache;
     return cache;
 }
 
@@ -166,20 +169,29 @@ std::vector<std::string> candidate_sources(const kernels::SourceSet& sources, co
     return out;
 }
 
+// A kernel scheduled (or kept) for a machine, measured on the kernel report's workloads.
+struct Candidate {
+    Scheduled s;
+    std::shared_ptr<const iss::Program> prog;
+    std::string what;    // as the one chosen
+    std::string against; // as one not chosen, after its cycles
+    std::uint64_t cycles = 0;
+};
+
 // Every candidate kernel for m: each source scheduled for m, and the committed kernel where it is
-// legal on m as written (a machine with more resources and the same latencies). All run the
-// kernel report's workloads; the one busy for the fewest cycles is kept (the first on a tie:
-// the committed kernel, then the sources in candidate_sources order), and its build says so.
-Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& path, const isa::Machine& m,
-                         const assembler::AsmOptions& opts) {
-    struct Candidate {
-        Scheduled s;
-        std::shared_ptr<const iss::Program> prog;
-        std::string what;    // as the one chosen
-        std::string against; // as one not chosen, after its cycles
-        std::uint64_t cycles = 0;
-    };
+// legal on m as written (a machine with more resources and the same latencies), in that order;
+// `dropped` says which alternatives did not schedule or assemble, and why. With more than one,
+// each is measured on the kernel workloads.
+struct Candidates {
     std::vector<Candidate> all;
+    std::vector<std::string> dropped;
+    std::optional<Scheduled> failed; // the main source did not assemble: assemble_kernel reports it
+};
+
+Candidates candidates_for(const kernels::SourceSet& sources, const std::string& path, const isa::Machine& m,
+                          const assembler::AsmOptions& opts) {
+    Candidates out;
+    std::vector<Candidate>& all = out.all;
     const std::string committed = sources.text(path);
     if (const assembler::AsmResult c = assembler::assemble_string(committed, kPrefix + path, m, opts); c.ok) {
         Candidate k;
@@ -192,7 +204,6 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
         all.push_back(std::move(k));
     }
     const std::vector<std::string> pks = candidate_sources(sources, path);
-    std::vector<std::string> dropped; // alternatives that did not schedule or assemble, and why
     for (const std::string& pk : pks) {
         const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
         Candidate k;
@@ -200,13 +211,16 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
             k.s = schedule_source(sources, pk, m, opts, !main);
         } catch (const std::runtime_error& e) {
             if (main) throw;
-            dropped.push_back(pk + " not scheduled (" + first_error(e.what()) + ")");
+            out.dropped.push_back(pk + " not scheduled (" + first_error(e.what()) + ")");
             continue;
         }
         const assembler::AsmResult g = assembler::assemble_string(k.s.text, k.s.name, m, opts);
         if (!g.ok) {
-            if (main) return k.s; // assemble_kernel reports its diagnostics
-            dropped.push_back(pk + " not assembled (" + first_error(g.diagnostics) + ")");
+            if (main) {
+                out.failed = k.s;
+                return out;
+            }
+            out.dropped.push_back(pk + " not assembled (" + first_error(g.diagnostics) + ")");
             continue;
         }
         k.prog = iss::load_program(g.object, m);
@@ -214,35 +228,58 @@ Scheduled best_candidate(const kernels::SourceSet& sources, const std::string& p
         k.against = k.what;
         all.push_back(std::move(k));
     }
+    if (all.size() > 1)
+        for (Candidate& k : all) {
+            try {
+                k.cycles = workload_busy_cycles(k.prog, path);
+            } catch (const iss::LoadError& e) { // the workloads' data need the memory a scene's would
+                throw iss::LoadError(fmt::format("machine '{}' ({}): measuring the {} candidates on their workloads: {} (a "
+                                                 "scene's data need as much)",
+                                                 m.name, m.source, path, e.message()));
+            }
+        }
+    return out;
+}
+
+// The candidate busy for the fewest cycles (the first on a tie: the committed kernel, then the
+// sources in candidate_sources order): on the scene's sampled visits when there is a sample, else
+// on the kernel workloads. Its build says which it is and what the others cost.
+Scheduled choose(const Candidates& c, const SceneSample* scene) {
+    if (c.failed) return *c.failed;
+    const std::vector<Candidate>& all = c.all;
     if (all.size() == 1) {
         Scheduled out = all[0].s;
-        if (!dropped.empty()) out.build.choice = fmt::format("{}: {}", all[0].what, fmt::join(dropped, "; "));
+        if (!c.dropped.empty()) out.build.choice = fmt::format("{}: {}", all[0].what, fmt::join(c.dropped, "; "));
         return out;
     }
-    for (Candidate& k : all) {
-        try {
-            k.cycles = workload_busy_cycles(k.prog, path);
-        } catch (const iss::LoadError& e) { // the workloads' data need the memory a scene's would
-            throw iss::LoadError(fmt::format("machine '{}' ({}): measuring the {} candidates on their workloads: {} (a "
-                                             "scene's data need as much)",
-                                             m.name, m.source, path, e.message()));
-        }
+    std::vector<std::uint64_t> cycles;
+    for (const Candidate& k : all) cycles.push_back(scene ? sample_busy_cycles(k.prog, *scene) : k.cycles);
+    const std::size_t best = static_cast<std::size_t>(std::min_element(cycles.begin(), cycles.end()) - cycles.begin());
+    auto others = [&](const std::vector<std::uint64_t>& n) {
+        std::string o;
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (i != best) o += fmt::format("{}{} {}", o.empty() ? "" : ", ", n[i], all[i].against);
+        return o;
+    };
+    std::string why;
+    if (scene) {
+        std::vector<std::uint64_t> workloads;
+        for (const Candidate& k : all) workloads.push_back(k.cycles);
+        why = fmt::format("{} busy cycles on this scene's sample ({}) against {}; on the kernel workloads {} against {}",
+                          cycles[best], scene->what(), others(cycles), workloads[best], others(workloads));
+    } else {
+        why = fmt::format("{} busy cycles on the kernel workloads against {}", cycles[best], others(cycles));
     }
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < all.size(); ++i)
-        if (all[i].cycles < all[best].cycles) best = i;
-    std::string others;
-    for (std::size_t i = 0; i < all.size(); ++i)
-        if (i != best) others += fmt::format("{}{} {}", others.empty() ? "" : ", ", all[i].cycles, all[i].against);
-    for (const std::string& d : dropped) others += "; " + d;
+    for (const std::string& d : c.dropped) why += "; " + d;
     Scheduled out = all[best].s;
-    out.build.choice = fmt::format("{}: {} busy cycles on the kernel workloads against {}", all[best].what, all[best].cycles, others);
+    out.build.choice = fmt::format("{}: {}", all[best].what, why);
+    out.build.candidates = static_cast<int>(all.size());
     return out;
 }
 } // namespace
 
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
-                                                    const isa::Machine& given, KernelBuild* build) {
+                                                    const isa::Machine& given, KernelBuild* build, const SceneSample* scene) {
     const isa::Machine& m = canonical(given);
     KernelBuild b;
     b.machine = m.name;
@@ -257,20 +294,20 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     const std::string pk = path.substr(0, path.rfind('.')) + ".pk";
     if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its sources for m
         const std::string key = schedule_key(sources, path, m);
-        std::unique_lock lock(schedule_mutex);
-        if (const auto hit = schedule_cache().find(key); hit != schedule_cache().end()) {
-            text = hit->second.text;
-            b = hit->second.build;
-            name = hit->second.name;
-        } else {
-            lock.unlock(); // cells schedule different kernels at once; a rare duplicate is harmless
-            const Scheduled chosen = best_candidate(sources, path, m, opts);
-            text = chosen.text;
-            b = chosen.build;
-            name = chosen.name;
-            lock.lock();
-            schedule_cache().emplace(key, chosen);
+        std::shared_ptr<const Candidates> found;
+        {
+            std::lock_guard lock(schedule_mutex);
+            if (const auto hit = schedule_cache().find(key); hit != schedule_cache().end()) found = hit->second;
         }
+        if (!found) { // cells schedule different kernels at once; a rare duplicate is harmless
+            found = std::make_shared<const Candidates>(candidates_for(sources, path, m, opts));
+            std::lock_guard lock(schedule_mutex);
+            schedule_cache().emplace(key, found);
+        }
+        const Scheduled chosen = choose(*found, scene);
+        text = chosen.text;
+        b = chosen.build;
+        name = chosen.name;
     }
     b.source = name;
     if (build) *build = b;

@@ -61,6 +61,10 @@ std::string schedules_used(const Options& mo, const std::vector<Model>& models) 
         std::string how = b.scheduled ? fmt::format(", {} blocks scheduled", b.blocks) : std::string(", as written");
         if (b.nops) how += fmt::format(", {} nops inserted", b.nops);
         out += fmt::format("  {} on {}: {}{}: {}\n", s.role, b.machine, b.source, how, fmt::join(rows, ", "));
+        if (s.intersect && s.role != std::string("seq") && b.candidates > 1)
+            out += fmt::format("    (of {} candidates, the fastest on the kernel workloads; a render takes the fastest on a sample "
+                               "of its scene, and says which)\n",
+                               b.candidates);
     }
     return out;
 }

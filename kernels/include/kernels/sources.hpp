@@ -29,7 +29,8 @@ struct SourceSet {
 const std::vector<SourceFile>& embedded_sources();
 
 SourceSet embedded();
-// abi.inc and every */*.s under `dir`; throws std::runtime_error when dir holds no kernels.
+// abi.inc, every */*.s and the sources they are scheduled from (*/*.pk) under `dir`, as embedded()
+// holds them; throws std::runtime_error when dir holds no kernels.
 SourceSet from_directory(const std::string& dir);
 
 // The kernel a model runs on a stage: "os/dda.s", "ic/intersect.s", "seq/dda.s", "seq/intersect.s".

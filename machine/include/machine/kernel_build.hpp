@@ -22,6 +22,7 @@ struct KernelBuild {
     int blocks = 0;         // how many
     int nops = 0;           // nop bundles inserted into its hand-scheduled code for the machine's latencies
     std::string choice;     // when the committed kernel was also a candidate: which was kept, and the cycles of both
+    int candidates = 1;     // kernels measured against each other for the choice (1: none)
     std::vector<KernelLoop> loops; // its loops as scheduled (empty when the committed kernel was kept)
 };
 

@@ -23,6 +23,7 @@
 
 namespace nesshi::machine {
 
+struct SceneSample; // machine/scene_sample.hpp
 
 // Assembles kernel `path` of `sources` ("os/dda.s") for machine `m`; its .include of
 // "../abi.inc" resolves inside `sources`. When `m` is not the preset the kernel was scheduled for
@@ -30,10 +31,14 @@ namespace nesshi::machine {
 // blocks are scheduled for `m` first (sched/block.hpp), and the hand-scheduled code between them
 // gets the nop bundles m's latencies need (sched/legalize.hpp). `build`, if given, says which.
 // A machine that is a preset under another name (Machine::same_as) is that preset: its kernels,
-// compiled runs and statistics.
+// compiled runs and statistics. When more than one kernel is a candidate on `m` (the sources
+// scheduled for m, the committed kernel if legal on it), the one busy for the fewest cycles is
+// kept: on `scene`'s sampled visits when given (an IC kernel for one render), else on the kernel
+// report's workloads.
 // Throws std::runtime_error with the diagnostics.
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
-                                                    const isa::Machine& m, KernelBuild* build = nullptr);
+                                                    const isa::Machine& m, KernelBuild* build = nullptr,
+                                                    const SceneSample* scene = nullptr);
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const std::string& machine);
 

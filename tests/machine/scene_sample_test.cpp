@@ -1,0 +1,77 @@
+// The scene sample a render measures its IC kernel's candidates on (machine/scene_sample.hpp),
+// and the choice it makes with it.
+#include "support.hpp"
+
+#include "machine/runner.hpp"
+#include "machine/scene_sample.hpp"
+#include "rt/scene.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+using namespace nesshi;
+using namespace nesshi::machine::test;
+
+namespace {
+const std::string kData = NESSHI_TEST_DATA;
+
+std::uint64_t nonempty_visits(const rt::RenderStats& s) {
+    std::uint64_t n = 0;
+    for (const rt::TraceCounters& c : s.traversal) n += c.nonempty_voxels;
+    return n;
+}
+} // namespace
+
+TEST_CASE("A scene sample is the native renderer's visits of the sampled corners", "[unit][machine]") {
+    const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
+    const rt::RenderOptions opt = small(16); // 17 x 17 corners: the default raster takes them all
+    const machine::SceneSample s = machine::sample_scene(prep, opt);
+    CHECK(s.corners == 17u * 17u);
+    CHECK(s.visits.size() == nonempty_visits(rt::render_native(prep, opt).stats));
+    REQUIRE(!s.visits.empty());
+    for (const auto& v : s.visits) REQUIRE(v.voxel < s.lists.size());
+    for (const auto& l : s.lists) {
+        REQUIRE(!l.empty());
+        for (std::uint32_t i : l) REQUIRE(i < s.shapes.size());
+    }
+    CHECK(s.shapes.size() <= prep.shapes.shapes.size());
+    const machine::SceneSample again = machine::sample_scene(prep, opt);
+    REQUIRE(again.visits.size() == s.visits.size());
+    for (std::size_t i = 0; i < s.visits.size(); ++i) CHECK(again.visits[i].words() == s.visits[i].words());
+    // A coarser raster of a bigger image: fewer corners, fewer visits.
+    const machine::SceneSample coarse = machine::sample_scene(prep, small(64), 9);
+    CHECK(coarse.corners == 81u);
+    CHECK(coarse.visits.size() < nonempty_visits(rt::render_native(prep, small(64)).stats));
+}
+
+TEST_CASE("The IC kernel is chosen on the scene: padded pipeline on short lists, per-kind loops on long ones",
+          "[unit][machine]") {
+    machine::Options mo = model(machine::Model::V);
+    mo.ic_machine = kData + "/ic-float-2.toml";
+    const rt::RenderOptions opt = small(24);
+    auto run = [&](int grid, const std::string& kernels_dir) {
+        const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:2"), grid);
+        machine::Options o = mo;
+        o.kernels_dir = kernels_dir;
+        const machine::Result r = machine::render(prep, opt, o);
+        CHECK(r.render.id_buffer == rt::render_native(prep, opt).id_buffer);
+        return r;
+    };
+    const machine::Result fine = run(20, ""); // 1.75 shapes per non-empty voxel
+    CHECK(fine.machine.ic_kernel.source == "kernels/ic/intersect.pk");
+    CHECK(fine.machine.ic_kernel.candidates == 2);
+    CHECK(fine.machine.ic_kernel.choice.find("on this scene's sample") != std::string::npos);
+    const machine::Result coarse = run(2, ""); // 18.75
+    CHECK(coarse.machine.ic_kernel.source == "kernels/ic/intersect.loops.pk");
+    // The sample predicts the whole run: without the loops the coarse grid's IC is busier.
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "nesshi-scene-sample-test";
+    std::filesystem::remove_all(dir);
+    std::filesystem::copy(NESSHI_KERNELS_DIR, dir, std::filesystem::copy_options::recursive);
+    std::filesystem::remove(dir / "ic" / "intersect.loops.pk");
+    const machine::Result without = run(2, dir.string());
+    CHECK(without.machine.ic_kernel.source == "kernels/ic/intersect.pk");
+    CHECK(without.machine.ic.load() > coarse.machine.ic.load());
+    std::filesystem::remove_all(dir);
+}
