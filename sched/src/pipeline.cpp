@@ -17,6 +17,7 @@
 #include "isa/ops.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
@@ -584,7 +585,9 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
             if (!a.mem || !b.mem || (!a.store && !b.store)) continue;
             for (int d = x < y ? 0 : 1; d <= kMaxDistance; ++d)
                 if (may_alias(g, r, x, y, d)) {
-                    g.edges.push_back({x, y, 1, d, a.store ? (b.store ? "memory output" : "memory true") : "memory anti"});
+                    std::string why = a.store ? (b.store ? "memory output" : "memory true") : "memory anti";
+                    if (a.base != b.base) why += fmt::format(", bases r{} and r{} may alias", a.base, b.base);
+                    g.edges.push_back({x, y, 1, d, why});
                     break; // the smallest distance binds most
                 }
         }
@@ -653,6 +656,35 @@ std::string critical_circuit(const Graph& g, const Region& r, int rec) {
     const SrcOp& first = r.ops[static_cast<std::size_t>(g.edges[static_cast<std::size_t>(circuit.front())].from)];
     return out + fmt::format("{} (line {}): {} cycles over {} iteration{}", first.mnemonic, first.line, latency, distance,
                              distance == 1 ? "" : "s");
+}
+
+// When the RecMII's circuit runs through memory edges between two base registers that may alias
+// (no `.noalias` for them), what declaring them apart would give: "`.noalias r1, r2` (if the
+// arrays never overlap) removes it: RecMII 1"; "" otherwise.
+std::string alias_hint(const Graph& g, int rec) {
+    if (rec <= 1) return "";
+    const std::vector<DepEdge> edges = dep_edges(g);
+    const std::vector<int> circuit = positive_circuit(static_cast<int>(g.nodes.size()), edges, rec - 1);
+    std::set<std::pair<int, int>> pairs;
+    auto apart = [](const Edge& e) { return e.why.find(" may alias") != std::string::npos; };
+    for (int k : circuit) {
+        const Edge& e = g.edges[static_cast<std::size_t>(k)];
+        if (!apart(e)) continue;
+        const int a = g.nodes[static_cast<std::size_t>(e.from)].base, b = g.nodes[static_cast<std::size_t>(e.to)].base;
+        pairs.insert({std::min(a, b), std::max(a, b)});
+    }
+    if (pairs.empty()) return "";
+    std::vector<DepEdge> kept; // every edge but the memory ones between those bases
+    for (std::size_t k = 0; k < g.edges.size(); ++k) {
+        const Edge& e = g.edges[k];
+        const int a = g.nodes[static_cast<std::size_t>(e.from)].base, b = g.nodes[static_cast<std::size_t>(e.to)].base;
+        if (!(apart(e) && pairs.count({std::min(a, b), std::max(a, b)}))) kept.push_back(edges[k]);
+    }
+    std::vector<std::string> lines;
+    for (auto [a, b] : pairs) lines.push_back(fmt::format(".noalias r{}, r{}", a, b));
+    return fmt::format("the circuit's memory edge{} may alias: `{}` (if those arrays never overlap) give{} RecMII {}",
+                       pairs.size() == 1 ? "" : "s", fmt::join(lines, "` and `"), pairs.size() == 1 ? "s" : "",
+                       recurrence_mii(static_cast<int>(g.nodes.size()), kept));
 }
 
 // ---- modulo scheduling ------------------------------------------------------------------------
@@ -2479,6 +2511,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
     const std::string circuit = critical_circuit(g, r, res.rec_mii);
     rep += fmt::format("#   recurrence bound (RecMII)  {}{}\n", res.rec_mii, circuit.empty() ? "" : "  (" + circuit + ")");
+    if (const std::string hint = alias_hint(g, res.rec_mii); !hint.empty()) rep += "#     " + hint + "\n";
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
     if (!tried.empty()) {
