@@ -10,6 +10,7 @@
 // enters whole, at its first word's send cycle.
 #pragma once
 
+#include "ring.hpp"
 #include "turns.hpp"
 
 #include "iss/channel.hpp"
@@ -17,7 +18,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <span>
 
@@ -51,10 +51,7 @@ class Fifo final : public iss::Channel {
             release(cycle);
         }
         std::size_t n = 0;
-        for (const Word& w : words_) {
-            if (w.ready > cycle || n == enough) break;
-            ++n;
-        }
+        while (n < words_.size() && n < enough && words_[n].ready <= cycle) ++n;
         return n;
     }
     std::optional<std::uint64_t> front_ready() const override {
@@ -147,7 +144,9 @@ class Fifo final : public iss::Channel {
         return kNone;
     }
     bool all_ready(std::uint64_t cycle) const {
-        return std::all_of(words_.begin(), words_.end(), [cycle](const Word& w) { return w.ready <= cycle; });
+        for (std::size_t i = 0; i < words_.size(); ++i)
+            if (words_[i].ready > cycle) return false;
+        return true;
     }
     // The most words sent and not yet received (under the turn rule counted at each receive, as
     // a sender may run ahead of its consumer; else at each send).
@@ -185,7 +184,7 @@ class Fifo final : public iss::Channel {
     }
     std::size_t pops_since(std::uint64_t now) const {
         std::size_t n = 0;
-        for (auto it = pops_.rbegin(); it != pops_.rend() && *it >= now; ++it) ++n;
+        while (n < pops_.size() && pops_[pops_.size() - 1 - n] >= now) ++n;
         return n;
     }
     void put(std::uint32_t v, std::uint64_t ready) {
@@ -205,9 +204,9 @@ class Fifo final : public iss::Channel {
     }
 
     mutable std::size_t asked_ = 1; // words the consumer's bundle receives (its last readable())
-    mutable std::deque<Word> words_;
-    mutable std::deque<Held> held_;
-    std::deque<std::uint64_t> pops_; // cycles of the latest receives (bounded FIFOs under the turn rule)
+    mutable Ring<Word> words_;
+    mutable Ring<Held> held_;
+    Ring<std::uint64_t> pops_; // cycles of the latest receives (bounded FIFOs under the turn rule)
     std::size_t capacity_;
     bool bounded_;
     std::uint32_t latency_;
