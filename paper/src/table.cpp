@@ -49,8 +49,9 @@ std::string to_csv(const Table& t) {
         }
         o += "\n";
     };
-    row(t.header);
-    for (const auto& r : t.rows) row(r);
+    const bool tidy = !t.csv_header.empty();
+    row(tidy ? t.csv_header : t.header);
+    for (const auto& r : tidy ? t.csv_rows : t.rows) row(r);
     return o;
 }
 

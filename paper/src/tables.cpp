@@ -24,6 +24,23 @@ void add_scaled_header(const PaperData& d, std::vector<std::string>& header, std
     for (const char* n : names) header.push_back(fmt::format("{} {}", n, format_scale(d.size)));
 }
 
+// Plain CSV fields: cycles as integers, other numbers with every digit that round-trips, "" when
+// missing, flags as 0/1.
+std::string field(std::uint64_t v, bool present) { return present ? std::to_string(v) : std::string(); }
+std::string field(double v, bool present = true) { return present ? fmt::format("{}", v) : std::string(); }
+std::string flag(bool b) { return b ? "1" : "0"; }
+// A published value as three columns: value, reconstructed (* in PAPER.md), approximate (≈).
+void add_published(std::vector<std::string>& row, const Published* p) {
+    row.push_back(p ? field(p->value) : "");
+    row.push_back(p ? flag(p->reconstructed) : "");
+    row.push_back(p ? flag(p->approximate) : "");
+}
+void add_published_header(std::vector<std::string>& h, const char* name) {
+    h.push_back(name);
+    h.push_back(std::string(name) + "_reconstructed");
+    h.push_back(std::string(name) + "_approximate");
+}
+
 Table start(const PaperData& d, std::string title, std::vector<std::string> header) {
     Table t;
     t.title = std::move(title);
@@ -40,6 +57,10 @@ Table table2(const PaperData& d) {
                      "IC wait", "SC wait", "OS:IC:SC"});
     add_scaled_header(d, t.header, {"OS proc", "IC proc", "SC proc"});
     for (const char* h : {"paper OS proc", "paper IC proc", "paper SC proc", "paper OS:IC:SC"}) t.header.push_back(h);
+    t.csv_header = {"scene", "grid", "size", "os_processing", "ic_processing", "sc_processing", "os_communication",
+                    "ic_communication", "sc_communication", "os_wait", "ic_wait", "sc_wait",
+                    "paper_os_processing_m512", "paper_ic_processing_m512", "paper_sc_processing_m512", "paper_ratio_os",
+                    "paper_ratio_ic", "paper_ratio_sc", "paper_ratio_suspect"};
     bool suspect = false;
     for (const std::string& scene : d.scenes)
         for (int g : d.grids) {
@@ -52,7 +73,16 @@ Table table2(const PaperData& d) {
             add_cycles(row, {c.os.wait, c.ic.wait, c.sc.wait}, v);
             row.push_back(v ? format_ratio(load_ratio(c)) : kMissing);
             add_scaled(d, row, {c.os.processing, c.ic.processing, c.sc.processing}, v);
-            if (const PublishedStages* p = find_published_stages(paper_scene(scene), g)) {
+            const PublishedStages* ps = find_published_stages(paper_scene(scene), g);
+            std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
+            for (std::uint64_t x : {c.os.processing, c.ic.processing, c.sc.processing, c.os.communication,
+                                    c.ic.communication, c.sc.communication, c.os.wait, c.ic.wait, c.sc.wait})
+                tidy.push_back(field(x, v));
+            for (double x : {ps ? ps->os : 0, ps ? ps->ic : 0, ps ? ps->sc : 0}) tidy.push_back(field(x, ps));
+            for (int x : ps ? ps->ratio : std::array<int, 3>{}) tidy.push_back(ps ? std::to_string(x) : "");
+            tidy.push_back(ps ? flag(ps->ratio_suspect) : "");
+            t.csv_rows.push_back(std::move(tidy));
+            if (const PublishedStages* p = ps) {
                 for (double x : {p->os, p->ic, p->sc}) row.push_back(fmt::format("{:.0f}", x));
                 row.push_back(format_ratio(p->ratio) + (p->ratio_suspect ? " (?)" : ""));
                 suspect = suspect || p->ratio_suspect;
@@ -76,6 +106,9 @@ Table table3(const PaperData& d) {
     add_scaled_header(d, t.header, {"S", "M", "V"});
     for (const char* h : {"S/M", "M/V", "S/V", "paper S", "paper M", "paper V", "paper S/M", "paper M/V", "paper S/V"})
         t.header.push_back(h);
+    t.csv_header = {"scene", "grid", "size", "s_cycles", "m_cycles", "v_cycles", "s_over_m", "m_over_v", "s_over_v"};
+    for (const char* h : {"paper_s_m512", "paper_m_m512", "paper_v_m512", "paper_s_over_m", "paper_m_over_v", "paper_s_over_v"})
+        add_published_header(t.csv_header, h);
     for (const std::string& scene : d.scenes)
         for (int g : d.grids) {
             const CellRecord* m = d.find(scene, g, machine::Model::M);
@@ -93,7 +126,19 @@ Table table3(const PaperData& d) {
             row.push_back(has_s && has_m ? format_quotient(s_t, m_t) : kMissing);
             row.push_back(has_m ? format_quotient(m_t, v_t) : kMissing);
             row.push_back(has_s ? format_quotient(s_t, v_t) : kMissing);
-            if (const PublishedTimes* p = find_published_times(paper_scene(scene), g)) {
+            const PublishedTimes* pt = find_published_times(paper_scene(scene), g);
+            std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
+            tidy.push_back(field(m ? s_time(*m) : 0, has_s));
+            tidy.push_back(field(m ? m->total : 0, has_m));
+            tidy.push_back(field(v ? v->total : 0, v != nullptr));
+            tidy.push_back(field(s_t / m_t, has_s && has_m && m_t > 0));
+            tidy.push_back(field(m_t / v_t, has_m && v && v_t > 0));
+            tidy.push_back(field(s_t / v_t, has_s && v && v_t > 0));
+            for (const Published* x : {pt ? &pt->s : nullptr, pt ? &pt->m : nullptr, pt ? &pt->v : nullptr,
+                                       pt ? &pt->s_over_m : nullptr, pt ? &pt->m_over_v : nullptr, pt ? &pt->s_over_v : nullptr})
+                add_published(tidy, x);
+            t.csv_rows.push_back(std::move(tidy));
+            if (const PublishedTimes* p = pt) {
                 for (const Published& x : {p->s, p->m, p->v, p->s_over_m, p->m_over_v, p->s_over_v})
                     row.push_back(format_published(x));
             } else {
@@ -111,9 +156,17 @@ Table table4(const PaperData& d) {
     Table t = start(d, "Table 4: VLIW against sequential stages (model V against M)", {"scene", "grid"});
     const char* metrics[] = {"OS proc M/V", "OS comm M/V", "IC proc M/V", "IC comm M/V",
                              "OS ILP",      "IC ILP",      "OS util",     "IC util"};
+    const char* tidy_names[] = {"os_processing_m_over_v", "os_communication_m_over_v", "ic_processing_m_over_v",
+                                "ic_communication_m_over_v", "os_ilp", "ic_ilp", "os_utilization", "ic_utilization"};
     for (const char* m : metrics) {
         t.header.push_back(m);
         t.header.push_back(fmt::format("paper {}", m));
+    }
+    t.csv_header = {"scene", "grid", "size"};
+    for (const char* n : tidy_names) {
+        t.csv_header.push_back(n);
+        t.csv_header.push_back(fmt::format("paper_{}_lo", n));
+        t.csv_header.push_back(fmt::format("paper_{}_hi", n));
     }
     for (const std::string& scene : d.scenes)
         for (int g : d.grids) {
@@ -134,8 +187,35 @@ Table table4(const PaperData& d) {
                                         of_v(&CellRecord::ic, &StageRecord::ilp),
                                         of_v(&CellRecord::os, &StageRecord::utilization),
                                         of_v(&CellRecord::ic, &StageRecord::utilization)};
+            auto q = [&](const StageRecord CellRecord::*stage, std::uint64_t StageRecord::*field_of) {
+                const double den = v ? as_double((v->*stage).*field_of) : 0;
+                return field(m && v ? as_double((m->*stage).*field_of) / den : 0, m && v && den > 0);
+            };
+            auto plain_v = [&](const StageRecord CellRecord::*stage, double StageRecord::*field_of) {
+                return field(v ? (v->*stage).*field_of : 0, v != nullptr);
+            };
+            const std::string ours_tidy[] = {q(&CellRecord::os, &StageRecord::processing),
+                                             q(&CellRecord::os, &StageRecord::communication),
+                                             q(&CellRecord::ic, &StageRecord::processing),
+                                             q(&CellRecord::ic, &StageRecord::communication),
+                                             plain_v(&CellRecord::os, &StageRecord::ilp),
+                                             plain_v(&CellRecord::ic, &StageRecord::ilp),
+                                             plain_v(&CellRecord::os, &StageRecord::utilization),
+                                             plain_v(&CellRecord::ic, &StageRecord::utilization)};
+            const PublishedVliw* pv = find_published_vliw(paper_scene(scene));
+            const PublishedRange* ranges[] = {pv ? &pv->os_processing : nullptr,  pv ? &pv->os_communication : nullptr,
+                                              pv ? &pv->ic_processing : nullptr,  pv ? &pv->ic_communication : nullptr,
+                                              pv ? &pv->os_ilp : nullptr,         pv ? &pv->ic_ilp : nullptr,
+                                              pv ? &pv->os_utilization : nullptr, pv ? &pv->ic_utilization : nullptr};
+            std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
+            for (std::size_t i = 0; i < std::size(ours_tidy); ++i) {
+                tidy.push_back(ours_tidy[i]);
+                tidy.push_back(ranges[i] ? field(ranges[i]->lo) : "");
+                tidy.push_back(ranges[i] ? field(ranges[i]->hi) : "");
+            }
+            t.csv_rows.push_back(std::move(tidy));
             std::vector<std::string> theirs(std::size(ours), kMissing);
-            if (const PublishedVliw* p = find_published_vliw(paper_scene(scene)))
+            if (const PublishedVliw* p = pv)
                 theirs = {format_range(p->os_processing),  format_range(p->os_communication),
                           format_range(p->ic_processing),  format_range(p->ic_communication),
                           format_range(p->os_ilp),         format_range(p->ic_ilp),

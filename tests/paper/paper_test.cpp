@@ -12,6 +12,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <mutex>
 #include <random>
 #include <set>
@@ -397,7 +398,54 @@ TEST_CASE("Table 2: stages and load ratio beside the paper's", "[paper]") {
                    "(?)")); // suspect printed ratio
     const std::string csv = to_csv(t);
     CHECK(std::count(csv.begin(), csv.end(), '\n') == 7);
-    CHECK(contains(csv, "scene,grid,OS proc,IC proc,SC proc,"));
+    CHECK(contains(csv, "scene,grid,size,os_processing,ic_processing,sc_processing,"));
+    CHECK(contains(csv, "\ntetra,50,512,500000000,500000000,5000000,")); // cycles, not millions
+}
+
+// Issue 28: the CSVs are for programs: one header whatever the size, and every field but the
+// scene and run names a plain number (or empty where a value is missing); flags and range ends
+// have their own columns.
+TEST_CASE("The tables' CSVs are tidy: fixed headers, plain numbers", "[paper]") {
+    auto rows = [](const Table& t) {
+        std::vector<std::vector<std::string>> out;
+        std::istringstream in(to_csv(t));
+        for (std::string line; std::getline(in, line);) {
+            std::vector<std::string> f;
+            std::istringstream l(line);
+            for (std::string x; std::getline(l, x, ',');) f.push_back(x);
+            if (!line.empty() && line.back() == ',') f.push_back("");
+            out.push_back(f);
+        }
+        return out;
+    };
+    for (auto table : {&table2, &table3, &table4}) {
+        const auto at512 = rows(table(synthetic_data(512, {"tetra", "balls", "tree"})));
+        const auto at64 = rows(table(synthetic_data(64, {"tetra", "balls", "tree"})));
+        CHECK(at512[0] == at64[0]);
+        for (const auto* csv : {&at512, &at64})
+            for (std::size_t r = 1; r < csv->size(); ++r) {
+                REQUIRE((*csv)[r].size() == (*csv)[0].size());
+                for (std::size_t c = 1; c < (*csv)[r].size(); ++c) {
+                    const std::string& x = (*csv)[r][c];
+                    INFO((*csv)[0][c] << " = '" << x << "'");
+                    if (x.empty()) continue;
+                    std::size_t used = 0;
+                    (void)std::stod(x, &used);
+                    CHECK(used == x.size());
+                }
+            }
+    }
+    // A reconstructed published value is a number with its flag beside it (balls 20: S 35173*).
+    const auto t3 = rows(table3(synthetic_data(512)));
+    const auto& h = t3[0];
+    const std::size_t s = static_cast<std::size_t>(std::find(h.begin(), h.end(), "paper_s_m512") - h.begin());
+    REQUIRE(s + 1 < h.size());
+    CHECK(h[s + 1] == "paper_s_m512_reconstructed");
+    for (const auto& r : t3)
+        if (r[0] == "balls" && r[1] == "20") {
+            CHECK(r[s] == "35173");
+            CHECK(r[s + 1] == "1");
+        }
 }
 
 TEST_CASE("Table 3: S from M, speed-ups, scaled columns and note when size != 512", "[paper]") {

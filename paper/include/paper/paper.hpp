@@ -150,6 +150,11 @@ struct Table {
     std::vector<std::string> header;
     std::vector<std::vector<std::string>> rows;
     std::vector<std::string> notes; // Markdown only, below the table
+    // The CSV, when it differs from the Markdown: one fixed header whatever the size, plain
+    // numbers in numeric columns (cycles as integers), an empty field where a value is missing,
+    // flags and range ends in columns of their own.
+    std::vector<std::string> csv_header;
+    std::vector<std::vector<std::string>> csv_rows;
 };
 std::string to_markdown(const Table& t);
 std::string to_csv(const Table& t);
