@@ -67,7 +67,12 @@ void run_sweep_command(const SweepArgs& a) {
         };
     const paper::SweepRun r = paper::run_sweep(spec, o);
     if (!paper::cluster().reports()) return; // rank 0 of the MPI run reports
-    if (!a.quiet)
+    if (a.quiet) return;
+    if (r.files.empty()) // a shard's part
+        status("cells: {} loaded, {} run; {} of the sweep's {} cells in {}/cells (shard {}): no results until they all are "
+               "(merge the shards' cells/ folders into one and run the sweep again without --shard: stored cells load)\n",
+               r.loaded, r.run, r.with_result, r.cells, a.out, a.shard);
+    else
         status("cells: {} loaded, {} run\nwrote {}/: {}\n", r.loaded, r.run, a.out, fmt::join(r.files, " "));
 }
 

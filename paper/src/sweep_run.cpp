@@ -74,6 +74,10 @@ SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o) {
     r.failures = std::move(e.failures);
     if (e.worker) return r; // rank 0 of the MPI run has the cells and writes the outputs
     const std::vector<std::string>& json = e.texts;
+    r.cells = cells.size();
+    r.with_result = static_cast<std::size_t>(std::count_if(json.begin(), json.end(), [](const std::string& t) { return !t.empty(); }));
+    // A shard writes its cells only, until the merged cells/ folders hold the whole sweep.
+    if (o.shards > 1 && r.partial() && r.failures.empty()) return r;
 
     const std::string csv = sweep_csv(s, cells, json);
     r.rows_jsonl = sweep_jsonl(s, cells, json);

@@ -108,8 +108,14 @@ struct SweepRun {
     std::vector<std::string> files;       // written into out_dir
     std::vector<std::string> failures;    // "cell axes: message"
     std::size_t loaded = 0, run = 0;
+    // Cells with a result, of how many: a shard's run has only its own (and those stored), and
+    // writes no results until the merged cells/ folder holds every cell.
+    std::size_t with_result = 0, cells = 0;
+    bool partial() const { return with_result < cells; }
 };
-// Runs (or loads) every cell, then writes results.csv, results.jsonl and chart.svg. Throws PaperError naming failed cells after writing the rest.
+// Runs (or loads) every cell, then writes results.csv, results.jsonl and chart.svg (a shard that
+// does not complete the sweep writes its cells only). Throws PaperError naming failed cells after
+// writing the rest.
 SweepRun run_sweep(const SweepSpec& s, const SweepOptions& o);
 
 // The outputs, from cells' stats JSON texts (by sweep_cells index; "" = no result).
