@@ -2168,7 +2168,26 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         b0 += std::max<std::uint32_t>(1, m.latency_of(isa::kOps[op.opcode]));
     }
     const Graph g = build_graph(r, instrs, m, q.op_virtuals);
-
+    // The trip count register is the loop's: the pipelined loop counts its passes in a register of
+    // its own, so a value read or written there inside the region would differ from the
+    // sequential meaning's, silently.
+    if (!r.is_while)
+        for (std::size_t k = 0; k < r.ops.size(); ++k)
+            for (const isa::RegOperand& o : isa::register_operands(instrs[k]))
+                if (o.file == isa::RegFile::Int && o.reg == r.trip_reg) {
+                    const std::string& line = lines[static_cast<std::size_t>(r.ops[k].line - 1)];
+                    std::size_t at = line.find(r.trip, line.find(r.ops[k].mnemonic) + r.ops[k].mnemonic.size());
+                    while (at != std::string::npos && at + r.trip.size() < line.size() &&
+                           std::isdigit(static_cast<unsigned char>(line[at + r.trip.size()])))
+                        at = line.find(r.trip, at + 1); // r9, not r90
+                    const std::size_t col = at == std::string::npos ? line.find_first_not_of(" \t") : at;
+                    throw base::Error(base::SourceLoc(filename, r.ops[k].line, static_cast<int>(col + 1)),
+                                      fmt::format("'{}' {} the trip count register {} inside the region: the pipelined "
+                                                  "loop keeps its own count, so its value there is not defined (copy it "
+                                                  "into another register before `.pipeline`, and step that copy)\n{}\n{}^",
+                                                  r.ops[k].mnemonic, o.write ? "writes" : "reads", r.trip, line,
+                                                  std::string(col, ' ')));
+                }
     // Loop control in the kernel: `addi counter, counter, -1` and `bnez counter, kernel`.
     isa::Instr branch, counter;
     branch.opcode = isa::opcode("bnez");
