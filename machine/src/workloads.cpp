@@ -10,6 +10,7 @@
 #include "kernels/messages.hpp"
 #include "kernels/shape_record.hpp"
 #include "kernels/twins/dda.hpp"
+#include "rt/shapes.hpp"
 
 #include "iss/stats.hpp"
 
@@ -82,18 +83,7 @@ OccupancyGrid random_grid(int n, double density, std::mt19937& rng) {
 kernels::Shape random_triangle(std::mt19937& rng, bool two) {
     std::uniform_real_distribution<double> p(-3.0, 3.0);
     base::Vec3d v0{p(rng), p(rng), p(rng)}, v1{p(rng), p(rng), p(rng)}, v2{p(rng), p(rng), p(rng)};
-    const base::Vec3d e1 = v1 - v0, e2 = v2 - v0, nn = base::cross(e1, e2);
-    const double det = base::dot(nn, nn);
-    const base::Vec3d rows[3] = {nn * (1.0 / det), base::cross(e2, nn) * (1.0 / det), base::cross(nn, e1) * (1.0 / det)};
-    kernels::Shape s;
-    s.kind_flags = kernels::kShapeTriangle | (two ? kernels::kShapeTwoSided : 0u);
-    for (std::size_t i = 0; i < 3; ++i) {
-        s.w[4 * i] = static_cast<float>(rows[i].x);
-        s.w[4 * i + 1] = static_cast<float>(rows[i].y);
-        s.w[4 * i + 2] = static_cast<float>(rows[i].z);
-        s.w[4 * i + 3] = static_cast<float>(-base::dot(rows[i], v0));
-    }
-    return s;
+    return rt::triangle_record(v0, v1, v2, two);
 }
 
 kernels::Shape random_sphere(std::mt19937& rng, bool two) {

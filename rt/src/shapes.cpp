@@ -16,7 +16,7 @@ float to_f(double v) {
     return static_cast<float>(v); // NaN converts to NaN
 }
 
-void set_triangle(Shape& s, Vec3d v0, Vec3d v1, Vec3d v2) {
+void set_triangle_weights(Shape& s, Vec3d v0, Vec3d v1, Vec3d v2) {
     Vec3d e1 = v1 - v0, e2 = v2 - v0, n = cross(e1, e2);
     // Inverse of the column matrix [e1 e2 n]: rows are (e2 x n, n x e1, e1 x e2) / det.
     double det = dot(e1, cross(e2, n));
@@ -48,6 +48,13 @@ void set_quadric(Shape& s, Vec3d origin, Vec3d axis, double r0, double k, double
 }
 
 } // namespace
+
+Shape triangle_record(Vec3d v0, Vec3d v1, Vec3d v2, bool two_sided) {
+    Shape s;
+    s.kind_flags = kShapeTriangle | (two_sided ? kShapeTwoSided : 0u);
+    set_triangle_weights(s, v0, v1, v2);
+    return s;
+}
 
 ShapeSet build_shapes(const Scene& scene) {
     ShapeSet out;
@@ -94,7 +101,7 @@ ShapeSet build_shapes(const Scene& scene) {
             for (auto [i0, i1, i2] : triangulate(e.verts)) {
                 auto u = [&](int i) { return e.verts[static_cast<std::size_t>(i)]; };
                 Shape t = s;
-                set_triangle(t, u(i0), u(i1), u(i2));
+                set_triangle_weights(t, u(i0), u(i1), u(i2));
                 ShadeRecord ts = sh;
                 ts.normal = to_float(normalize(cross(u(i1) - u(i0), u(i2) - u(i0))));
                 if (patch) {

@@ -5,6 +5,7 @@
 
 #include "kernels/twins/quadric.hpp"
 #include "kernels/twins/triangle.hpp"
+#include "rt/shapes.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -17,22 +18,6 @@ using nesshi::base::Vec3f;
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-kernels::Shape triangle(Vec3d v0, Vec3d v1, Vec3d v2, bool two_sided) {
-    const Vec3d e1 = v1 - v0, e2 = v2 - v0, n = base::cross(e1, e2);
-    const double det = base::dot(n, n);
-    const Vec3d r0 = base::cross(e2, n) * (1.0 / det), r1 = base::cross(n, e1) * (1.0 / det), r2 = n * (1.0 / det);
-    kernels::Shape s;
-    s.kind_flags = kernels::kShapeTriangle | (two_sided ? kernels::kShapeTwoSided : 0u);
-    const Vec3d rows[3] = {r2, r0, r1};
-    for (int i = 0; i < 3; ++i) {
-        s.w[static_cast<std::size_t>(4 * i)] = static_cast<float>(rows[i].x);
-        s.w[static_cast<std::size_t>(4 * i + 1)] = static_cast<float>(rows[i].y);
-        s.w[static_cast<std::size_t>(4 * i + 2)] = static_cast<float>(rows[i].z);
-        s.w[static_cast<std::size_t>(4 * i + 3)] = static_cast<float>(-base::dot(rows[i], v0));
-    }
-    return s;
-}
 
 kernels::Shape quadric(std::mt19937& rng, bool two_sided) {
     std::uniform_real_distribution<double> u(-1.0, 1.0), pos(-4.0, 4.0), rad(0.2, 1.5);
@@ -138,7 +123,7 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
             } else {
                 std::array<Vec3d, 3> v{Vec3d{pos(rng), pos(rng), pos(rng)}, Vec3d{pos(rng), pos(rng), pos(rng)},
                                        Vec3d{pos(rng), pos(rng), pos(rng)}};
-                shapes.push_back(triangle(v[0], v[1], v[2], rng() % 3 == 0));
+                shapes.push_back(rt::triangle_record(v[0], v[1], v[2], rng() % 3 == 0));
                 verts.push_back(v);
             }
             shapes.back().entity = i;

@@ -34,4 +34,9 @@ struct ShapeSet {
 // Triangulates polygons and patches and builds one record per triangle or quadric.
 ShapeSet build_shapes(const Scene& scene);
 
+// Triangle v0 v1 v2 as its shape record (kernels/shape_record.hpp): the plane equations of the
+// rows of [e1 e2 n]^-1, computed in double and rounded once; entity -1. Shared by build_shapes,
+// the kernel report's workloads and the kernel tests.
+Shape triangle_record(Vec3d v0, Vec3d v1, Vec3d v2, bool two_sided);
+
 } // namespace nesshi::rt
