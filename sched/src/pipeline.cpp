@@ -2218,11 +2218,12 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         CountedShape shape; // a counted loop's
     };
     const TripDirective& trip = r.trip_count;
-    auto build = [&](const Schedule& s) -> std::optional<Built> {
+    // `first_least`: at least this many kernel copies (more amortise a taken-branch bubble).
+    auto build = [&](const Schedule& s, int first_least = 1) -> std::optional<Built> {
         std::optional<Allocation> fitted;
         try {
             // More kernel copies where the taken-branch bubble makes writes meet on a port.
-            for (int least = 1; least <= kMaxPortUnroll; least *= 2) {
+            for (int least = first_least; least <= kMaxPortUnroll; least *= 2) {
                 fitted = allocate(r, g, s, named, m, filename, least);
                 if (kernel_landings_ok(g, s, fitted->unroll, m, false)) break;
                 if (kernel_landings_ok(g, s, fitted->unroll, m, true)) {
@@ -2367,9 +2368,19 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = ModuloScheduler(g, m, ii, branch, counter, attempt, -1).run();
             if (!s) continue;
-            for (const Schedule& k : shifted(*s))
-                if (seen.insert(k.time).second)
-                    if (std::optional<Built> b = build(k)) found.push_back(std::move(*b));
+            for (const Schedule& k : shifted(*s)) {
+                if (!seen.insert(k.time).second) continue;
+                std::optional<Built> b = build(k);
+                if (!b) continue;
+                const int copies = b->alloc.unroll;
+                found.push_back(std::move(*b));
+                // With a taken-branch bubble, the same schedule with 2x and 4x the kernel copies (one
+                // bubble per pass, a longer remainder): the whole-run cost decides, within registers.
+                if (m.branch_penalty > 0)
+                    for (int more = 2 * copies; more <= std::min(4 * copies, kMaxPortUnroll); more *= 2)
+                        if (std::optional<Built> c = build(k, more); c && c->alloc.unroll > copies)
+                            found.push_back(std::move(*c));
+            }
         }
         std::vector<TripChoice::Option> cost;
         for (const Built& b : found) cost.push_back(option(b));
