@@ -119,7 +119,7 @@ double ic_cycles(const WorkCounts& w, const Prices& p) {
 
 HypothesisResult two_roots_hypothesis(const WorkCounts& w) {
     Prices p = paper_prices();
-    p.quadric_miss = 11; // the shape load alone
+    p.quadric_miss = kernels::kPaper.quadric_load; // the shape load alone
     return {"two roots", os_cycles(w, p), ic_cycles(w, p), w};
 }
 
@@ -146,7 +146,7 @@ GapRow attribute(std::string_view scene, int grid, const OursCell& ours, std::ve
     r.ours = ours;
     // The paper's eye rays are its 512 x 512 pixels (ours are the corners, 513 x 513).
     r.implied_steps = (r.paper_os - p.init * 512.0 * 512.0) / p.step;
-    r.implied_visits = r.paper_ic_comm / 25.0;
+    r.implied_visits = r.paper_ic_comm / kernels::kPaper.fifo_ray;
     const double tests = w.triangle_tests + w.quadric_tests;
     r.implied_tests = r.paper_ic / (ic_cycles(w, p) / tests);
     r.os_priced = os_cycles(w, p);

@@ -122,8 +122,10 @@ std::string fits_table(std::span<const GapRow> rows) {
 std::string gaps_markdown(std::span<const GapRow> rows) {
     std::string o;
     o += "### Counts: ours (native renderer) against what the paper's cycles imply (millions)\n\n";
-    o += "Paper steps = (OS - 60 x 512^2) / 11; paper VISITs = IC communication / 25; paper tests = IC / the mean "
-         "price of a test in our mix (50 per triangle, 61 per quadric).\n\n";
+    const Prices p = paper_prices();
+    o += fmt::format("Paper steps = (OS - {:g} x 512^2) / {:g}; paper VISITs = IC communication / {:g}; paper tests = IC / "
+                     "the mean price of a test in our mix ({:g} per triangle, {:g} per quadric).\n\n",
+                     p.init, p.step, kernels::kPaper.fifo_ray, p.triangle, p.quadric);
     o += counts_table(rows);
     o += "\n### Attribution per stage (millions of cycles; factors multiply: paper/ours = kernel x its factor x "
          "unexplained)\n\n";

@@ -1,5 +1,7 @@
 // The native renderer: corner rows spread over threads, Whitted tracing with the SPD rules.
 #include "rt/render.hpp"
+
+#include "kernels/paper_figures.hpp"
 #include "rt/shading.hpp"
 
 #include <algorithm>
@@ -47,8 +49,9 @@ GridChoice choose_grid_resolution(const Scene& scene, const ShapeSet& shapes) {
         const RenderResult r = render_native(p, o);
         double cost = 0;
         for (const TraceCounters& c : r.stats.traversal)
-            cost += 11.0 * static_cast<double>(c.voxel_steps) + 40.0 * static_cast<double>(c.triangle_tests) +
-                    50.0 * static_cast<double>(c.quadric_tests);
+            cost += kernels::kPaper.dda_step_vliw * static_cast<double>(c.voxel_steps) +
+                    kernels::kPaper.triangle * static_cast<double>(c.triangle_tests) +
+                    kernels::kPaper.quadric * static_cast<double>(c.quadric_tests);
         choice.costs.emplace_back(n, cost);
         if (choice.n == 0 || cost < best) {
             best = cost;

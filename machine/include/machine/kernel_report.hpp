@@ -13,6 +13,7 @@
 //   std::ofstream("k.json") << r.json() << "\n";     // {"kernels": [{"metric": ..., ...}, ...]}
 #pragma once
 
+#include "kernels/paper_figures.hpp"
 #include "kernels/sources.hpp"
 #include "machine/machine.hpp"
 
@@ -24,18 +25,8 @@
 
 namespace nesshi::machine {
 
-// The paper's figures (Gwun et al. 1993): step counts in cycles, and the machines' ILP and
-// utilisation ranges over its scenes.
-struct PaperFigures {
-    double dda_step_vliw = 11, dda_step_seq = 23; // one 3DDDA voxel step
-    double dda_init = 60;                         // 3DDDA set-up of a ray
-    double fifo_ray = 25;                         // receiving or sending a ray record (FIFO load/store)
-    double triangle = 40, triangle_load = 10;     // ray/triangle test, and loading the shape
-    double quadric = 50, quadric_load = 11;       // ray/quadric test, and loading the shape
-    double os_ilp[2] = {2.27, 2.29}, os_util[2] = {0.56, 0.57};
-    double ic_ilp[2] = {2.01, 2.31}, ic_util[2] = {0.50, 0.57};
-};
-inline constexpr PaperFigures kPaper{};
+using kernels::kPaper; // the paper's step costs (kernels/paper_figures.hpp)
+using kernels::PaperFigures;
 
 // The synthetic inputs. Grids: rays from random points outside aimed into the box; each VISIT is
 // answered with a RETURN (no hit). Primitives: one voxel listing 40 shapes of one kind, rays

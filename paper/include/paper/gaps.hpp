@@ -13,6 +13,7 @@
 // out. Factors multiply: paper / ours = kernel x workload x unexplained.
 #pragma once
 
+#include "kernels/paper_figures.hpp"
 #include "rt/render.hpp"
 
 #include <functional>
@@ -46,7 +47,9 @@ WorkCounts work_counts(const rt::RenderStats& s);
 // quadratic has two distinct real roots", so the two-roots hypothesis prices a miss at its shape
 // load alone (11), the least the paper's text allows.
 struct Prices {
-    double init = 60, step = 11, triangle = 50, quadric = 61, quadric_miss = 61;
+    double init = kernels::kPaper.dda_init, step = kernels::kPaper.dda_step_vliw;
+    double triangle = kernels::kPaper.triangle + kernels::kPaper.triangle_load;
+    double quadric = kernels::kPaper.quadric + kernels::kPaper.quadric_load, quadric_miss = quadric;
 };
 Prices paper_prices();
 double os_cycles(const WorkCounts& w, const Prices& p); // init x eye rays + step x voxel steps
