@@ -393,12 +393,35 @@ struct Graph {
     std::vector<Node> nodes;
     std::vector<Edge> edges;
     std::vector<Induction> inductions;
+    // What the code before the region leaves: integer registers holding known constants, and the
+    // trip count when it is one of them (constants_at).
+    std::map<int, std::int64_t> entry;
+    std::optional<std::int64_t> trip;
     const Induction* induction_of(int reg) const {
         for (const Induction& i : inductions)
             if (i.reg == reg) return &i;
         return nullptr;
     }
 };
+
+// The bytes memory op x touches over the whole loop, [lo, hi), when its base is a known constant
+// at entry stepped only by its induction and the trip count is known; nullopt otherwise.
+std::optional<std::pair<std::int64_t, std::int64_t>> extent(const Graph& g, int x) {
+    const Node& a = g.nodes[static_cast<std::size_t>(x)];
+    const auto start = g.entry.find(a.base);
+    if (start == g.entry.end() || !g.trip) return std::nullopt;
+    const Induction* ind = g.induction_of(a.base);
+    for (int k = 0; k < static_cast<int>(g.nodes.size()); ++k)
+        if (!ind || k != ind->op)
+            for (const isa::RegOperand& o : isa::register_operands(g.nodes[static_cast<std::size_t>(k)].instr))
+                if (o.write && o.file == isa::RegFile::Int && o.reg == a.base) return std::nullopt;
+    const std::int64_t step = ind ? ind->step : 0, after = ind && x > ind->op ? 1 : 0;
+    const std::int64_t imm = static_cast<std::int32_t>(a.instr.imm);
+    const std::int64_t first = start->second + step * after + imm, last = first + step * std::max<std::int64_t>(*g.trip - 1, 0);
+    const std::int64_t lo = std::min(first, last), hi = std::max(first, last) + a.width;
+    if (lo < 0 || hi > (std::int64_t{1} << 32)) return std::nullopt; // would wrap: no claim
+    return std::pair{lo, hi};
+}
 
 // Whether memory ops x (iteration i) and y (iteration i + d) may touch the same bytes.
 bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
@@ -407,7 +430,9 @@ bool may_alias(const Graph& g, const Region& r, int x, int y, int d) {
     if (a.base != b.base) {
         for (auto [p, q] : r.noalias)
             if ((p == a.base && q == b.base) || (p == b.base && q == a.base)) return false;
-        return true;
+        if (g.trip && *g.trip == 0) return false;
+        const auto ex = extent(g, x), ey = extent(g, y); // e.g. two arrays at known labels, a known count
+        return !(ex && ey && (ex->second <= ey->first || ey->second <= ex->first));
     }
     const Induction* ind = g.induction_of(a.base);
     if (!ind) {
@@ -470,8 +495,11 @@ void add_exit_edges(Graph& g, const Region& r, const std::function<bool(int, isa
 }
 
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
-                  const std::vector<OpVirtuals>& op_virtuals) {
+                  const std::vector<OpVirtuals>& op_virtuals, const std::map<int, std::int64_t>& entry = {}) {
     Graph g;
+    g.entry = entry;
+    if (!r.is_while)
+        if (const auto t = entry.find(r.trip_reg); t != entry.end()) g.trip = t->second;
     const int n = static_cast<int>(instrs.size());
     for (int i = 0; i < n; ++i) {
         Node nd;
@@ -1925,6 +1953,35 @@ assembler::AsmOptions asm_options(const PipelineOptions& opts = {}) {
     return a;
 }
 
+// Integer registers that hold a known constant when bundle `at` starts, from the straight-line
+// code before it back to the last label (a jump target: another way in): `li`, and `addi` of a
+// known register; any other write forgets its register, a jump or call forgets them all.
+// Conditional branches fall through to `at`.
+std::map<int, std::int64_t> constants_at(const isa::ObjectFile& obj, const std::vector<std::vector<isa::Instr>>& bundles,
+                                         std::uint32_t at) {
+    std::uint32_t from = 0;
+    for (const isa::Symbol& s : obj.symbols)
+        if (s.kind == isa::SymbolKind::Code && s.value < at) from = std::max(from, s.value);
+    std::map<int, std::int64_t> known;
+    for (std::uint32_t b = from; b < at && b < bundles.size(); ++b) {
+        std::map<int, std::int64_t> next = known; // a bundle reads its sources at issue
+        for (const isa::Instr& in : bundles[b]) {
+            const isa::OpInfo& info = in.info();
+            if (info.kind == isa::Kind::Jump || info.kind == isa::Kind::JumpLink || info.kind == isa::Kind::JumpReg)
+                next.clear(); // a call may change any register; after a jump only a label leads on
+            for (const isa::RegOperand& o : isa::register_operands(in))
+                if (o.write && o.file == isa::RegFile::Int) next.erase(o.reg);
+            const std::int64_t imm = static_cast<std::int32_t>(in.imm);
+            if (info.mnemonic == "li") next[in.rd] = static_cast<std::uint32_t>(imm);
+            else if (info.mnemonic == "addi")
+                if (const auto s = known.find(in.rs1); s != known.end())
+                    next[in.rd] = static_cast<std::uint32_t>(s->second + imm);
+        }
+        known = std::move(next);
+    }
+    return known;
+}
+
 isa::ObjectFile assemble_or_fail(const std::string& text, std::string_view file, const isa::Machine& m,
                                  const std::string& what, const PipelineOptions& opts = {}) {
     const assembler::AsmResult res = assembler::assemble_string(text, file, m, asm_options(opts));
@@ -2162,12 +2219,13 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     std::uint32_t b0 = 0;
     for (const isa::Symbol& s : lin.symbols)
         if (s.name == uid + "_lin" && s.kind == isa::SymbolKind::Code) b0 = s.value;
+    const std::uint32_t region_start = b0;
     std::vector<isa::Instr> instrs;
     for (const SrcOp& op : r.ops) {
         instrs.push_back(bundles[b0][0]);
         b0 += std::max<std::uint32_t>(1, m.latency_of(isa::kOps[op.opcode]));
     }
-    const Graph g = build_graph(r, instrs, m, q.op_virtuals);
+    const Graph g = build_graph(r, instrs, m, q.op_virtuals, constants_at(lin, bundles, region_start));
     // The trip count register is the loop's: the pipelined loop counts its passes in a register of
     // its own, so a value read or written there inside the region would differ from the
     // sequential meaning's, silently.
