@@ -53,6 +53,55 @@ std::vector<DepEdge> true_dependences(const std::vector<LoopOp>& ops, int ii) {
     return edges;
 }
 
+// Memory true dependences of the body run as a loop: a store and a later load (this pass or a
+// later one) off the same base register, stepped by a constant `addi` once per pass or not at
+// all, that touch common bytes. Latency 1 (the load issues after the store); the smallest distance
+// up to kMaxMemoryDistance. Other pairs are not counted: their addresses are not known here.
+constexpr int kMaxMemoryDistance = 16;
+std::vector<DepEdge> memory_dependences(const std::vector<LoopOp>& ops) {
+    std::vector<DepEdge> edges;
+    auto step_of = [&](int base, int& step_op) -> std::optional<std::int64_t> {
+        std::optional<std::int64_t> step = 0;
+        step_op = -1;
+        for (std::size_t w = 0; w < ops.size(); ++w)
+            for (const isa::RegOperand& o : isa::register_operands(ops[w].in))
+                if (o.write && o.file == isa::RegFile::Int && o.reg == base) {
+                    const isa::Instr& in = ops[w].in;
+                    if (step_op >= 0 || in.info().mnemonic != "addi" || in.rs1 != in.rd) return std::nullopt;
+                    step_op = static_cast<int>(w);
+                    step = static_cast<std::int32_t>(in.imm);
+                }
+        return step;
+    };
+    // An op sees the base stepped when it issues after the step (ops are in issue order; a bundle
+    // reads its sources at issue, so the step's own bundle sees the old value).
+    auto address = [&](std::size_t op, int step_op, std::int64_t step, int pass) {
+        const bool after = step_op >= 0 && ops[op].bundle > ops[static_cast<std::size_t>(step_op)].bundle;
+        return step * (pass + (after ? 1 : 0)) + static_cast<std::int32_t>(ops[op].in.imm);
+    };
+    for (std::size_t st = 0; st < ops.size(); ++st) {
+        if (ops[st].in.info().kind != isa::Kind::Store) continue;
+        const int base = ops[st].in.rs1;
+        int step_op = -1;
+        const std::optional<std::int64_t> step = step_of(base, step_op);
+        if (!step) continue;
+        const int sw = ops[st].in.info().mem_bytes ? ops[st].in.info().mem_bytes : 4;
+        for (std::size_t ld = 0; ld < ops.size(); ++ld) {
+            const isa::Instr& l = ops[ld].in;
+            if (l.info().kind != isa::Kind::Load || l.rs1 != base) continue;
+            const int lw = l.info().mem_bytes ? l.info().mem_bytes : 4;
+            for (int d = ops[ld].bundle > ops[st].bundle ? 0 : 1; d <= kMaxMemoryDistance; ++d) {
+                const std::int64_t a = address(st, step_op, *step, 0), b = address(ld, step_op, *step, d);
+                if (a < b + lw && b < a + sw) {
+                    edges.push_back({static_cast<int>(st), static_cast<int>(ld), 1, d});
+                    break;
+                }
+            }
+        }
+    }
+    return edges;
+}
+
 } // namespace
 
 namespace {
@@ -81,7 +130,8 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
     const ResBound res = res_mii(m, instrs); // the loop's own control ops are among them
     r.res_mii = res.ii();
     r.res_binding = res.binds;
-    const std::vector<DepEdge> deps = true_dependences(ops, r.ii);
+    std::vector<DepEdge> deps = true_dependences(ops, r.ii);
+    for (const DepEdge& e : memory_dependences(ops)) deps.push_back(e);
     r.rec_mii = recurrence_mii(static_cast<int>(ops.size()), deps);
     if (r.rec_mii > 1)
         for (int k : positive_circuit(static_cast<int>(ops.size()), deps, r.rec_mii - 1)) {
@@ -276,7 +326,7 @@ std::string LoopReport::text() const {
     o += fmt::format("#   bundles {}, achieved II {}, {} operations ({:.2f} per cycle)\n", bundles, ii, ops,
                      static_cast<double>(ops) / ii);
     o += fmt::format("#   resource bound (ResMII)    {}  ({})\n", res_mii, res_binding);
-    if (critical.empty()) o += fmt::format("#   recurrence bound (RecMII)  {}  (no register recurrence longer than a cycle)\n", rec_mii);
+    if (critical.empty()) o += fmt::format("#   recurrence bound (RecMII)  {}  (no recurrence longer than a cycle)\n", rec_mii);
     else {
         std::string chain;
         for (const std::string& c : critical) chain += (chain.empty() ? "" : " -> ") + c;

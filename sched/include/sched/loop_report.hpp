@@ -3,7 +3,8 @@
 // threaded through `jr` dispatch (a label whose address the program stores, `li` then `sw`, as
 // a dispatch table's entry: the path from it through unconditional jumps, falling through
 // conditional exits, to its `jr`; one pass is one iteration of that kind), the achieved II, every
-// resource's use against its capacity, ResMII with the resource that binds, RecMII with the
+// resource's use against its capacity, ResMII with the resource that binds, RecMII (register
+// recurrences, and memory ones through a store and a load off one stepped base register) with the
 // critical circuit spelled out, the verdict, register lifetimes and MaxLive per file, and the
 // modulo reservation table. Text like TI's pipeline information block, and JSON.
 //
