@@ -40,5 +40,6 @@ if [ -n "${2:-}" ]; then
   site=$(dirname "$(find "$prefix" -name 'nesshi.cpython-*.so')")
   (cd "$tmp" && PYTHONPATH="$site" "$2" -c 'import nesshi; print(nesshi.__file__); assert nesshi.machine("ic").name == "ic"') \
     | grep -q "^$prefix/"
+  test -s "$site/nesshi.pyi" # the type stub beside it
 fi
 echo "installed and used: ok"
