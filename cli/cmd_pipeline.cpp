@@ -10,6 +10,8 @@
 #include "assembler/assembler.hpp"
 #include "base/read_file.hpp"
 #include "base/write_file.hpp"
+
+#include <filesystem>
 #include "isa/machine.hpp"
 #include "machine/verify_pipeline.hpp"
 #include "sched/pipeline.hpp"
@@ -23,7 +25,7 @@ namespace nesshi::cli {
 namespace {
 
 struct PipelineArgs {
-    std::string input, machine, out, sequential, json;
+    std::string input, machine, out, sequential, json, svg;
     int ii = 0;
     double exact = 0;
     bool no_verify = false, quiet = false;
@@ -32,7 +34,8 @@ struct PipelineArgs {
 void run_pipeline(const PipelineArgs& a) {
     refuse_stdout("--sequential", a.sequential, "stdout holds the pipelined code or its report; give a file");
     refuse_stdout("--json", a.json, "stdout holds the pipelined code or its report; give a file");
-    check_outputs({a.out, a.sequential, a.json});
+    refuse_stdout("--svg", a.svg, "stdout holds the pipelined code or its report; give a file");
+    check_outputs({a.out, a.sequential, a.json, a.svg});
     const std::string text = base::read_file(a.input);
     const isa::Machine m = source_machine(a.machine, text);
     sched::PipelineOptions po;
@@ -51,6 +54,11 @@ void run_pipeline(const PipelineArgs& a) {
         std::string json = "[";
         for (std::size_t k = 0; k < r.loops.size(); ++k) json += (k ? ",\n" : "\n") + r.loops[k].json();
         base::write_file(a.json, json + "\n]\n");
+    }
+    for (std::size_t k = 0; k < r.loops.size() && !a.svg.empty(); ++k) { // FILE, then FILE-2, FILE-3 ... for more regions
+        const std::filesystem::path p(a.svg);
+        base::write_file(k == 0 ? a.svg : (p.parent_path() / fmt::format("{}-{}{}", p.stem().string(), k + 1, p.extension().string())).string(),
+                         r.loops[k].svg);
     }
     if (!to_file) fmt::print("{}", pipelined); // the data: printed even with -q
     else if (!a.quiet) fmt::print("{}", report);
@@ -71,6 +79,8 @@ void add_pipeline(CLI::App& app) {
                                                    "--verify compares with) to FILE (a file, never stdout)");
     cmd->add_option("--json", a->json, "Also write each region's schedule as JSON to FILE (II, bounds, stages, "
                                        "unroll and, with .trip, the whole-run cycles it was chosen by)");
+    cmd->add_option("--svg", a->svg, "Also draw the schedule as SVG: the modulo reservation table, ops coloured by "
+                                     "iteration stage, register ports per row, lifetimes (FILE; a second region FILE-2, ...)");
     cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only")->check(between(1, 4096));
     cmd->add_option("--exact", a->exact, "When the II is above the MII, branch and bound over the smaller IIs for up to SECONDS; "
                                          "the report says whether the II is proven optimal")

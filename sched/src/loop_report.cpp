@@ -177,7 +177,7 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
     live[0].assign(static_cast<std::size_t>(r.ii), 0);
     live[1].assign(static_cast<std::size_t>(r.ii), 0);
     for (const auto& [key, cycles] : life) {
-        r.lifetimes.push_back({reg_name(static_cast<isa::RegFile>(key.first), key.second), cycles, born[key]});
+        r.lifetimes.push_back({reg_name(static_cast<isa::RegFile>(key.first), key.second), cycles, born[key], key.first});
         for (int c = 0; c < std::max(1, cycles); ++c) ++live[key.first][static_cast<std::size_t>((born[key] + c) % r.ii)];
     }
     for (int f = 0; f < 2; ++f) r.max_live[f] = *std::max_element(live[f].begin(), live[f].end());

@@ -38,6 +38,14 @@ void label_at(std::string& o, int x, int y, const std::string& s, const char* an
 // Black text, or white on the two darkest fills.
 const char* ink(const std::string& cls) { return cls == "fmul" || cls == "mul" ? "white" : "black"; }
 
+// A pipelined loop's ops by iteration stage: the same palette in order, grey for loop control.
+const char* kStageColour[] = {"#56B4E9", "#E69F00", "#009E73", "#F0E442", "#CC79A7", "#0072B2", "#D55E00", "#999999"};
+std::string stage_colour(int stage) {
+    if (stage < 0) return "#DDDDDD";
+    return kStageColour[static_cast<std::size_t>(stage) % std::size(kStageColour)];
+}
+const char* stage_ink(int stage) { return stage >= 0 && (stage % 8 == 5 || stage % 8 == 6) ? "white" : "black"; }
+
 } // namespace
 
 std::string LoopReport::svg() const {
@@ -54,6 +62,11 @@ std::string LoopReport::svg() const {
     const int life_top = table_top + (rows + 1) * kRow + 46;
     const int legend_top = life_top + 30 + static_cast<int>(lifetimes.size()) * kLifeRow + 16;
     const int height = legend_top + 30;
+    int stages = 0; // colour by stage when the table has them
+    for (const TableRow& row : table)
+        for (const TableRow::Op& op : row.ops) stages = std::max(stages, op.stage + 1);
+    auto fill = [&](const TableRow::Op& op) { return stages ? stage_colour(op.stage) : colour(op.op_class); };
+    auto text_ink = [&](const TableRow::Op& op) { return stages ? stage_ink(op.stage) : ink(op.op_class); };
 
     std::string o = fmt::format(R"(<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}" )"
                                 R"(font-family="DejaVu Sans, Helvetica, Arial, sans-serif">)" "\n",
@@ -85,10 +98,11 @@ std::string LoopReport::svg() const {
             const auto it = std::find(slots.begin(), slots.end(), op.slot);
             const int c = static_cast<int>(it - slots.begin());
             const int cx = x + kCycleCol + c * kSlotCol;
+            const std::string what = op.stage >= 0 ? fmt::format("{}, stage {}", op.op_class, op.stage) : op.op_class;
             o += fmt::format(R"(<rect x="{}" y="{}" width="{}" height="{}" fill="{}" stroke="#333333"><title>{} on {} ({})</title></rect>)" "\n",
-                             cx + 2, y + 2, kSlotCol - 4, kRow - 4, colour(op.op_class), xml_escape(op.op), xml_escape(op.slot),
-                             xml_escape(op.op_class));
-            label_at(o, cx + kSlotCol / 2, y + 17, op.op, "middle", 12, "normal", ink(op.op_class));
+                             cx + 2, y + 2, kSlotCol - 4, kRow - 4, fill(op), xml_escape(op.op), xml_escape(op.slot),
+                             xml_escape(what));
+            label_at(o, cx + kSlotCol / 2, y + 17, op.op, "middle", 12, "normal", text_ink(op));
         }
         for (int k = 0; k < 4; ++k) {
             const int f = k / 2;
@@ -122,9 +136,26 @@ std::string LoopReport::svg() const {
         label_at(o, ax - 6, y + 13, fmt::format("{} ({})", l.reg, l.cycles), "end", 11);
         o += fmt::format(R"(<rect x="{}" y="{}" width="{}" height="{}" fill="{}" stroke="#333333"/>)" "\n", ax + static_cast<int>(l.born * px),
                          y + 3, std::max(2, static_cast<int>(std::max(l.cycles, 1) * px)), kLifeRow - 6,
-                         l.reg[0] == 'f' ? "#56B4E9" : "#E69F00");
+                         l.file == 1 ? "#56B4E9" : "#E69F00");
     }
 
+    if (stages) { // Legend: the stages, and loop control.
+        int lx = kMargin;
+        label_at(o, lx, legend_top + 13, "iteration stage:", "start", 11, "bold");
+        lx += 100;
+        bool control = false;
+        for (const TableRow& row : table)
+            for (const TableRow::Op& op : row.ops) control = control || op.stage < 0;
+        for (int st = control ? -1 : 0; st < stages; ++st) {
+            o += fmt::format(R"(<rect x="{}" y="{}" width="14" height="14" fill="{}" stroke="#333333"/>)" "\n", lx, legend_top + 2,
+                             stage_colour(st));
+            const std::string name = st < 0 ? "loop control" : std::to_string(st);
+            label_at(o, lx + 18, legend_top + 13, name, "start", 11);
+            lx += 26 + 7 * static_cast<int>(name.size()) + 8;
+        }
+        o += "</svg>\n";
+        return o;
+    }
     // Legend: the op classes the table uses.
     std::vector<std::string> used;
     for (const TableRow& row : table)

@@ -9,6 +9,7 @@
 #include "trip.hpp"
 #include "sched/block.hpp"
 #include "sched/bounds.hpp"
+#include "sched/loop_report.hpp"
 
 #include "assembler/assembler.hpp"
 #include "base/error.hpp"
@@ -2012,6 +2013,63 @@ std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const i
     return o;
 }
 
+// The schedule as LoopReport draws it: each row of the II with its ops (slot, mnemonic, class,
+// stage; loop control in no stage) and the register ports they use (reads at issue, writes where
+// they land, mod II), and each virtual register's lifetime from its definition.
+LoopReport schedule_picture(const Graph& g, const Region& r, const Schedule& s, const std::vector<int>& lifetime,
+                            const isa::Machine& m, std::string_view filename, const std::string& verdict) {
+    LoopReport p;
+    p.label = r.is_while ? "software-pipelined while" : "software-pipelined";
+    p.source = fmt::format("{}:{}", filename, r.begin + 1);
+    p.machine = m.name;
+    p.ii = s.ii;
+    p.verdict = verdict;
+    for (const isa::SlotDesc& d : m.slots) p.slots.push_back(d.name);
+    for (int f = 0; f < 2; ++f) {
+        p.read_ports[f] = m.regs[static_cast<std::size_t>(f)].read_ports;
+        p.write_ports[f] = m.regs[static_cast<std::size_t>(f)].write_ports;
+        p.file_size[f] = m.regs[static_cast<std::size_t>(f)].count;
+    }
+    p.table.resize(static_cast<std::size_t>(s.ii));
+    auto land = [&](const isa::Instr& in, int issue) {
+        for (const isa::RegOperand& o : isa::register_operands(in))
+            ++(o.write ? p.table[static_cast<std::size_t>((issue + static_cast<int>(m.latency_of(in.info()))) % s.ii)].writes
+                       : p.table[static_cast<std::size_t>(issue % s.ii)].reads)[static_cast<int>(o.file)];
+    };
+    for (int row = 0; row < s.ii; ++row) {
+        std::vector<isa::Instr> ops;
+        std::vector<std::pair<std::string, int>> names; // mnemonic, stage
+        for (std::size_t k = 0; k < g.nodes.size(); ++k)
+            if (s.time[k] % s.ii == row) {
+                ops.push_back(g.nodes[k].instr);
+                names.push_back({r.ops[k].mnemonic, s.time[k] / s.ii});
+                land(g.nodes[k].instr, s.time[k]);
+            }
+        if (s.loop_control && row == s.counter_row) {
+            isa::Instr c = s.counter;
+            ops.push_back(c), names.push_back({"addi", -1});
+            land(c, row);
+        }
+        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back({"bnez", -1}), land(s.branch, row);
+        std::vector<int> pinned(ops.size(), -1);
+        isa::assign_slots(m, ops, pinned);
+        for (std::size_t k = 0; k < ops.size(); ++k)
+            p.table[static_cast<std::size_t>(row)].ops.push_back(
+                {m.slots[ops[k].slot].name, names[k].first,
+                 std::string(isa::kOpClassNames[static_cast<std::size_t>(ops[k].info().cls)]), names[k].second});
+    }
+    p.ops = static_cast<int>(g.nodes.size()) + (s.loop_control ? 2 : 0);
+    std::vector<int> live[2] = {std::vector<int>(static_cast<std::size_t>(s.ii), 0), std::vector<int>(static_cast<std::size_t>(s.ii), 0)};
+    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+        const int born = r.virtuals[v].def >= 0 ? s.time[static_cast<std::size_t>(r.virtuals[v].def)] : 0;
+        const int f = static_cast<int>(r.virtuals[v].file);
+        p.lifetimes.push_back({r.virtuals[v].name, lifetime[v], born, f});
+        for (int c = 0; c < std::max(1, lifetime[v]); ++c) ++live[f][static_cast<std::size_t>((born + c) % s.ii)];
+    }
+    for (int f = 0; f < 2; ++f) p.max_live[f] = *std::max_element(live[f].begin(), live[f].end());
+    return p;
+}
+
 // The report lines of a while loop: how far iterations run ahead of the exit test, what they may
 // do there, and the exit paths.
 std::string while_report(const Graph& g, const Region& r, const Schedule& s, const PipelineResult& res) {
@@ -2587,7 +2645,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
     res.min_trip = by_trip ? trip.min : 0;
-    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, choice}};
+    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, choice, {}}};
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
@@ -2638,6 +2696,13 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     }
     rep += mrt_text(g, r, *sched, m);
     res.report = rep;
+    {
+        LoopReport picture = schedule_picture(g, r, *sched, alloc.lifetime, m, filename,
+                                              res.ii == res.mii ? "at the bound" : fmt::format("{} above the MII", res.ii - res.mii));
+        picture.res_mii = res.res_mii;
+        picture.rec_mii = res.rec_mii;
+        res.loops[0].svg = picture.svg();
+    }
 
     res.code = code_before + force_trip_line(r, opts, m) + emitted + after;
     res.pipelined = header + rep + res.code;

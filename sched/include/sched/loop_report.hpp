@@ -31,12 +31,14 @@ struct Lifetime {
     std::string reg;
     int cycles = 0; // from the write's issue to its last read (reads in the next iteration add II)
     int born = 0;   // the body cycle its write issues in
+    int file = 0;   // 0 IRF, 1 FPRF
 };
 
 // One cycle of the reservation table as data (LoopReport::mrt is its text).
 struct TableRow {
     struct Op {
         std::string slot, op, op_class; // "fpu0", "fmul", "fmul" (the machine description's class name)
+        int stage = -1; // a software-pipelined loop's: the iteration stage the op belongs to (-1: loop control, or none)
     };
     std::vector<Op> ops;
     int reads[2] = {0, 0}, writes[2] = {0, 0}; // register file ports used, IRF and FPRF
@@ -68,8 +70,9 @@ struct LoopReport {
 
     std::string text() const;
     std::string json() const;
-    // A picture: the reservation table (slots and ports by cycle, ops by class) above the register
-    // lifetimes on a cycle axis marked every II (sched/src/loop_svg.cpp).
+    // A picture: the reservation table (slots and ports by cycle, ops coloured by class, or by
+    // iteration stage when the table has stages) above the register lifetimes on a cycle axis
+    // marked every II (sched/src/loop_svg.cpp).
     std::string svg() const;
 };
 

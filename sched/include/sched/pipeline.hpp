@@ -115,6 +115,10 @@ struct LoopSummary {
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0, stages = 0, unroll = 1;
     std::optional<TripChoice> trip; // with `.trip`
     std::string json() const;       // one object; `trip` null without .trip
+    // The schedule as a picture (`nesshi pipeline --svg`): the modulo reservation table, ops
+    // coloured by iteration stage, with the register ports per row, above the virtual registers'
+    // lifetimes (LoopReport::svg draws it).
+    std::string svg;
 };
 
 struct PipelineResult {
