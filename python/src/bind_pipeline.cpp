@@ -10,6 +10,9 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include <string>
+#include <vector>
+
 namespace nesshi::python {
 namespace {
 
@@ -60,6 +63,12 @@ void bind_pipeline(py::module_& m) {
             return out;
         }, "each .pipeline region, in file order, as nesshi pipeline --json writes it (II, bounds, stages, unroll, and "
            "with .trip the whole-run cycles the schedule was chosen by)")
+        .def_property_readonly("svgs", [](const Pipelined& p) {
+            std::vector<std::string> out;
+            for (const sched::LoopSummary& l : p.r.loops) out.push_back(l.svg);
+            return out;
+        }, "each region's schedule as a picture (SVG text), as nesshi pipeline --svg draws it: the modulo reservation "
+           "table with its ops coloured by iteration stage, and the lifetimes")
         .def_property_readonly("verification", [](const Pipelined& p) { return p.verification; }, "what was checked, as the report says")
         .def_property_readonly("report", [](const Pipelined& p) { return p.r.report; }, "the report block, as text")
         .def_property_readonly("code", [](const Pipelined& p) { return p.text(); },

@@ -41,3 +41,12 @@ def test_regions_as_data_equal_the_command_line_json(source, tmp_path):
     assert status == 0, err
     assert r.regions == json.loads((tmp_path / "r.json").read_text())
     assert r.regions[0]["trip"] is not None
+
+
+def test_the_schedule_picture_equals_the_command_line(source, tmp_path):
+    sa = source / "examples/linear/livermore1.sa"
+    r = nesshi.pipeline(sa, verify=False)
+    status, _, err = cli("pipeline", sa, "--no-verify", "-q", "-o", tmp_path / "l1.s", "--svg", tmp_path / "l1.svg")
+    assert status == 0, err
+    assert r.svgs == [(tmp_path / "l1.svg").read_text()]
+    assert "iteration stage" in r.svgs[0]
