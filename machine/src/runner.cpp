@@ -244,7 +244,7 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
 // The candidate busy for the fewest cycles (the first on a tie: the committed kernel, then the
 // sources in candidate_sources order): on the scene's sampled visits when there is a sample, else
 // on the kernel workloads. Its build says which it is and what the others cost.
-Scheduled choose(const Candidates& c, const SceneSample* scene) {
+Scheduled choose(const Candidates& c, const LazySceneSample* scene) {
     if (c.failed) return *c.failed;
     const std::vector<Candidate>& all = c.all;
     if (all.size() == 1) {
@@ -253,7 +253,7 @@ Scheduled choose(const Candidates& c, const SceneSample* scene) {
         return out;
     }
     std::vector<std::uint64_t> cycles;
-    for (const Candidate& k : all) cycles.push_back(scene ? sample_busy_cycles(k.prog, *scene) : k.cycles);
+    for (const Candidate& k : all) cycles.push_back(scene ? sample_busy_cycles(k.prog, scene->get()) : k.cycles);
     const std::size_t best = static_cast<std::size_t>(std::min_element(cycles.begin(), cycles.end()) - cycles.begin());
     auto others = [&](const std::vector<std::uint64_t>& n) {
         std::string o;
@@ -266,7 +266,7 @@ Scheduled choose(const Candidates& c, const SceneSample* scene) {
         std::vector<std::uint64_t> workloads;
         for (const Candidate& k : all) workloads.push_back(k.cycles);
         why = fmt::format("{} busy cycles on this scene's sample ({}) against {}; on the kernel workloads {} against {}",
-                          cycles[best], scene->what(), others(cycles), workloads[best], others(workloads));
+                          cycles[best], scene->get().what(), others(cycles), workloads[best], others(workloads));
     } else {
         why = fmt::format("{} busy cycles on the kernel workloads against {}", cycles[best], others(cycles));
     }
@@ -279,7 +279,7 @@ Scheduled choose(const Candidates& c, const SceneSample* scene) {
 } // namespace
 
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
-                                                    const isa::Machine& given, KernelBuild* build, const SceneSample* scene) {
+                                                    const isa::Machine& given, KernelBuild* build, const LazySceneSample* scene) {
     const isa::Machine& m = canonical(given);
     KernelBuild b;
     b.machine = m.name;

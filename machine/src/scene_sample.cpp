@@ -100,6 +100,11 @@ std::string SceneSample::what() const {
     return fmt::format("{} visits by the rays of {} pixel corners", visits.size(), corners);
 }
 
+const SceneSample& LazySceneSample::get() const {
+    if (!sample_) sample_ = sample_scene(*prep_, *opt_);
+    return *sample_;
+}
+
 SceneSample sample_scene(const rt::PreparedScene& prep, const rt::RenderOptions& opt, int raster) {
     const int W = std::max(1, opt.width), H = std::max(1, opt.height);
     const rt::Camera cam(prep.scene.view, W, H);

@@ -23,7 +23,7 @@
 
 namespace nesshi::machine {
 
-struct SceneSample; // machine/scene_sample.hpp
+class LazySceneSample; // machine/scene_sample.hpp
 
 // Assembles kernel `path` of `sources` ("os/dda.s") for machine `m`; its .include of
 // "../abi.inc" resolves inside `sources`. When `m` is not the preset the kernel was scheduled for
@@ -33,12 +33,12 @@ struct SceneSample; // machine/scene_sample.hpp
 // A machine that is a preset under another name (Machine::same_as) is that preset: its kernels,
 // compiled runs and statistics. When more than one kernel is a candidate on `m` (the sources
 // scheduled for m, the committed kernel if legal on it), the one busy for the fewest cycles is
-// kept: on `scene`'s sampled visits when given (an IC kernel for one render), else on the kernel
-// report's workloads.
+// kept: on `scene`'s sampled visits when given (an IC kernel for one render; traced only then),
+// else on the kernel report's workloads.
 // Throws std::runtime_error with the diagnostics.
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const isa::Machine& m, KernelBuild* build = nullptr,
-                                                    const SceneSample* scene = nullptr);
+                                                    const LazySceneSample* scene = nullptr);
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const std::string& machine);
 

@@ -4,7 +4,7 @@
 // candidates on it and keeps the fastest for the scene: lists of one or two shapes and lists of
 // forty favour different kernels on the same machine.
 //
-//   const machine::SceneSample s = machine::sample_scene(prep, opt);
+//   const machine::SceneSample s = machine::sample_scene(prep, opt);   // or LazySceneSample, traced when asked
 //   std::uint64_t busy = machine::sample_busy_cycles(prog, s);
 #pragma once
 
@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,19 @@ struct SceneSample {
     std::size_t corners = 0;                        // pixel corners whose ray trees were traced
     // "2,345 visits by the rays of 289 pixel corners"
     std::string what() const;
+};
+
+// A scene's sample traced the first time a kernel choice asks for it: a preset's kernel, one
+// candidate, never does (the trace costs tens of milliseconds on the SPD scenes).
+class LazySceneSample {
+  public:
+    LazySceneSample(const rt::PreparedScene& prep, const rt::RenderOptions& opt) : prep_(&prep), opt_(&opt) {}
+    const SceneSample& get() const;
+
+  private:
+    const rt::PreparedScene* prep_;
+    const rt::RenderOptions* opt_;
+    mutable std::optional<SceneSample> sample_;
 };
 
 // Corners on a raster of at most `raster` x `raster` over the image (every corner of a smaller
