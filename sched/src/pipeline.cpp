@@ -669,9 +669,13 @@ int rec_mii(const Graph& g) { return recurrence_mii(static_cast<int>(g.nodes.siz
 // The circuit that sets the RecMII, op by op with each edge's latency and why it is there, e.g.
 // "flw (line 11) -[2: true %x]-> fmul (line 12) ... : 9 cycles over 1 iteration"; "" when no
 // circuit binds above 1.
-std::string critical_circuit(const Graph& g, const Region& r, int rec) {
-    if (rec <= 1) return "";
-    const std::vector<int> circuit = positive_circuit(static_cast<int>(g.nodes.size()), dep_edges(g), rec - 1);
+// The edges (indices into g.edges) of a circuit that sets the RecMII `rec`; none when rec <= 1.
+std::vector<int> critical_edges(const Graph& g, int rec) {
+    if (rec <= 1) return {};
+    return positive_circuit(static_cast<int>(g.nodes.size()), dep_edges(g), rec - 1);
+}
+
+std::string critical_circuit(const Graph& g, const Region& r, const std::vector<int>& circuit) {
     if (circuit.empty()) return "";
     std::string out;
     int latency = 0, distance = 0;
@@ -690,10 +694,7 @@ std::string critical_circuit(const Graph& g, const Region& r, int rec) {
 // When the RecMII's circuit runs through memory edges between two base registers that may alias
 // (no `.noalias` for them), what declaring them apart would give: "`.noalias r1, r2` (if the
 // arrays never overlap) removes it: RecMII 1"; "" otherwise.
-std::string alias_hint(const Graph& g, int rec) {
-    if (rec <= 1) return "";
-    const std::vector<DepEdge> edges = dep_edges(g);
-    const std::vector<int> circuit = positive_circuit(static_cast<int>(g.nodes.size()), edges, rec - 1);
+std::string alias_hint(const Graph& g, const std::vector<int>& circuit) {
     std::set<std::pair<int, int>> pairs;
     auto apart = [](const Edge& e) { return e.why.find(" may alias") != std::string::npos; };
     for (int k : circuit) {
@@ -703,6 +704,7 @@ std::string alias_hint(const Graph& g, int rec) {
         pairs.insert({std::min(a, b), std::max(a, b)});
     }
     if (pairs.empty()) return "";
+    const std::vector<DepEdge> edges = dep_edges(g);
     std::vector<DepEdge> kept; // every edge but the memory ones between those bases
     for (std::size_t k = 0; k < g.edges.size(); ++k) {
         const Edge& e = g.edges[k];
@@ -1991,23 +1993,35 @@ isa::ObjectFile assemble_or_fail(const std::string& text, std::string_view file,
     return res.object;
 }
 
-std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const isa::Machine& m) {
-    std::string o = "#   modulo reservation table (cycle mod II: operations [stage])\n";
+// Each row of the II as data: its ops with the slots they issue in (isa::assign_slots, as the
+// emitter bundles them), mnemonic, class and stage; the loop control (counter, branch) in no stage.
+// The report's table and the picture are both drawn from it.
+std::vector<TableRow> schedule_rows(const Graph& g, const Region& r, const Schedule& s, const isa::Machine& m) {
+    std::vector<TableRow> rows(static_cast<std::size_t>(s.ii));
     for (int row = 0; row < s.ii; ++row) {
         std::vector<isa::Instr> ops;
-        std::vector<std::string> names;
+        std::vector<std::pair<std::string, int>> names; // mnemonic, stage
         for (std::size_t k = 0; k < g.nodes.size(); ++k)
-            if (s.time[k] % s.ii == row) {
-                ops.push_back(g.nodes[k].instr);
-                names.push_back(fmt::format("{}[{}]", r.ops[k].mnemonic, s.time[k] / s.ii));
-            }
-        if (s.loop_control && row == s.counter_row) ops.push_back(s.counter), names.push_back("addi(counter)");
-        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back("bnez(loop)");
+            if (s.time[k] % s.ii == row) ops.push_back(g.nodes[k].instr), names.push_back({r.ops[k].mnemonic, s.time[k] / s.ii});
+        if (s.loop_control && row == s.counter_row) ops.push_back(s.counter), names.push_back({"addi", -1});
+        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back({"bnez", -1});
         std::vector<int> pinned(ops.size(), -1);
         isa::assign_slots(m, ops, pinned);
-        std::string cells;
         for (std::size_t k = 0; k < ops.size(); ++k)
-            cells += fmt::format(" {}:{}", m.slots[ops[k].slot].name, names[k]);
+            rows[static_cast<std::size_t>(row)].ops.push_back(
+                {m.slots[ops[k].slot].name, names[k].first,
+                 std::string(isa::kOpClassNames[static_cast<std::size_t>(ops[k].info().cls)]), names[k].second});
+    }
+    return rows;
+}
+
+std::string mrt_text(const std::vector<TableRow>& rows) {
+    std::string o = "#   modulo reservation table (cycle mod II: operations [stage])\n";
+    for (std::size_t row = 0; row < rows.size(); ++row) {
+        std::string cells;
+        for (const TableRow::Op& op : rows[row].ops)
+            cells += op.stage >= 0 ? fmt::format(" {}:{}[{}]", op.slot, op.op, op.stage)
+                                   : fmt::format(" {}:{}({})", op.slot, op.op, op.op == "bnez" ? "loop" : "counter");
         o += fmt::format("#   {:>3} |{}\n", row, cells);
     }
     return o;
@@ -2016,8 +2030,9 @@ std::string mrt_text(const Graph& g, const Region& r, const Schedule& s, const i
 // The schedule as LoopReport draws it: each row of the II with its ops (slot, mnemonic, class,
 // stage; loop control in no stage) and the register ports they use (reads at issue, writes where
 // they land, mod II), and each virtual register's lifetime from its definition.
-LoopReport schedule_picture(const Graph& g, const Region& r, const Schedule& s, const std::vector<int>& lifetime,
-                            const isa::Machine& m, std::string_view filename, const std::string& verdict) {
+LoopReport schedule_picture(const Graph& g, const Region& r, const Schedule& s, std::vector<TableRow> rows,
+                            const std::vector<int>& lifetime, const isa::Machine& m, std::string_view filename,
+                            const std::string& verdict) {
     LoopReport p;
     p.label = r.is_while ? "software-pipelined while" : "software-pipelined";
     p.source = fmt::format("{}:{}", filename, r.begin + 1);
@@ -2030,33 +2045,16 @@ LoopReport schedule_picture(const Graph& g, const Region& r, const Schedule& s, 
         p.write_ports[f] = m.regs[static_cast<std::size_t>(f)].write_ports;
         p.file_size[f] = m.regs[static_cast<std::size_t>(f)].count;
     }
-    p.table.resize(static_cast<std::size_t>(s.ii));
-    auto land = [&](const isa::Instr& in, int issue) {
+    p.table = std::move(rows);
+    auto land = [&](const isa::Instr& in, int issue) { // reads at issue, writes where they land, mod II
         for (const isa::RegOperand& o : isa::register_operands(in))
             ++(o.write ? p.table[static_cast<std::size_t>((issue + static_cast<int>(m.latency_of(in.info()))) % s.ii)].writes
                        : p.table[static_cast<std::size_t>(issue % s.ii)].reads)[static_cast<int>(o.file)];
     };
-    for (int row = 0; row < s.ii; ++row) {
-        std::vector<isa::Instr> ops;
-        std::vector<std::pair<std::string, int>> names; // mnemonic, stage
-        for (std::size_t k = 0; k < g.nodes.size(); ++k)
-            if (s.time[k] % s.ii == row) {
-                ops.push_back(g.nodes[k].instr);
-                names.push_back({r.ops[k].mnemonic, s.time[k] / s.ii});
-                land(g.nodes[k].instr, s.time[k]);
-            }
-        if (s.loop_control && row == s.counter_row) {
-            isa::Instr c = s.counter;
-            ops.push_back(c), names.push_back({"addi", -1});
-            land(c, row);
-        }
-        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back({"bnez", -1}), land(s.branch, row);
-        std::vector<int> pinned(ops.size(), -1);
-        isa::assign_slots(m, ops, pinned);
-        for (std::size_t k = 0; k < ops.size(); ++k)
-            p.table[static_cast<std::size_t>(row)].ops.push_back(
-                {m.slots[ops[k].slot].name, names[k].first,
-                 std::string(isa::kOpClassNames[static_cast<std::size_t>(ops[k].info().cls)]), names[k].second});
+    for (std::size_t k = 0; k < g.nodes.size(); ++k) land(g.nodes[k].instr, s.time[k]);
+    if (s.loop_control) {
+        land(s.counter, s.counter_row);
+        land(s.branch, s.ii - 1);
     }
     p.ops = static_cast<int>(g.nodes.size()) + (s.loop_control ? 2 : 0);
     std::vector<int> live[2] = {std::vector<int>(static_cast<std::size_t>(s.ii), 0), std::vector<int>(static_cast<std::size_t>(s.ii), 0)};
@@ -2655,9 +2653,10 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     else
         rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
     rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
-    const std::string circuit = critical_circuit(g, r, res.rec_mii);
+    const std::vector<int> critical = critical_edges(g, res.rec_mii);
+    const std::string circuit = critical_circuit(g, r, critical);
     rep += fmt::format("#   recurrence bound (RecMII)  {}{}\n", res.rec_mii, circuit.empty() ? "" : "  (" + circuit + ")");
-    if (const std::string hint = alias_hint(g, res.rec_mii); !hint.empty()) rep += "#     " + hint + "\n";
+    if (const std::string hint = alias_hint(g, critical); !hint.empty()) rep += "#     " + hint + "\n";
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
     if (!tried.empty()) {
@@ -2694,10 +2693,11 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         for (const std::string& s : alloc.regs[v]) regs += (regs.empty() ? "" : " ") + s;
         rep += fmt::format("#   {:<10} lifetime {:>3} cycles -> {}\n", r.virtuals[v].name, alloc.lifetime[v], regs);
     }
-    rep += mrt_text(g, r, *sched, m);
+    std::vector<TableRow> rows = schedule_rows(g, r, *sched, m);
+    rep += mrt_text(rows);
     res.report = rep;
     {
-        LoopReport picture = schedule_picture(g, r, *sched, alloc.lifetime, m, filename,
+        LoopReport picture = schedule_picture(g, r, *sched, std::move(rows), alloc.lifetime, m, filename,
                                               res.ii == res.mii ? "at the bound" : fmt::format("{} above the MII", res.ii - res.mii));
         picture.res_mii = res.res_mii;
         picture.rec_mii = res.rec_mii;
