@@ -58,4 +58,20 @@ double axis_step(double max) {
     return 10 * p;
 }
 
+std::string csv_field(std::uint64_t v, bool present) { return present ? std::to_string(v) : std::string(); }
+std::string csv_field(double v, bool present) { return present ? fmt::format("{}", v) : std::string(); }
+std::string csv_flag(bool b) { return b ? "1" : "0"; }
+
+void add_published_csv(std::vector<std::string>& row, const Published* p) {
+    row.push_back(p ? csv_field(p->value) : "");
+    row.push_back(p ? csv_flag(p->reconstructed) : "");
+    row.push_back(p ? csv_flag(p->approximate) : "");
+}
+
+void add_published_csv_header(std::vector<std::string>& header, const std::string& name) {
+    header.push_back(name);
+    header.push_back(name + "_reconstructed");
+    header.push_back(name + "_approximate");
+}
+
 } // namespace nesshi::paper

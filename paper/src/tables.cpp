@@ -24,23 +24,6 @@ void add_scaled_header(const PaperData& d, std::vector<std::string>& header, std
     for (const char* n : names) header.push_back(fmt::format("{} {}", n, format_scale(d.size)));
 }
 
-// Plain CSV fields: cycles as integers, other numbers with every digit that round-trips, "" when
-// missing, flags as 0/1.
-std::string field(std::uint64_t v, bool present) { return present ? std::to_string(v) : std::string(); }
-std::string field(double v, bool present = true) { return present ? fmt::format("{}", v) : std::string(); }
-std::string flag(bool b) { return b ? "1" : "0"; }
-// A published value as three columns: value, reconstructed (* in PAPER.md), approximate (≈).
-void add_published(std::vector<std::string>& row, const Published* p) {
-    row.push_back(p ? field(p->value) : "");
-    row.push_back(p ? flag(p->reconstructed) : "");
-    row.push_back(p ? flag(p->approximate) : "");
-}
-void add_published_header(std::vector<std::string>& h, const char* name) {
-    h.push_back(name);
-    h.push_back(std::string(name) + "_reconstructed");
-    h.push_back(std::string(name) + "_approximate");
-}
-
 Table start(const PaperData& d, std::string title, std::vector<std::string> header) {
     Table t;
     t.title = std::move(title);
@@ -77,10 +60,10 @@ Table table2(const PaperData& d) {
             std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
             for (std::uint64_t x : {c.os.processing, c.ic.processing, c.sc.processing, c.os.communication,
                                     c.ic.communication, c.sc.communication, c.os.wait, c.ic.wait, c.sc.wait})
-                tidy.push_back(field(x, v));
-            for (double x : {ps ? ps->os : 0, ps ? ps->ic : 0, ps ? ps->sc : 0}) tidy.push_back(field(x, ps));
+                tidy.push_back(csv_field(x, v));
+            for (double x : {ps ? ps->os : 0, ps ? ps->ic : 0, ps ? ps->sc : 0}) tidy.push_back(csv_field(x, ps));
             for (int x : ps ? ps->ratio : std::array<int, 3>{}) tidy.push_back(ps ? std::to_string(x) : "");
-            tidy.push_back(ps ? flag(ps->ratio_suspect) : "");
+            tidy.push_back(ps ? csv_flag(ps->ratio_suspect) : "");
             t.csv_rows.push_back(std::move(tidy));
             if (const PublishedStages* p = ps) {
                 for (double x : {p->os, p->ic, p->sc}) row.push_back(fmt::format("{:.0f}", x));
@@ -108,7 +91,7 @@ Table table3(const PaperData& d) {
         t.header.push_back(h);
     t.csv_header = {"scene", "grid", "size", "s_cycles", "m_cycles", "v_cycles", "s_over_m", "m_over_v", "s_over_v"};
     for (const char* h : {"paper_s_m512", "paper_m_m512", "paper_v_m512", "paper_s_over_m", "paper_m_over_v", "paper_s_over_v"})
-        add_published_header(t.csv_header, h);
+        add_published_csv_header(t.csv_header, h);
     for (const std::string& scene : d.scenes)
         for (int g : d.grids) {
             const CellRecord* m = d.find(scene, g, machine::Model::M);
@@ -128,15 +111,15 @@ Table table3(const PaperData& d) {
             row.push_back(has_s ? format_quotient(s_t, v_t) : kMissing);
             const PublishedTimes* pt = find_published_times(paper_scene(scene), g);
             std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
-            tidy.push_back(field(m ? s_time(*m) : 0, has_s));
-            tidy.push_back(field(m ? m->total : 0, has_m));
-            tidy.push_back(field(v ? v->total : 0, v != nullptr));
-            tidy.push_back(field(s_t / m_t, has_s && has_m && m_t > 0));
-            tidy.push_back(field(m_t / v_t, has_m && v && v_t > 0));
-            tidy.push_back(field(s_t / v_t, has_s && v && v_t > 0));
+            tidy.push_back(csv_field(m ? s_time(*m) : 0, has_s));
+            tidy.push_back(csv_field(m ? m->total : 0, has_m));
+            tidy.push_back(csv_field(v ? v->total : 0, v != nullptr));
+            tidy.push_back(csv_field(s_t / m_t, has_s && has_m && m_t > 0));
+            tidy.push_back(csv_field(m_t / v_t, has_m && v && v_t > 0));
+            tidy.push_back(csv_field(s_t / v_t, has_s && v && v_t > 0));
             for (const Published* x : {pt ? &pt->s : nullptr, pt ? &pt->m : nullptr, pt ? &pt->v : nullptr,
                                        pt ? &pt->s_over_m : nullptr, pt ? &pt->m_over_v : nullptr, pt ? &pt->s_over_v : nullptr})
-                add_published(tidy, x);
+                add_published_csv(tidy, x);
             t.csv_rows.push_back(std::move(tidy));
             if (const PublishedTimes* p = pt) {
                 for (const Published& x : {p->s, p->m, p->v, p->s_over_m, p->m_over_v, p->s_over_v})
@@ -152,80 +135,60 @@ Table table3(const PaperData& d) {
     return t;
 }
 
+// Table 4's metrics, once: the Markdown name, the CSV name, what it is of our cells (a stage's
+// count in M over V, or a figure of V's), and the paper's range for it.
+struct VliwMetric {
+    const char* name;
+    const char* csv;
+    const StageRecord CellRecord::*stage;
+    std::uint64_t StageRecord::*count; // M over V of this; nullptr: `value` of V
+    double StageRecord::*value;
+    PublishedRange PublishedVliw::*paper;
+};
+const VliwMetric kVliwMetrics[] = {
+    {"OS proc M/V", "os_processing_m_over_v", &CellRecord::os, &StageRecord::processing, nullptr, &PublishedVliw::os_processing},
+    {"OS comm M/V", "os_communication_m_over_v", &CellRecord::os, &StageRecord::communication, nullptr, &PublishedVliw::os_communication},
+    {"IC proc M/V", "ic_processing_m_over_v", &CellRecord::ic, &StageRecord::processing, nullptr, &PublishedVliw::ic_processing},
+    {"IC comm M/V", "ic_communication_m_over_v", &CellRecord::ic, &StageRecord::communication, nullptr, &PublishedVliw::ic_communication},
+    {"OS ILP", "os_ilp", &CellRecord::os, nullptr, &StageRecord::ilp, &PublishedVliw::os_ilp},
+    {"IC ILP", "ic_ilp", &CellRecord::ic, nullptr, &StageRecord::ilp, &PublishedVliw::ic_ilp},
+    {"OS util", "os_utilization", &CellRecord::os, nullptr, &StageRecord::utilization, &PublishedVliw::os_utilization},
+    {"IC util", "ic_utilization", &CellRecord::ic, nullptr, &StageRecord::utilization, &PublishedVliw::ic_utilization},
+};
+
 Table table4(const PaperData& d) {
     Table t = start(d, "Table 4: VLIW against sequential stages (model V against M)", {"scene", "grid"});
-    const char* metrics[] = {"OS proc M/V", "OS comm M/V", "IC proc M/V", "IC comm M/V",
-                             "OS ILP",      "IC ILP",      "OS util",     "IC util"};
-    const char* tidy_names[] = {"os_processing_m_over_v", "os_communication_m_over_v", "ic_processing_m_over_v",
-                                "ic_communication_m_over_v", "os_ilp", "ic_ilp", "os_utilization", "ic_utilization"};
-    for (const char* m : metrics) {
-        t.header.push_back(m);
-        t.header.push_back(fmt::format("paper {}", m));
-    }
     t.csv_header = {"scene", "grid", "size"};
-    for (const char* n : tidy_names) {
-        t.csv_header.push_back(n);
-        t.csv_header.push_back(fmt::format("paper_{}_lo", n));
-        t.csv_header.push_back(fmt::format("paper_{}_hi", n));
+    for (const VliwMetric& k : kVliwMetrics) {
+        t.header.push_back(k.name);
+        t.header.push_back(fmt::format("paper {}", k.name));
+        t.csv_header.push_back(k.csv);
+        t.csv_header.push_back(fmt::format("paper_{}_lo", k.csv));
+        t.csv_header.push_back(fmt::format("paper_{}_hi", k.csv));
     }
     for (const std::string& scene : d.scenes)
         for (int g : d.grids) {
             const CellRecord* m = d.find(scene, g, machine::Model::M);
             const CellRecord* v = d.find(scene, g, machine::Model::V);
-            auto quotient = [&](const StageRecord CellRecord::*stage, std::uint64_t StageRecord::*field) {
-                return m && v ? format_quotient(as_double((m->*stage).*field), as_double((v->*stage).*field))
-                              : kMissing;
-            };
-            auto of_v = [&](const StageRecord CellRecord::*stage, double StageRecord::*field) {
-                return v ? fmt::format("{:.2f}", (v->*stage).*field) : kMissing;
-            };
-            const std::string ours[] = {quotient(&CellRecord::os, &StageRecord::processing),
-                                        quotient(&CellRecord::os, &StageRecord::communication),
-                                        quotient(&CellRecord::ic, &StageRecord::processing),
-                                        quotient(&CellRecord::ic, &StageRecord::communication),
-                                        of_v(&CellRecord::os, &StageRecord::ilp),
-                                        of_v(&CellRecord::ic, &StageRecord::ilp),
-                                        of_v(&CellRecord::os, &StageRecord::utilization),
-                                        of_v(&CellRecord::ic, &StageRecord::utilization)};
-            auto q = [&](const StageRecord CellRecord::*stage, std::uint64_t StageRecord::*field_of) {
-                const double den = v ? as_double((v->*stage).*field_of) : 0;
-                return field(m && v ? as_double((m->*stage).*field_of) / den : 0, m && v && den > 0);
-            };
-            auto plain_v = [&](const StageRecord CellRecord::*stage, double StageRecord::*field_of) {
-                return field(v ? (v->*stage).*field_of : 0, v != nullptr);
-            };
-            const std::string ours_tidy[] = {q(&CellRecord::os, &StageRecord::processing),
-                                             q(&CellRecord::os, &StageRecord::communication),
-                                             q(&CellRecord::ic, &StageRecord::processing),
-                                             q(&CellRecord::ic, &StageRecord::communication),
-                                             plain_v(&CellRecord::os, &StageRecord::ilp),
-                                             plain_v(&CellRecord::ic, &StageRecord::ilp),
-                                             plain_v(&CellRecord::os, &StageRecord::utilization),
-                                             plain_v(&CellRecord::ic, &StageRecord::utilization)};
-            const PublishedVliw* pv = find_published_vliw(paper_scene(scene));
-            const PublishedRange* ranges[] = {pv ? &pv->os_processing : nullptr,  pv ? &pv->os_communication : nullptr,
-                                              pv ? &pv->ic_processing : nullptr,  pv ? &pv->ic_communication : nullptr,
-                                              pv ? &pv->os_ilp : nullptr,         pv ? &pv->ic_ilp : nullptr,
-                                              pv ? &pv->os_utilization : nullptr, pv ? &pv->ic_utilization : nullptr};
-            std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
-            for (std::size_t i = 0; i < std::size(ours_tidy); ++i) {
-                tidy.push_back(ours_tidy[i]);
-                tidy.push_back(ranges[i] ? field(ranges[i]->lo) : "");
-                tidy.push_back(ranges[i] ? field(ranges[i]->hi) : "");
-            }
-            t.csv_rows.push_back(std::move(tidy));
-            std::vector<std::string> theirs(std::size(ours), kMissing);
-            if (const PublishedVliw* p = pv)
-                theirs = {format_range(p->os_processing),  format_range(p->os_communication),
-                          format_range(p->ic_processing),  format_range(p->ic_communication),
-                          format_range(p->os_ilp),         format_range(p->ic_ilp),
-                          format_range(p->os_utilization), format_range(p->ic_utilization)};
+            const PublishedVliw* p = find_published_vliw(paper_scene(scene));
             std::vector<std::string> row = {scene, std::to_string(g)};
-            for (std::size_t i = 0; i < std::size(ours); ++i) {
-                row.push_back(ours[i]);
-                row.push_back(theirs[i]);
+            std::vector<std::string> tidy = {scene, std::to_string(g), std::to_string(d.size)};
+            for (const VliwMetric& k : kVliwMetrics) {
+                if (k.count) {
+                    const double num = m ? as_double((m->*k.stage).*k.count) : 0, den = v ? as_double((v->*k.stage).*k.count) : 0;
+                    row.push_back(m && v ? format_quotient(num, den) : kMissing);
+                    tidy.push_back(csv_field(num / den, m && v && den > 0));
+                } else {
+                    const double x = v ? (v->*k.stage).*k.value : 0;
+                    row.push_back(v ? fmt::format("{:.2f}", x) : kMissing);
+                    tidy.push_back(csv_field(x, v != nullptr));
+                }
+                row.push_back(p ? format_range(p->*k.paper) : kMissing);
+                tidy.push_back(p ? csv_field((p->*k.paper).lo) : "");
+                tidy.push_back(p ? csv_field((p->*k.paper).hi) : "");
             }
             t.rows.push_back(std::move(row));
+            t.csv_rows.push_back(std::move(tidy));
         }
     t.notes.insert(t.notes.begin(),
                    "proc/comm M/V: the stage's processing (communication) cycles in model M over model V. ILP: "

@@ -35,8 +35,8 @@ Table versus_table(const VersusRun& a, const VersusRun& b) {
         for (const VersusRun* r : {&a, &b}) t.header.push_back(fmt::format("{} ILP {}", stage, r->name));
     t.header.push_back("paper M/V");
     // The CSV is long: a row per scene, grid and run, named in its `run` column.
-    t.csv_header = {"scene", "grid", "size", "run", "m_cycles", "v_cycles", "m_over_v", "os_ilp", "ic_ilp",
-                    "paper_m_over_v", "paper_m_over_v_reconstructed", "paper_m_over_v_approximate"};
+    t.csv_header = {"scene", "grid", "size", "run", "m_cycles", "v_cycles", "m_over_v", "os_ilp", "ic_ilp"};
+    add_published_csv_header(t.csv_header, "paper_m_over_v");
     auto cell = [](const VersusRun& r, const std::string& scene, int g, machine::Model m) {
         const CellRecord* c = r.data.find(scene, g, m);
         if (!c)
@@ -58,14 +58,13 @@ Table versus_table(const VersusRun& a, const VersusRun& b) {
             const PublishedTimes* p = find_published_times(paper_scene(scene), g);
             row.push_back(p ? format_published(p->m_over_v) : kMissing);
             t.rows.push_back(std::move(row));
-            for (auto [r, m, v] : {std::tuple{&a, am, av}, std::tuple{&b, bm, bv}})
+            for (auto [r, m, v] : {std::tuple{&a, am, av}, std::tuple{&b, bm, bv}}) {
                 t.csv_rows.push_back({scene, std::to_string(g), std::to_string(a.data.size), r->name,
                                       std::to_string(m->total), std::to_string(v->total),
-                                      fmt::format("{}", static_cast<double>(m->total) / static_cast<double>(v->total)),
-                                      fmt::format("{}", v->os.ilp), fmt::format("{}", v->ic.ilp),
-                                      p ? fmt::format("{}", p->m_over_v.value) : "",
-                                      p ? (p->m_over_v.reconstructed ? "1" : "0") : "",
-                                      p ? (p->m_over_v.approximate ? "1" : "0") : ""});
+                                      csv_field(static_cast<double>(m->total) / static_cast<double>(v->total)),
+                                      csv_field(v->os.ilp), csv_field(v->ic.ilp)});
+                add_published_csv(t.csv_rows.back(), p ? &p->m_over_v : nullptr);
+            }
         }
     t.notes.push_back(kReconstructedNote);
     return t;
