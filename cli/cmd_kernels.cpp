@@ -1,4 +1,4 @@
-// `nesshi kernels`: the cycle report of the hand-scheduled kernels measured on the ISS
+// `nesshi kernels`: the cycle report of the kernels (built for each machine) measured on the ISS
 // (machine/kernel_report.hpp holds the measurements, the paper's figures and the goals).
 #include "commands.hpp"
 #include "errors.hpp"
@@ -16,7 +16,7 @@
 namespace nesshi::cli {
 
 void add_kernels(CLI::App& app) {
-    auto* cmd = app.add_subcommand("kernels", "Cycle report of the hand-scheduled kernels (measured on the ISS)");
+    auto* cmd = app.add_subcommand("kernels", "Cycle report of the kernels as built for each machine (measured on the ISS)");
     auto json = std::make_shared<std::string>();
     auto dir = std::make_shared<std::string>();
     cmd->add_option("--json", *json, "Also write the table as JSON to FILE ('-': the JSON on stdout, the table on stderr)");

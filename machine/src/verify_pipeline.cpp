@@ -12,11 +12,11 @@ namespace {
 
 constexpr int kWhileRuns = 64; // random data sets for a while loop: each exits somewhere else
 
-std::string verify_while_loop(std::string_view text, const std::string& filename, const isa::Machine& m,
-                              const sched::PipelineOptions& po, iss::DiffOptions d, const sched::PipelineResult& r) {
+std::string verify_while_loop(const std::string& filename, const isa::Machine& m, iss::DiffOptions d,
+                              const sched::PipelineResult& r) {
     d.observe = {r.iteration_register};
     const sched::WhileVerification v = sched::verify_while(
-        text, filename, m, po, kWhileRuns,
+        r, filename, m, kWhileRuns,
         [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip, std::uint64_t seed, std::uint32_t& exits) {
             iss::DiffOptions o = d;
             o.seed = seed;
@@ -32,13 +32,12 @@ std::string verify_while_loop(std::string_view text, const std::string& filename
                        "iterations; {} of its {} exit paths taken", kWhileRuns, exits, v.paths.size(), v.path_count);
 }
 
-std::string verify_loop(std::string_view text, const std::string& filename, const isa::Machine& m,
-                        const sched::PipelineOptions& po, const sched::PipelineResult& r) {
+std::string verify_loop(const std::string& filename, const isa::Machine& m, const sched::PipelineResult& r) {
     iss::DiffOptions d;
     d.registers = r.source_registers;
-    if (r.is_while) return verify_while_loop(text, filename, m, po, d, r);
+    if (r.is_while) return verify_while_loop(filename, m, d, r);
     const std::vector<std::uint32_t> trips = sched::verification_trips(r);
-    const auto diff = sched::verify(text, filename, m, po, trips, [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip) {
+    const auto diff = sched::verify(r, filename, m, trips, [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip) {
         return iss::run_differential(lin, pip, m, d);
     });
     if (diff) throw base::Error(base::SourceLoc(filename), fmt::format("verification failed: {}", *diff));
@@ -51,13 +50,13 @@ std::string verify_loop(std::string_view text, const std::string& filename, cons
 
 std::string verify_pipeline(std::string_view text, const std::string& filename, const isa::Machine& m,
                             const sched::PipelineOptions& po, const sched::PipelineResult& r) {
-    if (r.regions == 1) return verify_loop(text, filename, m, po, r);
+    if (r.regions == 1) return verify_loop(filename, m, r);
     std::string verdict;
     for (int k = 0; k < r.regions; ++k) { // one region at a time, the others sequential
         sched::PipelineOptions one = po;
         one.region = k;
         verdict += fmt::format("{}region {}: {}", k ? "; " : "", k + 1,
-                               verify_loop(text, filename, m, one, sched::pipeline_source(text, filename, m, one)));
+                               verify_loop(filename, m, sched::pipeline_source(text, filename, m, one)));
     }
     return verdict;
 }

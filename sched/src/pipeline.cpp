@@ -720,6 +720,53 @@ std::string alias_hint(const Graph& g, const std::vector<int>& circuit) {
 
 // ---- modulo scheduling ------------------------------------------------------------------------
 
+// The registers of file `f` op x writes.
+int writes_to(const isa::Instr& x, int f) {
+    int c = 0;
+    for (const isa::RegOperand& o : isa::register_operands(x))
+        if (o.write && static_cast<int>(o.file) == f) ++c;
+    return c;
+}
+
+// Around the kernel's back edge a taken-branch bubble of b cycles delays the next pass, so the
+// writes still in flight from the last pass land b cycles earlier against the new pass's than
+// modulo II: a write landing at row + latency (from the pass start) meets, at cycle T, this
+// pass's writes landing at T (T >= land, T - land a multiple of II) and the last pass's at
+// land - b - T a positive multiple of II. Checked at the cycles `in` (at `row`) lands in either
+// way, against the ops of `rows` (each with its `ops`); with few kernel copies some of these
+// instances do not exist (conservative).
+template <class Rows>
+bool back_edge_ok(const isa::Machine& m, int ii, const Rows& rows, const isa::Instr& in, int row) {
+    const int b = static_cast<int>(m.branch_penalty);
+    if (b == 0) return true;
+    const int land_in = row + static_cast<int>(m.latency_of(in.info()));
+    for (int f = 0; f < isa::kNumRegFiles; ++f) {
+        const int w_in = writes_to(in, f);
+        if (w_in == 0) continue;
+        std::vector<std::pair<int, int>> lands{{land_in, w_in}}; // (land, writes) of every writer of f
+        int last = land_in;
+        for (int r = 0; r < ii; ++r)
+            for (const isa::Instr& other : rows[static_cast<std::size_t>(r)].ops)
+                if (const int w = writes_to(other, f); w > 0) {
+                    lands.push_back({r + static_cast<int>(m.latency_of(other.info())), w});
+                    last = std::max(last, lands.back().first);
+                }
+        auto meet_ok = [&](int at) {
+            int own = 0, old = 0;
+            for (const auto& [land, w] : lands) {
+                if (at >= land && (at - land) % ii == 0) own += w;
+                else if (land - b - at >= ii && (land - b - at) % ii == 0) old += w;
+            }
+            return own == 0 || static_cast<std::uint32_t>(own + old) <= m.regs[static_cast<std::size_t>(f)].write_ports;
+        };
+        for (int at = land_in; at < last; at += ii)
+            if (!meet_ok(at)) return false;
+        for (int at = land_in - b - ii; at >= 0; at -= ii)
+            if (!meet_ok(at)) return false;
+    }
+    return true;
+}
+
 struct Schedule {
     int ii = 0;
     std::vector<int> time;          // issue cycle of each node in the flat schedule (iteration 0)
@@ -755,7 +802,12 @@ class ModuloScheduler {
             if (counter_row < 0) return std::nullopt;
         }
         heights();
-        if (attempt_ > 0) { // perturb: a random order among ops of similar height
+        if (attempt_ >= kAttemptsPerII) { // critical ops first: the least slack, then the greatest height
+            const std::vector<int> slack = slacks();
+            std::mt19937 rng(static_cast<unsigned>(attempt_));
+            for (std::size_t i = 0; i < height_.size(); ++i)
+                height_[i] = (100000 - slack[i]) * 4096 + height_[i] * 4 + (attempt_ > kAttemptsPerII ? static_cast<int>(rng() % 6) : 0);
+        } else if (attempt_ > 0) { // perturb: a random order among ops of similar height
             std::mt19937 rng(static_cast<unsigned>(attempt_));
             for (int& h : height_) h = h * 4 + static_cast<int>(rng() % 6);
         }
@@ -822,20 +874,14 @@ class ModuloScheduler {
     bool landings_ok(const isa::Instr& in, int row) const {
         const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % ii_;
         for (int f = 0; f < isa::kNumRegFiles; ++f) {
-            auto writes_to = [&](const isa::Instr& x) {
-                int c = 0;
-                for (const isa::RegOperand& o : isa::register_operands(x))
-                    if (o.write && static_cast<int>(o.file) == f) ++c;
-                return c;
-            };
-            int count = writes_to(in);
+            int count = writes_to(in, f);
             if (count == 0) continue;
             for (int r = 0; r < ii_; ++r)
                 for (const isa::Instr& other : rows_[static_cast<std::size_t>(r)].ops)
-                    if ((r + static_cast<int>(m_.latency_of(other.info()))) % ii_ == land) count += writes_to(other);
+                    if ((r + static_cast<int>(m_.latency_of(other.info()))) % ii_ == land) count += writes_to(other, f);
             if (static_cast<std::uint32_t>(count) > m_.regs[static_cast<std::size_t>(f)].write_ports) return false;
         }
-        return true;
+        return back_edge_ok(m_, ii_, rows_, in, row);
     }
 
     bool induction_ok(int op, int t) const {
@@ -939,6 +985,30 @@ class ModuloScheduler {
         }
     }
 
+    // Each op's slack: the critical path (issue to issue) less the longest paths into it and out
+    // of it, at this II; 0 on a critical path.
+    std::vector<int> slacks() const {
+        const int n = static_cast<int>(g_.nodes.size());
+        std::vector<int> depth(static_cast<std::size_t>(n), 0);
+        for (int iter = 0; iter < n + 1; ++iter) {
+            bool changed = false;
+            for (const Edge& e : g_.edges) {
+                if (e.from == e.to) continue;
+                const int d = depth[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_;
+                if (d > depth[static_cast<std::size_t>(e.to)]) {
+                    depth[static_cast<std::size_t>(e.to)] = d;
+                    changed = true;
+                }
+            }
+            if (!changed) break;
+        }
+        int cp = 0;
+        for (int i = 0; i < n; ++i) cp = std::max(cp, depth[static_cast<std::size_t>(i)] + height_[static_cast<std::size_t>(i)]);
+        std::vector<int> slack(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) slack[static_cast<std::size_t>(i)] = cp - depth[static_cast<std::size_t>(i)] - height_[static_cast<std::size_t>(i)];
+        return slack;
+    }
+
     void heights() {
         const int n = static_cast<int>(g_.nodes.size());
         height_.assign(static_cast<std::size_t>(n), 0);
@@ -1039,28 +1109,20 @@ class ExactScheduler {
         return isa::check_bundle(m_, copy).empty();
     }
 
-    static int writes_to(const isa::Instr& x, int f) {
-        int c = 0;
-        for (const isa::RegOperand& o : isa::register_operands(x))
-            if (o.write && static_cast<int>(o.file) == f) ++c;
-        return c;
-    }
-
-    // Writes landing in one cycle, per file, within the ports: mod II (prologue and epilogue, no
-    // taken branch) and mod II + bubble (the kernel around its back edge).
+    // Writes landing in one cycle, per file, within the ports: mod II (prologue, epilogue and
+    // the kernel's copies, no taken branch) and, with the bubble's rules, around the kernel's
+    // back edge (back_edge_ok).
     bool landings_ok(const isa::Instr& in, int row) const {
-        for (const int period : periods()) {
-            const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % period;
-            for (int f = 0; f < isa::kNumRegFiles; ++f) {
-                int count = writes_to(in, f);
-                if (count == 0) continue;
-                for (int r = 0; r < ii_; ++r)
-                    for (const isa::Instr& other : rows_[static_cast<std::size_t>(r)].ops)
-                        if ((r + static_cast<int>(m_.latency_of(other.info()))) % period == land) count += writes_to(other, f);
-                if (static_cast<std::uint32_t>(count) > m_.regs[static_cast<std::size_t>(f)].write_ports) return false;
-            }
+        const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % ii_;
+        for (int f = 0; f < isa::kNumRegFiles; ++f) {
+            int count = writes_to(in, f);
+            if (count == 0) continue;
+            for (int r = 0; r < ii_; ++r)
+                for (const isa::Instr& other : rows_[static_cast<std::size_t>(r)].ops)
+                    if ((r + static_cast<int>(m_.latency_of(other.info()))) % ii_ == land) count += writes_to(other, f);
+            if (static_cast<std::uint32_t>(count) > m_.regs[static_cast<std::size_t>(f)].write_ports) return false;
         }
-        return true;
+        return !bubble_ || back_edge_ok(m_, ii_, rows_, in, row);
     }
 
     // Cycles from one stage to the next: II in straight-line code, II + the taken-branch bubble
@@ -1137,6 +1199,10 @@ class ExactScheduler {
 
     bool leaf() {
         for (int row = 0; row < ii_; ++row) {
+            // A table's check assembles the file (milliseconds, not a node's microseconds): the
+            // clock is read before each, or a run of leaves overran the budget tenfold.
+            if (Clock::now() >= deadline_) timed_out_ = true;
+            if (timed_out_) return false;
             if (!add(counter_, row, -1)) continue;
             Schedule s;
             s.ii = ii_;
@@ -1943,13 +2009,6 @@ std::string linear_while_loop(const Region& r, const std::vector<std::string>& p
     return o;
 }
 
-std::string force_trip_line(const Region& r, const PipelineOptions& opts, const isa::Machine& m) {
-    if (!opts.force_trip || r.is_while) return "";
-    std::string s = fmt::format("        li {}, {}\n", r.trip, *opts.force_trip);
-    for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]; ++k) s += "        nop\n";
-    return s;
-}
-
 assembler::AsmOptions asm_options(const PipelineOptions& opts = {}) {
     assembler::AsmOptions a;
     a.read_file = opts.read_file;
@@ -2248,7 +2307,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             }
             const Region ro = parse_region(lines, filename, *other);
             const int k = static_cast<int>(other - spans.begin()) - static_cast<int>(target.index) + target.ordinal;
-            const std::string seq = force_trip_line(ro, opts, m) + sequential_meaning(ro, named, m, filename, region_uid(k)).loop;
+            const std::string seq = sequential_meaning(ro, named, m, filename, region_uid(k)).loop;
             o += linear_only ? std::string(kRegionBegin) + "\n" + seq + kRegionEnd + "\n" : seq;
             i = other->second;
         }
@@ -2268,7 +2327,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // Both files say first which machine they are for (a `# machine:` line of the source's is replaced).
     const std::string header = fmt::format("# machine: {}\n", m.reference());
     const std::string code_before = assembler::header_machine(before).empty() ? before : before.substr(before.find('\n') + 1);
-    res.linear = header + code_before + force_trip_line(r, opts, m) + loop + after;
+    res.linear = header + code_before + loop + after;
+    res.linear_region_at = header.size() + code_before.size();
     if (upto == Upto::Linear) return impl;
     const isa::ObjectFile lin = assemble_or_fail(res.linear, filename, m, "sequential meaning of the region", opts);
     const std::vector<std::vector<isa::Instr>> bundles = isa::decode_bundles(lin);
@@ -2367,7 +2427,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // its zero-trip test, may get nops first).
     auto assembles = [&](Built& b) {
         std::string& code = b.code;
-        const std::string lead_in = before + force_trip_line(r, opts, m);
+        const std::string& lead_in = before;
         assembler::AsmResult check = assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
         // A while loop starts with its first pass (the counted loop with its trip test, unless
         // .trip drops it): results of the code before it may still be in flight. As many nops as
@@ -2434,7 +2494,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                 Schedule s;
             };
             std::vector<Ranked> ranked;
-            for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
+            for (int attempt = 0; attempt < 2 * kAttemptsPerII; ++attempt) {
                 std::optional<Schedule> found = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
                 if (!found) continue;
                 for (Schedule& s : shifted(*found)) {
@@ -2704,9 +2764,10 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         res.loops[0].svg = picture.svg();
     }
 
-    res.code = code_before + force_trip_line(r, opts, m) + emitted + after;
+    res.code = code_before + emitted + after;
     res.pipelined = header + rep + res.code;
-    impl.emitted = force_trip_line(r, opts, m) + emitted;
+    res.pipelined_region_at = header.size() + rep.size() + code_before.size();
+    impl.emitted = emitted;
     return impl;
 }
 
@@ -2756,6 +2817,8 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
     for (const std::string& l : lines) code += l + "\n";
     if (!assembler::header_machine(code).empty()) code = code.substr(code.find('\n') + 1);
     all.regions = static_cast<int>(n);
+    all.linear_region_at.reset(); // the offsets of one region's files, not of these
+    all.pipelined_region_at.reset();
     all.linear = linear;
     all.loops = loops;
     all.report = reports;

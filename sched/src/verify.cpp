@@ -38,15 +38,20 @@ std::vector<std::uint32_t> verification_trips(const PipelineResult& r) {
     return {t.begin(), t.end()};
 }
 
-std::optional<std::string> verify(std::string_view text, std::string_view filename, const isa::Machine& m,
-                                  const PipelineOptions& opts, const std::vector<std::uint32_t>& trip_counts,
-                                  const DifferentialRun& run) {
+TripPrograms with_trip(const PipelineResult& r, const isa::Machine& m, std::uint32_t n) {
+    if (!r.linear_region_at || !r.pipelined_region_at)
+        throw std::invalid_argument("with_trip needs the result of one region pipelined (PipelineOptions::region)");
+    std::string set = fmt::format("        li {}, {}\n", r.trip_register, n);
+    for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]; ++k) set += "        nop\n";
+    return {std::string(r.linear).insert(*r.linear_region_at, set), std::string(r.pipelined).insert(*r.pipelined_region_at, set)};
+}
+
+std::optional<std::string> verify(const PipelineResult& r, std::string_view filename, const isa::Machine& m,
+                                  const std::vector<std::uint32_t>& trip_counts, const DifferentialRun& run) {
     for (std::uint32_t n : trip_counts) {
-        PipelineOptions o = opts;
-        o.force_trip = n;
-        const PipelineResult r = pipeline_source(text, filename, m, o);
-        const isa::ObjectFile lin = assemble_or_fail(r.linear, filename, m, "sequential meaning");
-        const isa::ObjectFile pip = assemble_or_fail(r.pipelined, filename, m, "pipelined loop");
+        const TripPrograms t = with_trip(r, m, n);
+        const isa::ObjectFile lin = assemble_or_fail(t.linear, filename, m, "sequential meaning");
+        const isa::ObjectFile pip = assemble_or_fail(t.pipelined, filename, m, "pipelined loop");
         if (auto diff = run(lin, pip)) return fmt::format("trip count {}: {}", n, *diff);
     }
     return std::nullopt;
@@ -61,9 +66,8 @@ std::string exit_path_name(const PipelineResult& r, std::uint32_t e) {
     return fmt::format("kernel copy {}", (pass - p) % static_cast<std::uint32_t>(r.unroll));
 }
 
-WhileVerification verify_while(std::string_view text, std::string_view filename, const isa::Machine& m,
-                               const PipelineOptions& opts, int runs, const WhileRun& run) {
-    const PipelineResult r = pipeline_source(text, filename, m, opts);
+WhileVerification verify_while(const PipelineResult& r, std::string_view filename, const isa::Machine& m, int runs,
+                               const WhileRun& run) {
     if (!r.is_while) throw std::invalid_argument("verify_while needs a .pipeline while region");
     const isa::ObjectFile lin = assemble_or_fail(r.linear, filename, m, "sequential meaning");
     const isa::ObjectFile pip = assemble_or_fail(r.pipelined, filename, m, "pipelined loop");

@@ -340,10 +340,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     };
     int ii = 0, stages = 0, unroll = 0;
     if (text.find(".pipeline while") != std::string::npos) {
-        // verify_while pipelines the loop itself (once) and runs it on kWhileRuns data sets.
+        // Pipelined once, run on kWhileRuns data sets.
         try {
+            const sched::PipelineResult r = sched::pipeline_source(text, "fuzz.sa", *m, opts);
             const sched::WhileVerification v = sched::verify_while(
-                text, "fuzz.sa", *m, opts, kWhileRuns,
+                r, "fuzz.sa", *m, kWhileRuns,
                 [&](const isa::ObjectFile& lin, const isa::ObjectFile& pip, std::uint64_t seed, std::uint32_t& exits) {
                     iss::DiffOptions o = d;
                     o.seed = seed + pick;
@@ -370,15 +371,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             text.insert(at, pick & 4 ? fmt::format("        .trip {}, {}\n", min, min + pick % 4 * 8) : fmt::format("        .trip {}\n", min));
         }
         try {
-            sched::PipelineOptions o = opts;
-            o.force_trip = t0;
-            r = sched::pipeline_source(text, "fuzz.sa", *m, o);
-            pipelined = r.pipelined;
+            r = sched::pipeline_source(text, "fuzz.sa", *m, opts);
+            const sched::TripPrograms run = sched::with_trip(r, *m, t0);
+            pipelined = run.pipelined;
             ii = r.ii, stages = r.stages, unroll = r.unroll;
-            const assembler::AsmResult lin = assembler::assemble_string(r.linear, "fuzz.sa", *m, {});
-            const assembler::AsmResult pip = assembler::assemble_string(r.pipelined, "fuzz.sa", *m, {});
+            const assembler::AsmResult lin = assembler::assemble_string(run.linear, "fuzz.sa", *m, {});
+            const assembler::AsmResult pip = assembler::assemble_string(run.pipelined, "fuzz.sa", *m, {});
             fuzz::check(lin.ok && lin.warnings == 0 && pip.ok && pip.warnings == 0, "a pipelined loop assembles cleanly",
-                        text + "----\n" + r.linear + "----\n" + r.pipelined + lin.diagnostics + pip.diagnostics);
+                        text + "----\n" + run.linear + "----\n" + run.pipelined + lin.diagnostics + pip.diagnostics);
             what = fmt::format("trips {}", t0);
             if (auto diff = differ(lin.object, pip.object, d)) failure = fmt::format("trip count {}: {}", t0, *diff);
         } catch (const std::runtime_error& e) {

@@ -27,8 +27,8 @@ std::string with_line(const std::string& text, const std::string& directive) {
     return text.substr(0, at) + "        " + directive + "\n" + text.substr(at);
 }
 
-// `text` with a label `t_start` before its region: pipelined with PipelineOptions::force_trip,
-// the label is on the `li r9, N` (and its nops) that comes just before the region's code.
+// `text` with a label `t_start` before its region: in sched::with_trip's programs the label is on
+// the `li r9, N` (and its nops) that comes just before the region's code.
 std::string labelled(const std::string& text) {
     const std::size_t at = text.rfind('\n', text.find(".pipeline r9")) + 1;
     return text.substr(0, at) + "t_start:\n" + text.substr(at);
@@ -53,10 +53,10 @@ std::uint64_t region_cycles(const std::string& program, const isa::Machine& m) {
     return p.cycle() - c0 - li;
 }
 
-std::optional<std::string> verify(const std::string& text, const isa::Machine& m, const sched::PipelineResult& r) {
+std::optional<std::string> verify(const isa::Machine& m, const sched::PipelineResult& r) {
     iss::DiffOptions d;
     d.registers = r.source_registers;
-    return sched::verify(text, "t.sa", m, {}, sched::verification_trips(r),
+    return sched::verify(r, "t.sa", m, sched::verification_trips(r),
                          [&](const isa::ObjectFile& a, const isa::ObjectFile& b) { return iss::run_differential(a, b, m, d); });
 }
 
@@ -93,11 +93,10 @@ TEST_CASE(".trip: the whole-run cycles the choice is made by equal the ISS's", "
             for (const auto& [min, runs] : {std::pair{1, 1}, {1, 3}, {1, 9}, {2, 37}, {40, 40}, {40, 45}, {64, 64}}) {
                 const std::string text = labelled(with_line(loop, fmt::format(".trip {}, {}", min, runs)));
                 INFO(name << " loop " << k << ", .trip " << min << ", " << runs << ":\n" << text);
-                sched::PipelineOptions o;
-                o.force_trip = static_cast<std::uint32_t>(runs);
-                const sched::PipelineResult r = sched::pipeline_source(text, "t.sa", m, o);
+                const sched::PipelineResult r = sched::pipeline_source(text, "t.sa", m, {});
                 REQUIRE(r.loops[0].trip);
-                CHECK(static_cast<std::int64_t>(region_cycles(r.pipelined, m)) == r.loops[0].trip->chosen.cycles);
+                const std::string run = sched::with_trip(r, m, static_cast<std::uint32_t>(runs)).pipelined;
+                CHECK(static_cast<std::int64_t>(region_cycles(run, m)) == r.loops[0].trip->chosen.cycles);
             }
         }
     }
@@ -124,14 +123,12 @@ TEST_CASE(".trip chooses fewer stages and copies where the whole run is shorter,
         CHECK(c.chosen.kernel + c.chosen.fill_drain + c.chosen.outside == c.chosen.cycles);
         CHECK(after.stages - 1 + after.unroll < before.stages - 1 + before.unroll);
         // Measured: both files run 8 iterations; the one chosen by .trip takes fewer cycles.
-        sched::PipelineOptions eight;
-        eight.force_trip = 8;
         const auto cycles_of = [&](const std::string& t) {
-            return region_cycles(sched::pipeline_source(t, "t.sa", m, eight).pipelined, m);
+            return region_cycles(sched::with_trip(sched::pipeline_source(t, "t.sa", m, {}), m, 8).pipelined, m);
         };
         CHECK(cycles_of(text) < cycles_of(plain));
         CHECK(static_cast<std::int64_t>(cycles_of(text)) == c.chosen.cycles);
-        CHECK(verify(text, m, after) == std::nullopt);
+        CHECK(verify(m, after) == std::nullopt);
         CHECK(after.report.find("#   whole run at 8 trips: II ") != std::string::npos);
     }
 }
@@ -146,7 +143,7 @@ TEST_CASE(".trip drops the zero-trip test and the short-trip path, and verifies 
     CHECK(r.code.find("slti") == std::string::npos);
     CHECK((r.unroll > 1) == (r.code.find("__sa_seq:") != std::string::npos)); // only the remainder is sequential
     for (std::uint32_t t : sched::verification_trips(r)) CHECK(t >= 40);
-    CHECK(verify(text, m, r) == std::nullopt);
+    CHECK(verify(m, r) == std::nullopt);
     // Without .trip the same loop keeps both (the byte-identical default).
     const sched::PipelineResult plain = sched::pipeline_source(long_body(m, 12), "t.sa", m, {});
     CHECK(plain.code.find("beqz r9, __sa_done") != std::string::npos);
@@ -183,16 +180,14 @@ t_start:
         .endpipeline
         halt
 )";
-    sched::PipelineOptions o;
-    o.force_trip = 8;
     sched::PipelineResult r;
-    REQUIRE_NOTHROW(r = sched::pipeline_source(text, "t.sa", m, o));
+    REQUIRE_NOTHROW(r = sched::pipeline_source(text, "t.sa", m, {}));
     REQUIRE(r.loops[0].trip);
     CHECK(r.code.find("        nop\n__sa_pipe:\n") != std::string::npos); // f0 lands first
     CHECK(r.code.find("beqz r9") == std::string::npos);
     // From t_start: the fdiv and the nop, then the region with its nops.
-    CHECK(static_cast<std::int64_t>(region_cycles(r.pipelined, m)) - 2 == r.loops[0].trip->chosen.cycles);
-    CHECK(verify(text, m, sched::pipeline_source(text, "t.sa", m, {})) == std::nullopt);
+    CHECK(static_cast<std::int64_t>(region_cycles(sched::with_trip(r, m, 8).pipelined, m)) - 2 == r.loops[0].trip->chosen.cycles);
+    CHECK(verify(m, r) == std::nullopt);
 }
 
 TEST_CASE("a bad .trip is an error at its operand", "[unit][sched][trip]") {
@@ -248,5 +243,5 @@ ys:     .space 256
     CHECK(std::count(body.begin(), body.end(), '\n') - 1 < 12);
     CHECK(body.find("{ ") != std::string::npos);
     CHECK(body.find("ys-4(r1)") != std::string::npos);
-    CHECK(verify(text, m, r) == std::nullopt); // every remainder of the unroll
+    CHECK(verify(m, r) == std::nullopt); // every remainder of the unroll
 }

@@ -34,7 +34,7 @@ sched::WhileVerification check_while(const std::string& source, const isa::Machi
     iss::DiffOptions d;
     d.registers = r.source_registers;
     d.observe = {r.iteration_register};
-    return sched::verify_while(text, "w.sa", m, {}, runs,
+    return sched::verify_while(r, "w.sa", m, runs,
                                [&](const isa::ObjectFile& a, const isa::ObjectFile& b, std::uint64_t seed, std::uint32_t& e) {
                                    iss::DiffOptions o = d;
                                    o.seed = seed;

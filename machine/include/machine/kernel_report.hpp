@@ -1,4 +1,4 @@
-// The kernel cycle report (`nesshi kernels`): the hand-scheduled kernels of kernels/ measured on
+// The kernel cycle report (`nesshi kernels`): the kernels of kernels/, as built for each machine, measured on
 // the ISS beside the paper's step counts, with their lower bounds.
 //
 // Each kernel runs on synthetic inputs built with the ABI's image builders (the workloads);

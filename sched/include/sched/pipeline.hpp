@@ -69,8 +69,6 @@ struct PipelineOptions {
     // report says "II proven optimal" (every smaller II has no table) or "best found, bound not
     // proven" with the reason (time, or tables the assembler rejected).
     double exact_seconds = 0;
-    // Emit the pipelined program with `li TRIP, trip` just before the region (verification).
-    std::optional<std::uint32_t> force_trip;
     // How the file's .include lines are read (embedded kernel sources); default the file system.
     std::function<bool(const std::string& path, std::string& text)> read_file;
     // A file with several regions: only this one (0-based) is pipelined, the others are written as
@@ -126,6 +124,9 @@ struct PipelineResult {
     std::string pipelined; // the region software-pipelined, whole file: its `# machine:` line, report, code
     std::string report;    // the text block (also the pipelined file's header comment)
     std::string code;      // the pipelined file after its machine line and report
+    // Where the region begins in `linear` and in `pipelined` (one region pipelined): verification
+    // sets the trip count there. With several regions pipelined at once, not set.
+    std::optional<std::size_t> linear_region_at, pipelined_region_at;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
     int stages = 0, unroll = 1;
     int min_pipelined_trip = 0;          // smaller trip counts run the sequential copy only
@@ -160,14 +161,22 @@ std::string restore_region(std::string_view legalized, std::string_view original
 // for m, which keeps the line numbers).
 std::vector<int> region_lines(std::string_view text, std::string_view filename, const isa::Machine& m);
 
-// Verification by simulation: for each trip count, both programs (with `li TRIP, n` before the
-// region) are assembled and handed to `run`, which runs them on random data and returns the first
-// difference, or nothing when they agree. Returns the first failure as "trip N: ...".
+// `r`'s sequential meaning and pipelined code (one region pipelined) with `li TRIP, n` and the
+// nops of its latency just before the region: a counted loop run n times.
+struct TripPrograms {
+    std::string linear, pipelined;
+};
+TripPrograms with_trip(const PipelineResult& r, const isa::Machine& m, std::uint32_t n);
+
+// Verification by simulation of the code `r` is (one region pipelined, the file's others
+// sequential): for each trip count, both programs with `li TRIP, n` (and the nops of its latency)
+// just before the region are assembled and handed to `run`, which runs them on random data and
+// returns the first difference, or nothing when they agree. Returns the first failure as
+// "trip N: ...". The code is not scheduled again: what is verified is what was written.
 using DifferentialRun = std::function<std::optional<std::string>(const isa::ObjectFile& linear,
                                                                  const isa::ObjectFile& pipelined)>;
-std::optional<std::string> verify(std::string_view text, std::string_view filename, const isa::Machine& m,
-                                  const PipelineOptions& opts, const std::vector<std::uint32_t>& trip_counts,
-                                  const DifferentialRun& run);
+std::optional<std::string> verify(const PipelineResult& r, std::string_view filename, const isa::Machine& m,
+                                  const std::vector<std::uint32_t>& trip_counts, const DifferentialRun& run);
 // The trip counts that cover the sequential path, the shortest pipelined run and every unroll
 // remainder: 0, 1, min - 1, min, min + 1, ..., min + 2 * unroll; with `.trip MIN`, those of at
 // least MIN, and MIN, MIN + 1, ..., MIN + 2 * unroll + 1.
@@ -184,8 +193,8 @@ struct WhileVerification {
     std::set<std::string> paths;          // the exit paths they took ("prologue pass 1", "kernel copy 0")
     int path_count = 0;                   // exit paths the code has
 };
-WhileVerification verify_while(std::string_view text, std::string_view filename, const isa::Machine& m,
-                               const PipelineOptions& opts, int runs, const WhileRun& run);
+WhileVerification verify_while(const PipelineResult& r, std::string_view filename, const isa::Machine& m, int runs,
+                               const WhileRun& run);
 // The exit path that an exit after `e` completed iterations takes.
 std::string exit_path_name(const PipelineResult& r, std::uint32_t e);
 
