@@ -767,6 +767,28 @@ bool back_edge_ok(const isa::Machine& m, int ii, const Rows& rows, const isa::In
     return true;
 }
 
+// Each op's longest path at this II (latency - distance x II per edge, self edges left out): out
+// of it to any op (`out`, its height) or into it from any op (its depth). n + 1 rounds at most:
+// the fixed point when the II admits the recurrences.
+std::vector<int> longest_paths(const Graph& g, int ii, bool out) {
+    const int n = static_cast<int>(g.nodes.size());
+    std::vector<int> len(static_cast<std::size_t>(n), 0);
+    for (int iter = 0; iter < n + 1; ++iter) {
+        bool changed = false;
+        for (const Edge& e : g.edges) {
+            if (e.from == e.to) continue;
+            const std::size_t near = static_cast<std::size_t>(out ? e.from : e.to), far = static_cast<std::size_t>(out ? e.to : e.from);
+            const int l = len[far] + e.latency - e.distance * ii;
+            if (l > len[near]) {
+                len[near] = l;
+                changed = true;
+            }
+        }
+        if (!changed) break;
+    }
+    return len;
+}
+
 struct Schedule {
     int ii = 0;
     std::vector<int> time;          // issue cycle of each node in the flat schedule (iteration 0)
@@ -988,43 +1010,15 @@ class ModuloScheduler {
     // Each op's slack: the critical path (issue to issue) less the longest paths into it and out
     // of it, at this II; 0 on a critical path.
     std::vector<int> slacks() const {
-        const int n = static_cast<int>(g_.nodes.size());
-        std::vector<int> depth(static_cast<std::size_t>(n), 0);
-        for (int iter = 0; iter < n + 1; ++iter) {
-            bool changed = false;
-            for (const Edge& e : g_.edges) {
-                if (e.from == e.to) continue;
-                const int d = depth[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_;
-                if (d > depth[static_cast<std::size_t>(e.to)]) {
-                    depth[static_cast<std::size_t>(e.to)] = d;
-                    changed = true;
-                }
-            }
-            if (!changed) break;
-        }
+        const std::vector<int> depth = longest_paths(g_, ii_, false);
         int cp = 0;
-        for (int i = 0; i < n; ++i) cp = std::max(cp, depth[static_cast<std::size_t>(i)] + height_[static_cast<std::size_t>(i)]);
-        std::vector<int> slack(static_cast<std::size_t>(n));
-        for (int i = 0; i < n; ++i) slack[static_cast<std::size_t>(i)] = cp - depth[static_cast<std::size_t>(i)] - height_[static_cast<std::size_t>(i)];
+        for (std::size_t i = 0; i < depth.size(); ++i) cp = std::max(cp, depth[i] + height_[i]);
+        std::vector<int> slack(depth.size());
+        for (std::size_t i = 0; i < depth.size(); ++i) slack[i] = cp - depth[i] - height_[i];
         return slack;
     }
 
-    void heights() {
-        const int n = static_cast<int>(g_.nodes.size());
-        height_.assign(static_cast<std::size_t>(n), 0);
-        for (int iter = 0; iter < n + 1; ++iter) {
-            bool changed = false;
-            for (const Edge& e : g_.edges) {
-                if (e.from == e.to) continue;
-                const int h = height_[static_cast<std::size_t>(e.to)] + e.latency - e.distance * ii_;
-                if (h > height_[static_cast<std::size_t>(e.from)]) {
-                    height_[static_cast<std::size_t>(e.from)] = h;
-                    changed = true;
-                }
-            }
-            if (!changed) break;
-        }
-    }
+    void heights() { height_ = longest_paths(g_, ii_, true); }
 
     const Graph& g_;
     const isa::Machine& m_;
@@ -1077,12 +1071,7 @@ class ExactScheduler {
         row_.assign(static_cast<std::size_t>(n), -1);
         stage_.assign(static_cast<std::size_t>(n), 0);
         if (!add(branch_, ii_ - 1, -1)) return Outcome::Exhausted;
-        std::vector<int> height(static_cast<std::size_t>(n), 0);
-        for (int iter = 0; iter <= n; ++iter)
-            for (const Edge& e : g_.edges)
-                if (e.from != e.to)
-                    height[static_cast<std::size_t>(e.from)] =
-                        std::max(height[static_cast<std::size_t>(e.from)], height[static_cast<std::size_t>(e.to)] + e.latency - e.distance * ii_);
+        const std::vector<int> height = longest_paths(g_, ii_, true);
         order_.resize(static_cast<std::size_t>(n));
         std::iota(order_.begin(), order_.end(), 0);
         std::stable_sort(order_.begin(), order_.end(),
@@ -2427,8 +2416,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // its zero-trip test, may get nops first).
     auto assembles = [&](Built& b) {
         std::string& code = b.code;
-        const std::string& lead_in = before;
-        assembler::AsmResult check = assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
+        assembler::AsmResult check = assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
         // A while loop starts with its first pass (the counted loop with its trip test, unless
         // .trip drops it): results of the code before it may still be in flight. As many nops as
         // the assembler's check asks.
@@ -2440,13 +2428,13 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             // (one assembly, not one per count); else the fewest that do.
             std::string nops;
             for (std::uint32_t k = 1; k < longest; ++k) nops += "        nop\n";
-            assembler::AsmResult most = assembler::assemble_string(lead_in + nops + code + after, filename, m, asm_options(opts));
+            assembler::AsmResult most = assembler::assemble_string(before + nops + code + after, filename, m, asm_options(opts));
             if (!clean(most)) check = std::move(most);
             for (std::uint32_t lead = 1; clean(most) && !clean(check) && lead < longest; ++lead) {
                 code = "        nop\n" + code;
                 ++b.shape.lead;
                 check = lead + 1 == longest ? std::move(most)
-                                            : assembler::assemble_string(lead_in + code + after, filename, m, asm_options(opts));
+                                            : assembler::assemble_string(before + code + after, filename, m, asm_options(opts));
             }
         }
         if (!check.ok || check.warnings > 0) {
