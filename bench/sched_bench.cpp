@@ -127,12 +127,12 @@ int main(int argc, char** argv) {
     for (const auto& [kind, draw] : {std::pair<const char*, Draw>{"counted", sched::random_linear_loop},
                                      std::pair<const char*, Draw>{"while", sched::random_while_loop}}) {
         fmt::print("{} loops\n", kind);
-        fmt::print("{:<8} {:>6} {:>9} {:>8} {:>8} {:>12} {:>14}\n", "machine", "loops", "II = MII", "mean", "max", "ms per loop",
-                   "ms (50 ops)");
+        fmt::print("{:<8} {:>6} {:>9} {:>8} {:>8} {:>8} {:>12} {:>14}\n", "machine", "loops", "II = MII", "mean", "max", "stages",
+                   "ms per loop", "ms (50 ops)");
         for (const char* name : {"os", "ic", "os-real", "ic-real"}) {
             const isa::Machine m = isa::load_machine(name);
             int at_bound = 0, scheduled = 0, big = 0;
-            double ratio = 0, worst = 0, seconds = 0, big_seconds = 0;
+            double ratio = 0, worst = 0, seconds = 0, big_seconds = 0, stages = 0;
             for (int k = 0; k < loops; ++k) {
                 const int ops = 5 + k % 46;
                 const std::string text = draw(1000 + static_cast<std::uint64_t>(k), m, ops);
@@ -145,18 +145,20 @@ int main(int argc, char** argv) {
                     at_bound += r.ii == r.mii;
                     const double q = static_cast<double>(r.ii) / r.mii;
                     ratio += q;
+                    stages += r.stages;
                     worst = std::max(worst, q);
                     if (ops == 50) big_seconds += s, ++big;
                 } catch (const std::exception& e) {
                     fmt::print(stderr, "{} loop {}: {}\n", name, k, e.what());
                 }
             }
-            fmt::print("{:<8} {:>6} {:>8.1f}% {:>8.3f} {:>8.3f} {:>12.2f} {:>14.2f}\n", name, scheduled,
-                       100.0 * at_bound / std::max(1, scheduled), ratio / std::max(1, scheduled), worst,
+            fmt::print("{:<8} {:>6} {:>8.1f}% {:>8.3f} {:>8.3f} {:>8.2f} {:>12.2f} {:>14.2f}\n", name, scheduled,
+                       100.0 * at_bound / std::max(1, scheduled), ratio / std::max(1, scheduled), worst, stages / std::max(1, scheduled),
                        1e3 * seconds / std::max(1, scheduled), big ? 1e3 * big_seconds / big : 0.0);
         }
     }
     if (trip > 0) whole_runs(loops, trip);
     fmt::print("II = MII: the share of loops scheduled at the lower bound max(ResMII, RecMII), loop control included;\n"
+               "stages: the mean stage count (iterations in flight);\n"
                "times: pipeline_source (graph, schedule, registers, code, and the assembler's check of it).\n");
 }

@@ -807,9 +807,12 @@ struct Schedule {
 class ModuloScheduler {
   public:
     // attempt 0 orders ops by height alone; later attempts break ties (and near-ties) at random.
+    // `stages` > 0: only schedules of at most that many stages (every op issues before cycle
+    // stages * II, and early enough for the longest path after it to end there too).
     ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
-                    int attempt = 0, int exit_node = -1)
-        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt), exit_(exit_node) {}
+                    int attempt = 0, int exit_node = -1, int stages = 0)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt), exit_(exit_node),
+          limit_(stages > 0 ? stages * ii - 1 : -1) {}
 
     std::optional<Schedule> run() {
         const int n = static_cast<int>(g_.nodes.size());
@@ -824,6 +827,12 @@ class ModuloScheduler {
             if (counter_row < 0) return std::nullopt;
         }
         heights();
+        latest_.assign(static_cast<std::size_t>(n), std::numeric_limits<int>::max());
+        if (limit_ >= 0)
+            for (int i = 0; i < n; ++i) { // the longest path after an op must end by the limit too
+                latest_[static_cast<std::size_t>(i)] = limit_ - std::max(0, height_[static_cast<std::size_t>(i)]);
+                if (latest_[static_cast<std::size_t>(i)] < 0) return std::nullopt;
+            }
         if (attempt_ >= kAttemptsPerII) { // critical ops first: the least slack, then the greatest height
             const std::vector<int> slack = slacks();
             std::mt19937 rng(static_cast<unsigned>(attempt_));
@@ -847,13 +856,20 @@ class ModuloScheduler {
             for (const Edge& e : g_.edges)
                 if (e.to == op && time_[static_cast<std::size_t>(e.from)] >= 0 && e.from != op)
                     estart = std::max(estart, time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_);
+            const int latest = latest_[static_cast<std::size_t>(op)];
+            if (estart > latest) return std::nullopt;
             int chosen = -1;
-            for (int t = estart; t < estart + ii_ && chosen < 0; ++t)
+            for (int t = estart; t < estart + ii_ && t <= latest && chosen < 0; ++t)
                 if (fits(op, t)) chosen = t;
             if (chosen < 0) { // displace: take the first cycle it has not had yet, evict what conflicts
                 const int prev = last_time_[static_cast<std::size_t>(op)];
                 chosen = prev < estart ? estart : prev + 1;
                 if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_; // its row, not earlier
+                if (chosen > latest) { // past the stage limit: from the earliest again
+                    chosen = estart;
+                    if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_;
+                    if (chosen > latest) return std::nullopt;
+                }
                 evict_for(op, chosen);
                 if (!fits(op, chosen)) return std::nullopt;
             }
@@ -1026,8 +1042,9 @@ class ModuloScheduler {
     isa::Instr branch_, counter_;
     int attempt_ = 0;
     int exit_ = -1; // a while loop's exit test: only in the last row
+    int limit_ = -1; // the last cycle an op may issue in (a stage limit), or none
     std::vector<Row> rows_;
-    std::vector<int> time_, last_time_, height_;
+    std::vector<int> time_, last_time_, height_, latest_;
 };
 
 // ---- exact modulo scheduling (--exact) ---------------------------------------------------------
@@ -1843,18 +1860,35 @@ class Emitter {
         if (!rows.empty())
             for (int k = first + static_cast<int>(move_ops.size()); k < start; ++k) o += "        nop\n";
         for (const auto& row : rows) o += bundle(row);
-        int drain = 0;
-        for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
-        if (!r_.carry.empty() || !r_.liveout.empty()) // the exit moves
-            for (const isa::OpClass c : {isa::OpClass::Alu, isa::OpClass::FAdd})
-                drain = std::max(drain, static_cast<int>(m_.latency[static_cast<std::size_t>(c)]) - 1);
-        for (int k = 0; k < drain; ++k) o += "        nop\n";
+        // The code after the loop may read or write any register, so it starts once every write
+        // has landed (those in flight at the exit, the moves', the completing iterations'), not
+        // after the longest latency of all. The inductions step back once the integer writes have
+        // landed (their own steps among them) and the completing iterations have read them.
+        int cycle = rows.empty() ? first + static_cast<int>(move_ops.size()) : start + static_cast<int>(rows.size());
+        int last = cycle, int_last = cycle;
+        auto lands = [&](int land, const isa::Instr& in) {
+            last = std::max(last, land);
+            if (writes_to(in, static_cast<int>(isa::RegFile::Int)) > 0) int_last = std::max(int_last, land);
+        };
+        for (std::size_t c = 0; c < at.size(); ++c)
+            for (int f = 0; f < isa::kNumRegFiles; ++f)
+                if (at[c][static_cast<std::size_t>(f)] > 0) {
+                    last = std::max(last, static_cast<int>(c));
+                    if (f == static_cast<int>(isa::RegFile::Int)) int_last = std::max(int_last, static_cast<int>(c));
+                }
+        for (std::size_t k = 0; k < row_instrs.size(); ++k)
+            for (const isa::Instr* in : row_instrs[k]) lands(start + static_cast<int>(k) + static_cast<int>(m_.latency_of(in->info())), *in);
         const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
+        bool stepped = false;
         for (const Induction& ind : g_.inductions)
             if (const int x = ahead(ind); x > 0) {
+                for (; !stepped && cycle < int_last; ++cycle) o += "        nop\n";
+                stepped = true;
                 o += fmt::format("        addi {0}, {0}, {1}\n", reg_name(isa::RegFile::Int, ind.reg), -ind.step * x);
-                for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
+                last = std::max(last, cycle + alu_lat);
+                ++cycle;
             }
+        for (; cycle < last; ++cycle) o += "        nop\n";
         return o;
     }
 
@@ -2482,23 +2516,33 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                 Schedule s;
             };
             std::vector<Ranked> ranked;
-            for (int attempt = 0; attempt < 2 * kAttemptsPerII; ++attempt) {
-                std::optional<Schedule> found = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op).run();
-                if (!found) continue;
-                for (Schedule& s : shifted(*found)) {
-                    int st = 1;
-                    for (int t : s.time) st = std::max(st, t / s.ii + 1);
-                    try {
-                        ranked.push_back({st, allocate(r, g, s, named, m, filename).unroll, std::move(s)});
-                    } catch (const RegisterPressure& e) {
-                        const std::string what = e.what();
-                        why_not = fmt::format("II {}: {}", ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
+            auto attempts = [&](int limit) { // whether one of them kept to the stage limit (0: none)
+                bool within = false;
+                for (int attempt = 0; attempt < 2 * kAttemptsPerII; ++attempt) {
+                    std::optional<Schedule> found = ModuloScheduler(g, m, ii, branch, counter, attempt, r.exit_op, limit).run();
+                    if (!found) continue;
+                    for (Schedule& s : shifted(*found)) {
+                        int st = 1;
+                        for (int t : s.time) st = std::max(st, t / s.ii + 1);
+                        try {
+                            ranked.push_back({st, allocate(r, g, s, named, m, filename).unroll, std::move(s)});
+                            within = within || limit == 0 || st <= limit;
+                        } catch (const RegisterPressure& e) {
+                            const std::string what = e.what();
+                            why_not = fmt::format("II {}: {}", ii, what.substr(std::min(what.size(), what.find("error: ") + 7)));
+                        }
                     }
                 }
+                std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
+                    return std::tie(a.stages, a.unroll) < std::tie(b.stages, b.unroll);
+                });
+                return within;
+            };
+            attempts(0);
+            // Then each stage fewer than the best so far, as long as some attempt keeps to it: a
+            // run pays about (stages - 1) x II to fill and drain, and the loops of a kernel run often.
+            for (int limit = ranked.empty() ? 0 : ranked.front().stages - 1; limit >= 1 && attempts(limit); --limit) {
             }
-            std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
-                return std::tie(a.stages, a.unroll) < std::tie(b.stages, b.unroll);
-            });
             for (const Ranked& k : ranked)
                 if (accept(k.s)) return true;
             return false;
