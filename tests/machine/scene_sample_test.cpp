@@ -59,7 +59,7 @@ TEST_CASE("The IC kernel is chosen on the scene: padded pipeline on short lists,
         CHECK(r.render.id_buffer == rt::render_native(prep, opt).id_buffer);
         return r;
     };
-    const machine::Result fine = run(20, ""); // 1.75 shapes per non-empty voxel
+    const machine::Result fine = run(40, ""); // 1.35 shapes per non-empty voxel
     CHECK(fine.machine.ic_kernel.source == "kernels/ic/intersect.pk");
     CHECK(fine.machine.ic_kernel.candidates == 2);
     CHECK(fine.machine.ic_kernel.choice.find("on this scene's sample") != std::string::npos);
