@@ -1,0 +1,115 @@
+// Internal to the pipeliner: the dependence graph of a region's operations (registers, memory
+// with the region's aliasing rules, a while loop's exit), its recurrence bounds and critical
+// circuit, and the longest paths the schedulers order and bound their ops by.
+#pragma once
+
+#include "circuits.hpp"
+#include "pipeline_region.hpp"
+#include "stages.hpp"
+
+#include "isa/encoding.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace nesshi::sched::pipe {
+
+constexpr int kMaxDistance = 16;  // memory dependences are looked for up to this many iterations apart
+
+struct Edge {
+    int from, to;
+    int latency;  // to issues >= from's issue + latency - distance * II
+    int distance; // iterations
+    std::string why;
+};
+
+struct Node {
+    isa::Instr instr;
+    int latency = 1;
+    bool mem = false, store = false;
+    int base = -1;            // memory ops: the base register
+    bool speculative = false; // a load whose base is declared `.speculate` (it may run past the exit)
+    bool adjusted = false;    // memory op on an induction register: offset moved, no register edge
+    int width = 4;
+};
+
+struct Induction {
+    int reg = -1;
+    int op = -1;      // the addi
+    std::int64_t step = 0;
+};
+
+struct Graph {
+    std::vector<Node> nodes;
+    std::vector<Edge> edges;
+    std::vector<Induction> inductions;
+    // What the code before the region leaves: integer registers holding known constants, and the
+    // trip count when it is one of them (constants_at).
+    std::map<int, std::int64_t> entry;
+    std::optional<std::int64_t> trip;
+    const Induction* induction_of(int reg) const {
+        for (const Induction& i : inductions)
+            if (i.reg == reg) return &i;
+        return nullptr;
+    }
+};
+
+// The bytes memory op x touches over the whole loop, [lo, hi), when its base is a known constant
+// at entry stepped only by its induction and the trip count is known; nullopt otherwise.
+std::optional<std::pair<std::int64_t, std::int64_t>> extent(const Graph& g, int x);
+
+// Whether memory ops x (iteration i) and y (iteration i + d) may touch the same bytes.
+bool may_alias(const Graph& g, const Region& r, int x, int y, int d);
+
+// Whether op i of a while loop has an effect a discarded iteration must not have: a store, a
+// FIFO word, a load whose base is not declared `.speculate` (it could fault past the end), or a
+// write of a physical register other than an induction (the exit path corrects inductions).
+bool side_effect(const Graph& g, int i, const std::function<bool(int, isa::RegFile, int)>& is_virtual);
+
+// Speculation that is safe by construction: no side effect issues before every earlier exit test
+// has been decided. Iteration i's exit test precedes the side effects of iteration i + 1 (and so
+// of every later one), and those of iteration i written after the test. One bundle later: the
+// ops in the bundle of a taken branch still execute.
+void add_exit_edges(Graph& g, const Region& r, const std::function<bool(int, isa::RegFile, int)>& is_virtual);
+
+// The region's dependences: registers (true, anti and output, across iterations for carried
+// values), memory (by base, offset and induction, within kMaxDistance iterations, unless
+// `.noalias`) and, for a while loop, its exit (add_exit_edges). `entry`: the constants the code
+// before the region leaves in integer registers.
+Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
+                  const std::vector<OpVirtuals>& op_virtuals, const std::map<int, std::int64_t>& entry = {});
+
+// The edges as the bound and circuit routines take them (circuits.hpp).
+std::vector<DepEdge> dep_edges(const Graph& g);
+
+// The values the virtual and physical registers carry from op to op (the true edges, one value
+// per writer and register), for stage scheduling.
+std::vector<StageValue> stage_values(const Graph& g);
+
+// The edges (indices into g.edges) of a circuit that sets the RecMII `rec`; none when rec <= 1.
+std::vector<int> critical_edges(const Graph& g, int rec);
+
+// That circuit, op by op with each edge's latency and why it is there, e.g. "flw (line 11)
+// -[2: true %x]-> fmul (line 12) ... : 9 cycles over 1 iteration"; "" when none binds above 1.
+std::string critical_circuit(const Graph& g, const Region& r, const std::vector<int>& circuit);
+
+// When the RecMII's circuit runs through memory edges between two base registers that may alias
+// (no `.noalias` for them), what declaring them apart would give: "`.noalias r1, r2` (if the
+// arrays never overlap) removes it: RecMII 1"; "" otherwise.
+std::string alias_hint(const Graph& g, const std::vector<int>& circuit);
+
+// Each op's longest path at this II (latency - distance x II per edge, self edges left out): out
+// of it to any op (`out`, its height) or into it from any op (its depth). n + 1 rounds at most:
+// the fixed point when the II admits the recurrences.
+std::vector<int> longest_paths(const Graph& g, int ii, bool out);
+
+// Whether the recurrences admit `ii`, and the smallest II they admit (the RecMII).
+bool feasible_ii(const Graph& g, int ii);
+int rec_mii(const Graph& g);
+
+} // namespace nesshi::sched::pipe

@@ -1,0 +1,44 @@
+// Internal to the pipeliner: physical registers for a modulo schedule (modulo variable
+// expansion: each virtual register gets as many copies as its lifetime spans IIs, the kernel
+// unrolled to rotate them), and the kernel's write-port check around a taken-branch bubble.
+#pragma once
+
+#include "pipeline_search.hpp"
+
+#include "isa/machine.hpp"
+
+#include <set>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace nesshi::sched::pipe {
+
+constexpr int kMaxBubbleUnroll = 8; // kernel copies a while loop may get for its branch bubble
+constexpr int kMaxPortUnroll = 16;  // kernel copies any loop may get to keep writes off one port
+
+struct Allocation {
+    int unroll = 1;
+    std::vector<int> copies;                     // per virtual: registers in rotation
+    std::vector<std::vector<std::string>> regs;  // per virtual, per copy
+    int counter = -1;                            // integer register of the kernel counter
+    std::vector<std::string> scratch;
+    std::vector<int> lifetime;                   // per virtual, cycles
+    int entry_nops = 0;                          // between prologue and kernel (kernel_landings_ok)
+};
+
+Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
+                    const isa::Machine& m, std::string_view file, int min_unroll = 1);
+
+// Whether the kernel, `unroll` copies of the II rows, passes the assembler's write-port check
+// when entered both ways: from the prologue (straight, or after `entry_nops` as long as the
+// taken-branch bubble) and around its back edge (after the bubble). The reservation table
+// counts landings modulo II, which is exact only without a bubble. The assembler checks each
+// write against the writes in flight where it is issued, merging the paths into a bundle, so a
+// write of the kernel meets those of both ways in; with entry nops both bring the same writes
+// (the same registers: the kernel's copies rotate with the prologue's passes) at the same cycles.
+// Costs nothing beside assembling the file.
+bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa::Machine& m, bool entry_nops);
+
+} // namespace nesshi::sched::pipe

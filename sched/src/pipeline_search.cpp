@@ -1,0 +1,558 @@
+#include "pipeline_search.hpp"
+
+#include "assembler/assembler.hpp"
+#include "base/error.hpp"
+#include "isa/bundle_check.hpp"
+#include "isa/encoding.hpp"
+#include "isa/ops.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cctype>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <random>
+#include <regex>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+
+namespace nesshi::sched::pipe {
+
+namespace {
+
+// Around the kernel's back edge a taken-branch bubble of b cycles delays the next pass, so the
+// writes still in flight from the last pass land b cycles earlier against the new pass's than
+// modulo II: a write landing at row + latency (from the pass start) meets, at cycle T, this
+// pass's writes landing at T (T >= land, T - land a multiple of II) and the last pass's at
+// land - b - T a positive multiple of II. Checked at the cycles `in` (at `row`) lands in either
+// way, against the ops of `rows` (each with its `ops`); with few kernel copies some of these
+// instances do not exist (conservative).
+template <class Rows>
+bool back_edge_ok(const isa::Machine& m, int ii, const Rows& rows, const isa::Instr& in, int row) {
+    const int b = static_cast<int>(m.branch_penalty);
+    if (b == 0) return true;
+    const int land_in = row + static_cast<int>(m.latency_of(in.info()));
+    for (int f = 0; f < isa::kNumRegFiles; ++f) {
+        const int w_in = writes_to(in, f);
+        if (w_in == 0) continue;
+        std::vector<std::pair<int, int>> lands{{land_in, w_in}}; // (land, writes) of every writer of f
+        int last = land_in;
+        for (int r = 0; r < ii; ++r)
+            for (const isa::Instr& other : rows[static_cast<std::size_t>(r)].ops)
+                if (const int w = writes_to(other, f); w > 0) {
+                    lands.push_back({r + static_cast<int>(m.latency_of(other.info())), w});
+                    last = std::max(last, lands.back().first);
+                }
+        auto meet_ok = [&](int at) {
+            int own = 0, old = 0;
+            for (const auto& [land, w] : lands) {
+                if (at >= land && (at - land) % ii == 0) own += w;
+                else if (land - b - at >= ii && (land - b - at) % ii == 0) old += w;
+            }
+            return own == 0 || static_cast<std::uint32_t>(own + old) <= m.regs[static_cast<std::size_t>(f)].write_ports;
+        };
+        for (int at = land_in; at < last; at += ii)
+            if (!meet_ok(at)) return false;
+        for (int at = land_in - b - ii; at >= 0; at -= ii)
+            if (!meet_ok(at)) return false;
+    }
+    return true;
+}
+
+// A row of a modulo reservation table: its ops, with their nodes (-1 for loop control).
+struct Row {
+    std::vector<isa::Instr> ops;
+    std::vector<int> nodes;
+};
+
+bool bundle_legal(const isa::Machine& m, std::vector<isa::Instr> ops) {
+    std::vector<int> pinned(ops.size(), -1);
+    if (!isa::assign_slots(m, ops, pinned)) return false;
+    return isa::check_bundle(m, ops).empty();
+}
+
+// Whether the writes landing in `in`'s cycle (mod II), per register file, stay within the ports
+// with `in` placed at `row`.
+bool modulo_landings_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, const isa::Instr& in, int row) {
+    const int land = (row + static_cast<int>(m.latency_of(in.info()))) % ii;
+    for (int f = 0; f < isa::kNumRegFiles; ++f) {
+        int count = writes_to(in, f);
+        if (count == 0) continue;
+        for (int r = 0; r < ii; ++r)
+            for (const isa::Instr& other : rows[static_cast<std::size_t>(r)].ops)
+                if ((r + static_cast<int>(m.latency_of(other.info()))) % ii == land) count += writes_to(other, f);
+        if (static_cast<std::uint32_t>(count) > m.regs[static_cast<std::size_t>(f)].write_ports) return false;
+    }
+    return true;
+}
+
+class ModuloScheduler {
+  public:
+    // attempt 0 orders ops by height alone; later attempts break ties (and near-ties) at random.
+    // `stages` > 0: only schedules of at most that many stages (every op issues before cycle
+    // stages * II, and early enough for the longest path after it to end there too).
+    ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
+                    int attempt = 0, int exit_node = -1, int stages = 0)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt), exit_(exit_node),
+          limit_(stages > 0 ? stages * ii - 1 : -1) {}
+
+    std::optional<Schedule> run() {
+        const int n = static_cast<int>(g_.nodes.size());
+        rows_.assign(static_cast<std::size_t>(ii_), {});
+        // Loop control first: the branch ends the kernel; the counter decrement anywhere. A while
+        // loop has neither: its exit test is pinned to the last row (fits).
+        int counter_row = -1;
+        if (exit_ < 0) {
+            if (!place_fixed(branch_, ii_ - 1)) return std::nullopt;
+            for (int row = 0; row < ii_ && counter_row < 0; ++row)
+                if (place_fixed(counter_, row)) counter_row = row;
+            if (counter_row < 0) return std::nullopt;
+        }
+        heights();
+        latest_.assign(static_cast<std::size_t>(n), std::numeric_limits<int>::max());
+        if (limit_ >= 0)
+            for (int i = 0; i < n; ++i) { // the longest path after an op must end by the limit too
+                latest_[static_cast<std::size_t>(i)] = limit_ - std::max(0, height_[static_cast<std::size_t>(i)]);
+                if (latest_[static_cast<std::size_t>(i)] < 0) return std::nullopt;
+            }
+        if (attempt_ >= kAttemptsPerII) { // critical ops first: the least slack, then the greatest height
+            const std::vector<int> slack = slacks();
+            std::mt19937 rng(static_cast<unsigned>(attempt_));
+            for (std::size_t i = 0; i < height_.size(); ++i)
+                height_[i] = (100000 - slack[i]) * 4096 + height_[i] * 4 + (attempt_ > kAttemptsPerII ? static_cast<int>(rng() % 6) : 0);
+        } else if (attempt_ > 0) { // perturb: a random order among ops of similar height
+            std::mt19937 rng(static_cast<unsigned>(attempt_));
+            for (int& h : height_) h = h * 4 + static_cast<int>(rng() % 6);
+        }
+        time_.assign(static_cast<std::size_t>(n), -1);
+        last_time_.assign(static_cast<std::size_t>(n), -1);
+        // Under a stage limit a shorter search: as many stages are found as with the full budget
+        // (bench_sched's while loops), at a third of the time when none exists.
+        int budget = std::max(200, n * (limit_ >= 0 ? 10 : 40));
+        while (budget-- > 0) {
+            int op = -1;
+            for (int i = 0; i < n; ++i)
+                if (time_[static_cast<std::size_t>(i)] < 0 &&
+                    (op < 0 || height_[static_cast<std::size_t>(i)] > height_[static_cast<std::size_t>(op)]))
+                    op = i;
+            if (op < 0) break;
+            int estart = 0;
+            for (const Edge& e : g_.edges)
+                if (e.to == op && time_[static_cast<std::size_t>(e.from)] >= 0 && e.from != op)
+                    estart = std::max(estart, time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_);
+            const int latest = latest_[static_cast<std::size_t>(op)];
+            if (estart > latest) return std::nullopt;
+            int chosen = -1;
+            for (int t = estart; t < estart + ii_ && t <= latest && chosen < 0; ++t)
+                if (fits(op, t)) chosen = t;
+            if (chosen < 0) { // displace: take the first cycle it has not had yet, evict what conflicts
+                const int prev = last_time_[static_cast<std::size_t>(op)];
+                chosen = prev < estart ? estart : prev + 1;
+                if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_; // its row, not earlier
+                if (chosen > latest) { // past the stage limit: from the earliest again
+                    chosen = estart;
+                    if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_;
+                    if (chosen > latest) return std::nullopt;
+                }
+                evict_for(op, chosen);
+                if (!fits(op, chosen)) return std::nullopt;
+            }
+            place(op, chosen);
+            for (const Edge& e : g_.edges) // successors now too early
+                if (e.from == op && e.to != op && time_[static_cast<std::size_t>(e.to)] >= 0 &&
+                    chosen + e.latency - e.distance * ii_ > time_[static_cast<std::size_t>(e.to)])
+                    unplace(e.to);
+        }
+        for (int i = 0; i < n; ++i)
+            if (time_[static_cast<std::size_t>(i)] < 0) return std::nullopt;
+        for (const Edge& e : g_.edges) // self edges and the final state
+            if (time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_ > time_[static_cast<std::size_t>(e.to)])
+                return std::nullopt;
+        Schedule s;
+        s.ii = ii_;
+        s.time = time_;
+        s.normalise();
+        s.branch = branch_;
+        s.counter = counter_;
+        s.counter_row = counter_row;
+        s.loop_control = exit_ < 0;
+        return s;
+    }
+
+  private:
+    bool legal(std::vector<isa::Instr> ops) const { return bundle_legal(m_, std::move(ops)); }
+
+    // Writes landing in each cycle (mod II) per register file, across rows, within the ports, and
+    // around the back edge.
+    bool landings_ok(const isa::Instr& in, int row) const {
+        return modulo_landings_ok(m_, ii_, rows_, in, row) && back_edge_ok(m_, ii_, rows_, in, row);
+    }
+
+    bool induction_ok(int op, int t) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        for (const Induction& ind : g_.inductions) {
+            const int lat = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+            if (lat <= 1) continue;
+            const bool reads = nd.adjusted && nd.base == ind.reg;
+            if (op == ind.op) { // its own step: no adjusted read may fall inside its flight
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()); ++i) {
+                    const Node& o = g_.nodes[static_cast<std::size_t>(i)];
+                    if (!(o.adjusted && o.base == ind.reg) || time_[static_cast<std::size_t>(i)] < 0) continue;
+                    const int d = ((time_[static_cast<std::size_t>(i)] - t) % ii_ + ii_) % ii_;
+                    if (d > 0 && d < lat) return false;
+                }
+                if (lat > ii_) return false;
+            } else if (reads && time_[static_cast<std::size_t>(ind.op)] >= 0) {
+                const int d = ((t - time_[static_cast<std::size_t>(ind.op)]) % ii_ + ii_) % ii_;
+                if (d > 0 && d < lat) return false;
+            }
+        }
+        return true;
+    }
+
+    bool fits(int op, int t) const {
+        const int row = ((t % ii_) + ii_) % ii_;
+        if (op == exit_ && row != ii_ - 1) return false;
+        const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
+        std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
+        ops.push_back(in);
+        return legal(ops) && landings_ok(in, row) && induction_ok(op, t);
+    }
+
+    bool place_fixed(const isa::Instr& in, int row) {
+        std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
+        ops.push_back(in);
+        if (!legal(ops) || !landings_ok(in, row)) return false;
+        rows_[static_cast<std::size_t>(row)].ops.push_back(in);
+        rows_[static_cast<std::size_t>(row)].nodes.push_back(-1);
+        return true;
+    }
+
+    void place(int op, int t) {
+        const int row = ((t % ii_) + ii_) % ii_;
+        rows_[static_cast<std::size_t>(row)].ops.push_back(g_.nodes[static_cast<std::size_t>(op)].instr);
+        rows_[static_cast<std::size_t>(row)].nodes.push_back(op);
+        time_[static_cast<std::size_t>(op)] = t;
+        last_time_[static_cast<std::size_t>(op)] = t;
+    }
+
+    void unplace(int op) {
+        const int t = time_[static_cast<std::size_t>(op)];
+        if (t < 0) return;
+        Row& r = rows_[static_cast<std::size_t>(((t % ii_) + ii_) % ii_)];
+        for (std::size_t k = 0; k < r.nodes.size(); ++k)
+            if (r.nodes[k] == op) {
+                r.nodes.erase(r.nodes.begin() + static_cast<std::ptrdiff_t>(k));
+                r.ops.erase(r.ops.begin() + static_cast<std::ptrdiff_t>(k));
+                break;
+            }
+        time_[static_cast<std::size_t>(op)] = -1;
+    }
+
+    // Evicts what keeps `op` from t: ops of its row (most recently placed first) while the bundle
+    // is illegal, then ops whose writes land in its landing cycle on a file it writes, then any.
+    void evict_for(int op, int t) {
+        const int row = ((t % ii_) + ii_) % ii_;
+        const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
+        const int land = (row + static_cast<int>(m_.latency_of(in.info()))) % ii_;
+        auto writes = [](const isa::Instr& x, int f) {
+            for (const isa::RegOperand& o : isa::register_operands(x))
+                if (o.write && static_cast<int>(o.file) == f) return true;
+            return false;
+        };
+        for (int guard = 0; guard < 64 && !fits(op, t); ++guard) {
+            int victim = -1;
+            const Row& r = rows_[static_cast<std::size_t>(row)];
+            std::vector<isa::Instr> ops = r.ops;
+            ops.push_back(in);
+            if (!legal(ops)) {
+                for (std::size_t k = r.nodes.size(); k-- > 0;)
+                    if (r.nodes[k] >= 0) {
+                        victim = r.nodes[k];
+                        break;
+                    }
+            } else if (!landings_ok(in, row)) {
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()) && victim < 0; ++i) {
+                    const int ti = time_[static_cast<std::size_t>(i)];
+                    if (ti < 0 || i == op) continue;
+                    const isa::Instr& x = g_.nodes[static_cast<std::size_t>(i)].instr;
+                    if ((((ti % ii_) + ii_) % ii_ + static_cast<int>(m_.latency_of(x.info()))) % ii_ != land) continue;
+                    for (int f = 0; f < isa::kNumRegFiles && victim < 0; ++f)
+                        if (writes(in, f) && writes(x, f)) victim = i;
+                }
+            }
+            if (victim < 0) // the row holds only loop control, or the landing is taken by it: evict any
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()) && victim < 0; ++i)
+                    if (time_[static_cast<std::size_t>(i)] >= 0 && i != op) victim = i;
+            if (victim < 0) return;
+            unplace(victim);
+        }
+    }
+
+    // Each op's slack: the critical path (issue to issue) less the longest paths into it and out
+    // of it, at this II; 0 on a critical path.
+    std::vector<int> slacks() const {
+        const std::vector<int> depth = longest_paths(g_, ii_, false);
+        int cp = 0;
+        for (std::size_t i = 0; i < depth.size(); ++i) cp = std::max(cp, depth[i] + height_[i]);
+        std::vector<int> slack(depth.size());
+        for (std::size_t i = 0; i < depth.size(); ++i) slack[i] = cp - depth[i] - height_[i];
+        return slack;
+    }
+
+    void heights() { height_ = longest_paths(g_, ii_, true); }
+
+    const Graph& g_;
+    const isa::Machine& m_;
+    int ii_;
+    isa::Instr branch_, counter_;
+    int attempt_ = 0;
+    int exit_ = -1; // a while loop's exit test: only in the last row
+    int limit_ = -1; // the last cycle an op may issue in (a stage limit), or none
+    std::vector<Row> rows_;
+    std::vector<int> time_, last_time_, height_, latest_;
+};
+
+// ---- exact modulo scheduling (--exact) ---------------------------------------------------------
+
+// Branch and bound over modulo reservation tables at one II. Every op, and the counter decrement,
+// gets a row (cycle mod II); the branch is fixed at row II - 1, where the emitter puts it. A
+// partial assignment is cut as soon as
+//   - a row's bundle is illegal (isa::assign_slots, isa::check_bundle: adding ops never makes a
+//     bundle legal again),
+//   - the writes landing in one cycle mod II exceed a file's write ports,
+//   - an adjusted access of an induction register falls inside the flight of its step, or
+//   - the dependences among the ops placed have no stage numbers: with t = row + II * stage, an
+//     edge (latency L, distance D) asks stage_to - stage_from >= ceil((row_from + L - row_to) / II)
+//     - D, difference constraints that have an integer solution exactly when their graph has no
+//     positive cycle (Bellman-Ford).
+// These are the rules ModuloScheduler::fits and the final edge check apply, so a complete
+// assignment is a modulo schedule of this tool's kernel shape (loop control in the kernel, the
+// branch in its last row), and exhausting the tree proves that none exists at this II. On a
+// machine with a taken-branch bubble a stage lasts II cycles in the prologue and epilogue and
+// II + bubble around the kernel's back edge; `bubble` adds landings and edges under that stage
+// length too (the heuristic leaves them to the assembler's check). Those rules are exact for a
+// kernel that is not unrolled, but an unrolled kernel crosses its back edge once per unroll, so
+// they only guide the search to tables that assemble, and a proof is a search without them. Ops go in order of height (longest path to the end), rows from the earliest
+// the placed predecessors allow.
+class ExactScheduler {
+  public:
+    enum class Outcome { Accepted, Exhausted, Timeout };
+    using Clock = std::chrono::steady_clock;
+
+    // bubble: also the rules of a stage that lasts II + the taken-branch bubble (see above).
+    ExactScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
+                   Clock::time_point deadline, bool bubble)
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), deadline_(deadline), bubble_(bubble) {}
+
+    // Calls accept for each schedule found until it returns true (Accepted), the tree is
+    // exhausted, or the deadline passes.
+    Outcome run(const std::function<bool(const Schedule&)>& accept) {
+        accept_ = &accept;
+        const int n = static_cast<int>(g_.nodes.size());
+        rows_.assign(static_cast<std::size_t>(ii_), {});
+        row_.assign(static_cast<std::size_t>(n), -1);
+        stage_.assign(static_cast<std::size_t>(n), 0);
+        if (!add(branch_, ii_ - 1, -1)) return Outcome::Exhausted;
+        const std::vector<int> height = longest_paths(g_, ii_, true);
+        order_.resize(static_cast<std::size_t>(n));
+        std::iota(order_.begin(), order_.end(), 0);
+        std::stable_sort(order_.begin(), order_.end(),
+                         [&](int a, int b) { return height[static_cast<std::size_t>(a)] > height[static_cast<std::size_t>(b)]; });
+        // The counter decrement has no edges: its row is tried last, at each leaf.
+        const bool accepted = search(0);
+        if (accepted) return Outcome::Accepted;
+        return timed_out_ ? Outcome::Timeout : Outcome::Exhausted;
+    }
+
+    std::uint64_t nodes() const { return nodes_; }
+    std::uint64_t tables() const { return tables_; } // complete modulo schedules handed to accept
+
+  private:
+    bool legal(const std::vector<isa::Instr>& ops) const { return bundle_legal(m_, ops); }
+
+    // Writes landing in one cycle, per file, within the ports: mod II (prologue, epilogue and
+    // the kernel's copies, no taken branch) and, with the bubble's rules, around the kernel's
+    // back edge (back_edge_ok).
+    bool landings_ok(const isa::Instr& in, int row) const {
+        return modulo_landings_ok(m_, ii_, rows_, in, row) && (!bubble_ || back_edge_ok(m_, ii_, rows_, in, row));
+    }
+
+    // Cycles from one stage to the next: II in straight-line code, II + the taken-branch bubble
+    // around the kernel's back edge. A rule in real cycles must hold for both.
+    std::vector<int> periods() const {
+        if (m_.branch_penalty == 0 || !bubble_) return {ii_};
+        return {ii_, ii_ + static_cast<int>(m_.branch_penalty)};
+    }
+
+    bool induction_ok(int op, int row) const {
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        for (const Induction& ind : g_.inductions) {
+            const int lat = g_.nodes[static_cast<std::size_t>(ind.op)].latency;
+            if (lat <= 1) continue;
+            if (op == ind.op) {
+                if (lat > ii_) return false;
+                for (int i = 0; i < static_cast<int>(g_.nodes.size()); ++i) {
+                    const Node& o = g_.nodes[static_cast<std::size_t>(i)];
+                    if (!(o.adjusted && o.base == ind.reg) || row_[static_cast<std::size_t>(i)] < 0) continue;
+                    const int d = ((row_[static_cast<std::size_t>(i)] - row) % ii_ + ii_) % ii_;
+                    if (d > 0 && d < lat) return false;
+                }
+            } else if (nd.adjusted && nd.base == ind.reg && row_[static_cast<std::size_t>(ind.op)] >= 0) {
+                const int d = ((row - row_[static_cast<std::size_t>(ind.op)]) % ii_ + ii_) % ii_;
+                if (d > 0 && d < lat) return false;
+            }
+        }
+        return true;
+    }
+
+    bool add(const isa::Instr& in, int row, int node) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        std::vector<isa::Instr> ops = r.ops;
+        ops.push_back(in);
+        if (!legal(ops) || !landings_ok(in, row)) return false;
+        r.ops.push_back(in);
+        r.nodes.push_back(node);
+        return true;
+    }
+
+    void remove_last(int row) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        r.ops.pop_back();
+        r.nodes.pop_back();
+    }
+
+    static int ceil_div(int a, int b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
+
+    // Stage numbers for the placed ops (longest paths from 0), or false on a positive cycle.
+    bool stages() {
+        const int n = static_cast<int>(g_.nodes.size());
+        for (int i = 0; i < n; ++i) stage_[static_cast<std::size_t>(i)] = 0;
+        for (int iter = 0; iter <= n; ++iter) {
+            bool changed = false;
+            for (const Edge& e : g_.edges) {
+                const int rf = row_[static_cast<std::size_t>(e.from)], rt = row_[static_cast<std::size_t>(e.to)];
+                if (rf < 0 || rt < 0) continue;
+                int w = ceil_div(rf + e.latency - rt, ii_); // stages apart, at least, for each period
+                for (const int period : periods()) w = std::max(w, ceil_div(rf + e.latency - rt, period));
+                w -= e.distance;
+                if (e.from == e.to) {
+                    if (w > 0) return false;
+                    continue;
+                }
+                if (stage_[static_cast<std::size_t>(e.from)] + w > stage_[static_cast<std::size_t>(e.to)]) {
+                    stage_[static_cast<std::size_t>(e.to)] = stage_[static_cast<std::size_t>(e.from)] + w;
+                    changed = true;
+                }
+            }
+            if (!changed) return true;
+        }
+        return false;
+    }
+
+    bool leaf() {
+        for (int row = 0; row < ii_; ++row) {
+            // A table's check assembles the file (milliseconds, not a node's microseconds): the
+            // clock is read before each, or a run of leaves overran the budget tenfold.
+            if (Clock::now() >= deadline_) timed_out_ = true;
+            if (timed_out_) return false;
+            if (!add(counter_, row, -1)) continue;
+            Schedule s;
+            s.ii = ii_;
+            const int n = static_cast<int>(g_.nodes.size());
+            s.time.resize(static_cast<std::size_t>(n));
+            for (int i = 0; i < n; ++i)
+                s.time[static_cast<std::size_t>(i)] = row_[static_cast<std::size_t>(i)] + ii_ * stage_[static_cast<std::size_t>(i)];
+            s.normalise();
+            s.branch = branch_;
+            s.counter = counter_;
+            s.counter_row = row;
+            ++tables_;
+            const bool ok = (*accept_)(s);
+            remove_last(row);
+            if (ok) return true;
+        }
+        return false;
+    }
+
+    bool search(std::size_t k) {
+        if ((++nodes_ & 255) == 1 && Clock::now() >= deadline_) timed_out_ = true; // the first node too
+        if (timed_out_) return false;
+        if (k == order_.size()) return leaf();
+        const int op = order_[k];
+        const Node& nd = g_.nodes[static_cast<std::size_t>(op)];
+        // Rows from the earliest the placed predecessors allow (short stages first).
+        int start = 0;
+        for (const Edge& e : g_.edges)
+            if (e.to == op && e.from != op && row_[static_cast<std::size_t>(e.from)] >= 0)
+                start = std::max(start, row_[static_cast<std::size_t>(e.from)] + ii_ * stage_[static_cast<std::size_t>(e.from)] +
+                                            e.latency - e.distance * ii_);
+        for (int j = 0; j < ii_; ++j) {
+            const int row = ((start + j) % ii_ + ii_) % ii_;
+            if (!induction_ok(op, row)) continue;
+            row_[static_cast<std::size_t>(op)] = row;
+            if (add(nd.instr, row, op)) {
+                const std::vector<int> saved = stage_;
+                if (stages() && search(k + 1)) return true;
+                stage_ = saved;
+                remove_last(row);
+            }
+            row_[static_cast<std::size_t>(op)] = -1;
+            if (timed_out_) return false;
+        }
+        return false;
+    }
+
+    const Graph& g_;
+    const isa::Machine& m_;
+    int ii_;
+    isa::Instr branch_, counter_;
+    Clock::time_point deadline_;
+    bool bubble_ = true;
+    const std::function<bool(const Schedule&)>* accept_ = nullptr;
+    std::vector<Row> rows_;
+    std::vector<int> row_, stage_;
+    std::vector<int> order_;
+    std::uint64_t nodes_ = 0, tables_ = 0;
+    bool timed_out_ = false;
+};
+
+} // namespace
+
+// The registers of file `f` op x writes.
+int writes_to(const isa::Instr& x, int f) {
+    int c = 0;
+    for (const isa::RegOperand& o : isa::register_operands(x))
+        if (o.write && static_cast<int>(o.file) == f) ++c;
+    return c;
+}
+
+std::optional<Schedule> modulo_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch,
+                                        const isa::Instr& counter, int attempt, int exit_node, int stages) {
+    return ModuloScheduler(g, m, ii, branch, counter, attempt, exit_node, stages).run();
+}
+
+ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
+                        std::chrono::steady_clock::time_point deadline, bool bubble,
+                        const std::function<bool(const Schedule&)>& accept) {
+    ExactScheduler ex(g, m, ii, branch, counter, deadline, bubble);
+    ExactRun run;
+    switch (ex.run(accept)) {
+    case ExactScheduler::Outcome::Accepted: run.outcome = ExactOutcome::Accepted; break;
+    case ExactScheduler::Outcome::Exhausted: run.outcome = ExactOutcome::Exhausted; break;
+    case ExactScheduler::Outcome::Timeout: run.outcome = ExactOutcome::Timeout; break;
+    }
+    run.nodes = ex.nodes();
+    run.tables = ex.tables();
+    return run;
+}
+
+} // namespace nesshi::sched::pipe

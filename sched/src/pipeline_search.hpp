@@ -1,0 +1,59 @@
+// Internal to the pipeliner: modulo schedules of a dependence graph at one II, by the iterative
+// modulo scheduler (op orders by height, critical first or perturbed, an optional stage limit)
+// and by branch and bound over reservation tables (--exact).
+#pragma once
+
+#include "pipeline_graph.hpp"
+
+#include "isa/machine.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace nesshi::sched::pipe {
+
+constexpr int kAttemptsPerII = 12; // schedules tried at one II before the next (different op orders)
+
+// The registers of file `f` op x writes.
+int writes_to(const isa::Instr& x, int f);
+
+struct Schedule {
+    int ii = 0;
+    std::vector<int> time;          // issue cycle of each node in the flat schedule (iteration 0)
+    isa::Instr branch, counter;     // loop control in the kernel: counter decrement and branch
+    int counter_row = 0;
+    bool loop_control = true;       // false for a while loop: its exit test, in the last row, is the branch
+
+    // Shifts every time by whole stages so the earliest op issues in cycle 0 of its stage 0.
+    void normalise() {
+        const int lo = *std::min_element(time.begin(), time.end());
+        const int shift = lo >= 0 ? -(lo / ii) * ii : ((-lo + ii - 1) / ii) * ii;
+        for (int& t : time) t += shift;
+    }
+};
+
+// One attempt of the iterative modulo scheduler at `ii`: attempt 0 orders ops by height alone,
+// attempts 1 to kAttemptsPerII - 1 break near-ties at random, later ones put critical ops (least
+// slack) first. `exit_node`: a while loop's exit test (then there is no counted loop control);
+// `stages` > 0: only schedules of at most that many stages.
+std::optional<Schedule> modulo_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch,
+                                        const isa::Instr& counter, int attempt = 0, int exit_node = -1, int stages = 0);
+
+// Branch and bound over the modulo reservation tables at `ii` (see pipeline_search.cpp), calling
+// `accept` on each complete schedule until it returns true (Accepted), the tree is exhausted, or
+// the deadline passes. `bubble`: also the rules of a stage that lasts II + the taken-branch bubble.
+enum class ExactOutcome { Accepted, Exhausted, Timeout };
+struct ExactRun {
+    ExactOutcome outcome = ExactOutcome::Exhausted;
+    std::uint64_t nodes = 0;  // search nodes visited
+    std::uint64_t tables = 0; // complete modulo schedules handed to accept
+};
+ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
+                        std::chrono::steady_clock::time_point deadline, bool bubble,
+                        const std::function<bool(const Schedule&)>& accept);
+
+} // namespace nesshi::sched::pipe
