@@ -219,14 +219,22 @@ class Emitter {
         while (epilogue.size() >= 12 && epilogue.compare(epilogue.size() - 12, 12, "        nop\n") == 0)
             epilogue.resize(epilogue.size() - 12); // trailing empty bundles: the drain below covers them
         o += epilogue;
-        // Results still in flight land before the code after the loop runs; the trip register
-        // ends at 0 as in the sequential meaning.
-        int drain = 0;
-        for (const Node& nd : g_.nodes) drain = std::max(drain, nd.latency - 1);
+        // Results still in flight land before the code after the loop runs: nops until the last
+        // write of the kernel's final pass and of the epilogue lands (cycles from the epilogue's
+        // first bundle), not the longest latency. The trip register ends at 0 as in the
+        // sequential meaning.
+        const int tail_bundles = static_cast<int>(std::count(epilogue.begin(), epilogue.end(), '\n')); // a bundle a line
+        int last = (s_.counter_row - ii) + static_cast<int>(m_.latency_of(s_.counter.info()));
+        for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+            const int t = s_.time[op], st = t / ii, row = t % ii, lat = g_.nodes[op].latency;
+            last = std::max(last, row - ii + lat);
+            for (int q = 0; q + 1 <= st && q < p; ++q) last = std::max(last, q * ii + row + lat);
+        }
+        const int drain = std::max(0, last - tail_bundles - 1);
         o += nops(drain);
         o += fmt::format("        li {}, 0\n", trip);
         o += fmt::format("{}_done:\n", uid);
-        sh.tail = static_cast<int>(std::count(epilogue.begin(), epilogue.end(), '\n')) + drain + 1; // a bundle a line
+        sh.tail = tail_bundles + drain + 1;
         if (shape) *shape = sh;
         return o;
     }
