@@ -28,27 +28,62 @@ namespace nesshi::sched::pipe {
 
 namespace {
 
+// An op as the port checks count it: the cycles to its landing and its writes per register file
+// (computed once per placement: the checks run for every candidate cycle of every op).
+struct Writes {
+    int latency = 1;
+    std::array<int, isa::kNumRegFiles> per_file{};
+};
+
+Writes writes_of(const isa::Machine& m, const isa::Instr& in) {
+    Writes w;
+    w.latency = static_cast<int>(m.latency_of(in.info()));
+    for (int f = 0; f < isa::kNumRegFiles; ++f) w.per_file[static_cast<std::size_t>(f)] = writes_to(in, f);
+    return w;
+}
+
+// A row of a modulo reservation table: its ops, with their nodes (-1 for loop control) and writes.
+struct Row {
+    std::vector<isa::Instr> ops;
+    std::vector<int> nodes;
+    std::vector<Writes> writes;
+    void push(const isa::Machine& m, const isa::Instr& in, int node) {
+        ops.push_back(in);
+        nodes.push_back(node);
+        writes.push_back(writes_of(m, in));
+    }
+    void erase(std::size_t k) {
+        ops.erase(ops.begin() + static_cast<std::ptrdiff_t>(k));
+        nodes.erase(nodes.begin() + static_cast<std::ptrdiff_t>(k));
+        writes.erase(writes.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+    void pop() {
+        ops.pop_back();
+        nodes.pop_back();
+        writes.pop_back();
+    }
+};
+
 // Around the kernel's back edge a taken-branch bubble of b cycles delays the next pass, so the
 // writes still in flight from the last pass land b cycles earlier against the new pass's than
 // modulo II: a write landing at row + latency (from the pass start) meets, at cycle T, this
 // pass's writes landing at T (T >= land, T - land a multiple of II) and the last pass's at
 // land - b - T a positive multiple of II. Checked at the cycles `in` (at `row`) lands in either
-// way, against the ops of `rows` (each with its `ops`); with few kernel copies some of these
-// instances do not exist (conservative).
-template <class Rows>
-bool back_edge_ok(const isa::Machine& m, int ii, const Rows& rows, const isa::Instr& in, int row) {
+// way, against the ops of `rows`; with few kernel copies some of these instances do not exist
+// (conservative).
+bool back_edge_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, const Writes& in, int row) {
     const int b = static_cast<int>(m.branch_penalty);
     if (b == 0) return true;
-    const int land_in = row + static_cast<int>(m.latency_of(in.info()));
+    const int land_in = row + in.latency;
     for (int f = 0; f < isa::kNumRegFiles; ++f) {
-        const int w_in = writes_to(in, f);
+        const int w_in = in.per_file[static_cast<std::size_t>(f)];
         if (w_in == 0) continue;
         std::vector<std::pair<int, int>> lands{{land_in, w_in}}; // (land, writes) of every writer of f
         int last = land_in;
         for (int r = 0; r < ii; ++r)
-            for (const isa::Instr& other : rows[static_cast<std::size_t>(r)].ops)
-                if (const int w = writes_to(other, f); w > 0) {
-                    lands.push_back({r + static_cast<int>(m.latency_of(other.info())), w});
+            for (const Writes& other : rows[static_cast<std::size_t>(r)].writes)
+                if (const int w = other.per_file[static_cast<std::size_t>(f)]; w > 0) {
+                    lands.push_back({r + other.latency, w});
                     last = std::max(last, lands.back().first);
                 }
         auto meet_ok = [&](int at) {
@@ -67,32 +102,56 @@ bool back_edge_ok(const isa::Machine& m, int ii, const Rows& rows, const isa::In
     return true;
 }
 
-// A row of a modulo reservation table: its ops, with their nodes (-1 for loop control).
-struct Row {
-    std::vector<isa::Instr> ops;
-    std::vector<int> nodes;
-};
-
 bool bundle_legal(const isa::Machine& m, std::vector<isa::Instr> ops) {
     std::vector<int> pinned(ops.size(), -1);
     if (!isa::assign_slots(m, ops, pinned)) return false;
     return isa::check_bundle(m, ops).empty();
 }
 
-// Whether the writes landing in `in`'s cycle (mod II), per register file, stay within the ports
-// with `in` placed at `row`.
-bool modulo_landings_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, const isa::Instr& in, int row) {
-    const int land = (row + static_cast<int>(m.latency_of(in.info()))) % ii;
-    for (int f = 0; f < isa::kNumRegFiles; ++f) {
-        int count = writes_to(in, f);
-        if (count == 0) continue;
-        for (int r = 0; r < ii; ++r)
-            for (const isa::Instr& other : rows[static_cast<std::size_t>(r)].ops)
-                if ((r + static_cast<int>(m.latency_of(other.info()))) % ii == land) count += writes_to(other, f);
-        if (static_cast<std::uint32_t>(count) > m.regs[static_cast<std::size_t>(f)].write_ports) return false;
+// The reservation table: its rows, and the writes landing in each cycle mod II per register file
+// (kept as ops come and go: the port check asks for every candidate cycle of every op).
+class Table {
+  public:
+    void reset(int ii) {
+        ii_ = ii;
+        rows_.assign(static_cast<std::size_t>(ii), {});
+        lands_.assign(static_cast<std::size_t>(ii), {});
     }
-    return true;
-}
+    const std::vector<Row>& rows() const { return rows_; }
+    const Row& operator[](int row) const { return rows_[static_cast<std::size_t>(row)]; }
+    void push(const isa::Machine& m, int row, const isa::Instr& in, int node) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        r.push(m, in, node);
+        count(row, r.writes.back(), 1);
+    }
+    void erase(int row, std::size_t k) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        count(row, r.writes[k], -1);
+        r.erase(k);
+    }
+    void pop(int row) {
+        Row& r = rows_[static_cast<std::size_t>(row)];
+        count(row, r.writes.back(), -1);
+        r.pop();
+    }
+    // Whether the writes landing in `in`'s cycle (mod II), per register file, stay within the
+    // ports with `in` placed at `row`.
+    bool landings_ok(const isa::Machine& m, const Writes& in, int row) const {
+        const auto& at = lands_[static_cast<std::size_t>((row + in.latency) % ii_)];
+        for (std::size_t f = 0; f < at.size(); ++f)
+            if (in.per_file[f] > 0 && static_cast<std::uint32_t>(in.per_file[f] + at[f]) > m.regs[f].write_ports) return false;
+        return true;
+    }
+
+  private:
+    void count(int row, const Writes& w, int sign) {
+        auto& at = lands_[static_cast<std::size_t>((row + w.latency) % ii_)];
+        for (std::size_t f = 0; f < at.size(); ++f) at[f] += sign * w.per_file[f];
+    }
+    int ii_ = 1;
+    std::vector<Row> rows_;
+    std::vector<std::array<int, isa::kNumRegFiles>> lands_;
+};
 
 class ModuloScheduler {
   public:
@@ -106,7 +165,7 @@ class ModuloScheduler {
 
     std::optional<Schedule> run() {
         const int n = static_cast<int>(g_.nodes.size());
-        rows_.assign(static_cast<std::size_t>(ii_), {});
+        rows_.reset(ii_);
         // Loop control first: the branch ends the kernel; the counter decrement anywhere. A while
         // loop has neither: its exit test is pinned to the last row (fits).
         int counter_row = -1;
@@ -193,7 +252,8 @@ class ModuloScheduler {
     // Writes landing in each cycle (mod II) per register file, across rows, within the ports, and
     // around the back edge.
     bool landings_ok(const isa::Instr& in, int row) const {
-        return modulo_landings_ok(m_, ii_, rows_, in, row) && back_edge_ok(m_, ii_, rows_, in, row);
+        const Writes w = writes_of(m_, in);
+        return rows_.landings_ok(m_, w, row) && back_edge_ok(m_, ii_, rows_.rows(), w, row);
     }
 
     bool induction_ok(int op, int t) const {
@@ -222,24 +282,22 @@ class ModuloScheduler {
         const int row = ((t % ii_) + ii_) % ii_;
         if (op == exit_ && row != ii_ - 1) return false;
         const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
-        std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
+        std::vector<isa::Instr> ops = rows_[row].ops;
         ops.push_back(in);
         return legal(ops) && landings_ok(in, row) && induction_ok(op, t);
     }
 
     bool place_fixed(const isa::Instr& in, int row) {
-        std::vector<isa::Instr> ops = rows_[static_cast<std::size_t>(row)].ops;
+        std::vector<isa::Instr> ops = rows_[row].ops;
         ops.push_back(in);
         if (!legal(ops) || !landings_ok(in, row)) return false;
-        rows_[static_cast<std::size_t>(row)].ops.push_back(in);
-        rows_[static_cast<std::size_t>(row)].nodes.push_back(-1);
+        rows_.push(m_, row, in, -1);
         return true;
     }
 
     void place(int op, int t) {
         const int row = ((t % ii_) + ii_) % ii_;
-        rows_[static_cast<std::size_t>(row)].ops.push_back(g_.nodes[static_cast<std::size_t>(op)].instr);
-        rows_[static_cast<std::size_t>(row)].nodes.push_back(op);
+        rows_.push(m_, row, g_.nodes[static_cast<std::size_t>(op)].instr, op);
         time_[static_cast<std::size_t>(op)] = t;
         last_time_[static_cast<std::size_t>(op)] = t;
     }
@@ -247,11 +305,11 @@ class ModuloScheduler {
     void unplace(int op) {
         const int t = time_[static_cast<std::size_t>(op)];
         if (t < 0) return;
-        Row& r = rows_[static_cast<std::size_t>(((t % ii_) + ii_) % ii_)];
+        const int row = ((t % ii_) + ii_) % ii_;
+        const Row& r = rows_[row];
         for (std::size_t k = 0; k < r.nodes.size(); ++k)
             if (r.nodes[k] == op) {
-                r.nodes.erase(r.nodes.begin() + static_cast<std::ptrdiff_t>(k));
-                r.ops.erase(r.ops.begin() + static_cast<std::ptrdiff_t>(k));
+                rows_.erase(row, k);
                 break;
             }
         time_[static_cast<std::size_t>(op)] = -1;
@@ -270,7 +328,7 @@ class ModuloScheduler {
         };
         for (int guard = 0; guard < 64 && !fits(op, t); ++guard) {
             int victim = -1;
-            const Row& r = rows_[static_cast<std::size_t>(row)];
+            const Row& r = rows_[row];
             std::vector<isa::Instr> ops = r.ops;
             ops.push_back(in);
             if (!legal(ops)) {
@@ -317,7 +375,7 @@ class ModuloScheduler {
     int attempt_ = 0;
     int exit_ = -1; // a while loop's exit test: only in the last row
     int limit_ = -1; // the last cycle an op may issue in (a stage limit), or none
-    std::vector<Row> rows_;
+    Table rows_;
     std::vector<int> time_, last_time_, height_, latest_;
 };
 
@@ -358,7 +416,7 @@ class ExactScheduler {
     Outcome run(const std::function<bool(const Schedule&)>& accept) {
         accept_ = &accept;
         const int n = static_cast<int>(g_.nodes.size());
-        rows_.assign(static_cast<std::size_t>(ii_), {});
+        rows_.reset(ii_);
         row_.assign(static_cast<std::size_t>(n), -1);
         stage_.assign(static_cast<std::size_t>(n), 0);
         if (!add(branch_, ii_ - 1, -1)) return Outcome::Exhausted;
@@ -383,7 +441,8 @@ class ExactScheduler {
     // the kernel's copies, no taken branch) and, with the bubble's rules, around the kernel's
     // back edge (back_edge_ok).
     bool landings_ok(const isa::Instr& in, int row) const {
-        return modulo_landings_ok(m_, ii_, rows_, in, row) && (!bubble_ || back_edge_ok(m_, ii_, rows_, in, row));
+        const Writes w = writes_of(m_, in);
+        return rows_.landings_ok(m_, w, row) && (!bubble_ || back_edge_ok(m_, ii_, rows_.rows(), w, row));
     }
 
     // Cycles from one stage to the next: II in straight-line code, II + the taken-branch bubble
@@ -415,19 +474,15 @@ class ExactScheduler {
     }
 
     bool add(const isa::Instr& in, int row, int node) {
-        Row& r = rows_[static_cast<std::size_t>(row)];
-        std::vector<isa::Instr> ops = r.ops;
+        std::vector<isa::Instr> ops = rows_[row].ops;
         ops.push_back(in);
         if (!legal(ops) || !landings_ok(in, row)) return false;
-        r.ops.push_back(in);
-        r.nodes.push_back(node);
+        rows_.push(m_, row, in, node);
         return true;
     }
 
     void remove_last(int row) {
-        Row& r = rows_[static_cast<std::size_t>(row)];
-        r.ops.pop_back();
-        r.nodes.pop_back();
+        rows_.pop(row);
     }
 
     static int ceil_div(int a, int b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
@@ -518,7 +573,7 @@ class ExactScheduler {
     Clock::time_point deadline_;
     bool bubble_ = true;
     const std::function<bool(const Schedule&)>* accept_ = nullptr;
-    std::vector<Row> rows_;
+    Table rows_;
     std::vector<int> row_, stage_;
     std::vector<int> order_;
     std::uint64_t nodes_ = 0, tables_ = 0;
