@@ -227,8 +227,8 @@ class Emitter {
         int last = (s_.counter_row - ii) + static_cast<int>(m_.latency_of(s_.counter.info()));
         for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
             const int t = s_.time[op], st = t / ii, row = t % ii, lat = g_.nodes[op].latency;
-            last = std::max(last, row - ii + lat);
-            for (int q = 0; q + 1 <= st && q < p; ++q) last = std::max(last, q * ii + row + lat);
+            last = std::max(last, row - ii + lat);                          // the kernel's final pass
+            if (st > 0) last = std::max(last, (st - 1) * ii + row + lat); // its last epilogue pass
         }
         const int drain = std::max(0, last - tail_bundles - 1);
         o += nops(drain);
@@ -472,18 +472,16 @@ class Emitter {
         // landed (their own steps among them) and the completing iterations have read them.
         int cycle = rows.empty() ? first + static_cast<int>(move_ops.size()) : start + static_cast<int>(rows.size());
         int last = cycle, int_last = cycle;
-        auto lands = [&](int land, const isa::Instr& in) {
+        auto lands = [&](int land, bool to_int) {
             last = std::max(last, land);
-            if (writes_to(in, static_cast<int>(isa::RegFile::Int)) > 0) int_last = std::max(int_last, land);
+            if (to_int) int_last = std::max(int_last, land);
         };
+        constexpr auto kInt = static_cast<std::size_t>(isa::RegFile::Int);
         for (std::size_t c = 0; c < at.size(); ++c)
-            for (int f = 0; f < isa::kNumRegFiles; ++f)
-                if (at[c][static_cast<std::size_t>(f)] > 0) {
-                    last = std::max(last, static_cast<int>(c));
-                    if (f == static_cast<int>(isa::RegFile::Int)) int_last = std::max(int_last, static_cast<int>(c));
-                }
+            if (std::any_of(at[c].begin(), at[c].end(), [](std::uint32_t w) { return w > 0; })) lands(static_cast<int>(c), at[c][kInt] > 0);
         for (std::size_t k = 0; k < row_instrs.size(); ++k)
-            for (const isa::Instr* in : row_instrs[k]) lands(start + static_cast<int>(k) + static_cast<int>(m_.latency_of(in->info())), *in);
+            for (const isa::Instr* in : row_instrs[k])
+                lands(start + static_cast<int>(k) + static_cast<int>(m_.latency_of(in->info())), writes_to(*in, static_cast<int>(kInt)) > 0);
         const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
         bool stepped = false;
         for (const Induction& ind : g_.inductions)

@@ -29,7 +29,7 @@ namespace nesshi::sched::pipe {
 namespace {
 
 // An op as the port checks count it: the cycles to its landing and its writes per register file
-// (computed once per placement: the checks run for every candidate cycle of every op).
+// (computed once per op: the checks run for every candidate cycle of every op).
 struct Writes {
     int latency = 1;
     std::array<int, isa::kNumRegFiles> per_file{};
@@ -47,10 +47,10 @@ struct Row {
     std::vector<isa::Instr> ops;
     std::vector<int> nodes;
     std::vector<Writes> writes;
-    void push(const isa::Machine& m, const isa::Instr& in, int node) {
+    void push(const isa::Instr& in, int node, const Writes& w) {
         ops.push_back(in);
         nodes.push_back(node);
-        writes.push_back(writes_of(m, in));
+        writes.push_back(w);
     }
     void erase(std::size_t k) {
         ops.erase(ops.begin() + static_cast<std::ptrdiff_t>(k));
@@ -119,10 +119,9 @@ class Table {
     }
     const std::vector<Row>& rows() const { return rows_; }
     const Row& operator[](int row) const { return rows_[static_cast<std::size_t>(row)]; }
-    void push(const isa::Machine& m, int row, const isa::Instr& in, int node) {
-        Row& r = rows_[static_cast<std::size_t>(row)];
-        r.push(m, in, node);
-        count(row, r.writes.back(), 1);
+    void push(int row, const isa::Instr& in, int node, const Writes& w) {
+        rows_[static_cast<std::size_t>(row)].push(in, node, w);
+        count(row, w, 1);
     }
     void erase(int row, std::size_t k) {
         Row& r = rows_[static_cast<std::size_t>(row)];
@@ -161,7 +160,9 @@ class ModuloScheduler {
     ModuloScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
                     int attempt = 0, int exit_node = -1, int stages = 0)
         : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), attempt_(attempt), exit_(exit_node),
-          limit_(stages > 0 ? stages * ii - 1 : -1) {}
+          limit_(stages > 0 ? stages * ii - 1 : -1) {
+        for (const Node& nd : g_.nodes) writes_.push_back(writes_of(m_, nd.instr));
+    }
 
     std::optional<Schedule> run() {
         const int n = static_cast<int>(g_.nodes.size());
@@ -213,14 +214,11 @@ class ModuloScheduler {
             for (int t = estart; t < estart + ii_ && t <= latest && chosen < 0; ++t)
                 if (fits(op, t)) chosen = t;
             if (chosen < 0) { // displace: take the first cycle it has not had yet, evict what conflicts
+                auto own_row = [&](int t) { return op == exit_ ? t + ((ii_ - 1 - t) % ii_ + ii_) % ii_ : t; }; // not earlier
                 const int prev = last_time_[static_cast<std::size_t>(op)];
-                chosen = prev < estart ? estart : prev + 1;
-                if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_; // its row, not earlier
-                if (chosen > latest) { // past the stage limit: from the earliest again
-                    chosen = estart;
-                    if (op == exit_) chosen += ((ii_ - 1 - chosen) % ii_ + ii_) % ii_;
-                    if (chosen > latest) return std::nullopt;
-                }
+                chosen = own_row(prev < estart ? estart : prev + 1);
+                if (chosen > latest) chosen = own_row(estart); // past the stage limit: from the earliest again
+                if (chosen > latest) return std::nullopt;
                 evict_for(op, chosen);
                 if (!fits(op, chosen)) return std::nullopt;
             }
@@ -251,8 +249,7 @@ class ModuloScheduler {
 
     // Writes landing in each cycle (mod II) per register file, across rows, within the ports, and
     // around the back edge.
-    bool landings_ok(const isa::Instr& in, int row) const {
-        const Writes w = writes_of(m_, in);
+    bool landings_ok(const Writes& w, int row) const {
         return rows_.landings_ok(m_, w, row) && back_edge_ok(m_, ii_, rows_.rows(), w, row);
     }
 
@@ -284,20 +281,21 @@ class ModuloScheduler {
         const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
         std::vector<isa::Instr> ops = rows_[row].ops;
         ops.push_back(in);
-        return legal(ops) && landings_ok(in, row) && induction_ok(op, t);
+        return legal(ops) && landings_ok(writes_[static_cast<std::size_t>(op)], row) && induction_ok(op, t);
     }
 
     bool place_fixed(const isa::Instr& in, int row) {
         std::vector<isa::Instr> ops = rows_[row].ops;
         ops.push_back(in);
-        if (!legal(ops) || !landings_ok(in, row)) return false;
-        rows_.push(m_, row, in, -1);
+        const Writes w = writes_of(m_, in);
+        if (!legal(ops) || !landings_ok(w, row)) return false;
+        rows_.push(row, in, -1, w);
         return true;
     }
 
     void place(int op, int t) {
         const int row = ((t % ii_) + ii_) % ii_;
-        rows_.push(m_, row, g_.nodes[static_cast<std::size_t>(op)].instr, op);
+        rows_.push(row, g_.nodes[static_cast<std::size_t>(op)].instr, op, writes_[static_cast<std::size_t>(op)]);
         time_[static_cast<std::size_t>(op)] = t;
         last_time_[static_cast<std::size_t>(op)] = t;
     }
@@ -337,7 +335,7 @@ class ModuloScheduler {
                         victim = r.nodes[k];
                         break;
                     }
-            } else if (!landings_ok(in, row)) {
+            } else if (!landings_ok(writes_[static_cast<std::size_t>(op)], row)) {
                 for (int i = 0; i < static_cast<int>(g_.nodes.size()) && victim < 0; ++i) {
                     const int ti = time_[static_cast<std::size_t>(i)];
                     if (ti < 0 || i == op) continue;
@@ -375,6 +373,7 @@ class ModuloScheduler {
     int attempt_ = 0;
     int exit_ = -1; // a while loop's exit test: only in the last row
     int limit_ = -1; // the last cycle an op may issue in (a stage limit), or none
+    std::vector<Writes> writes_; // per node
     Table rows_;
     std::vector<int> time_, last_time_, height_, latest_;
 };
@@ -403,13 +402,15 @@ class ModuloScheduler {
 // the placed predecessors allow.
 class ExactScheduler {
   public:
-    enum class Outcome { Accepted, Exhausted, Timeout };
+    using Outcome = ExactOutcome;
     using Clock = std::chrono::steady_clock;
 
     // bubble: also the rules of a stage that lasts II + the taken-branch bubble (see above).
     ExactScheduler(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
                    Clock::time_point deadline, bool bubble)
-        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), deadline_(deadline), bubble_(bubble) {}
+        : g_(g), m_(m), ii_(ii), branch_(branch), counter_(counter), deadline_(deadline), bubble_(bubble) {
+        for (const Node& nd : g_.nodes) writes_.push_back(writes_of(m_, nd.instr));
+    }
 
     // Calls accept for each schedule found until it returns true (Accepted), the tree is
     // exhausted, or the deadline passes.
@@ -440,8 +441,7 @@ class ExactScheduler {
     // Writes landing in one cycle, per file, within the ports: mod II (prologue, epilogue and
     // the kernel's copies, no taken branch) and, with the bubble's rules, around the kernel's
     // back edge (back_edge_ok).
-    bool landings_ok(const isa::Instr& in, int row) const {
-        const Writes w = writes_of(m_, in);
+    bool landings_ok(const Writes& w, int row) const {
         return rows_.landings_ok(m_, w, row) && (!bubble_ || back_edge_ok(m_, ii_, rows_.rows(), w, row));
     }
 
@@ -476,8 +476,9 @@ class ExactScheduler {
     bool add(const isa::Instr& in, int row, int node) {
         std::vector<isa::Instr> ops = rows_[row].ops;
         ops.push_back(in);
-        if (!legal(ops) || !landings_ok(in, row)) return false;
-        rows_.push(m_, row, in, node);
+        const Writes w = node >= 0 ? writes_[static_cast<std::size_t>(node)] : writes_of(m_, in);
+        if (!legal(ops) || !landings_ok(w, row)) return false;
+        rows_.push(row, in, node, w);
         return true;
     }
 
@@ -573,6 +574,7 @@ class ExactScheduler {
     Clock::time_point deadline_;
     bool bubble_ = true;
     const std::function<bool(const Schedule&)>* accept_ = nullptr;
+    std::vector<Writes> writes_; // per node
     Table rows_;
     std::vector<int> row_, stage_;
     std::vector<int> order_;
@@ -600,11 +602,7 @@ ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa
                         const std::function<bool(const Schedule&)>& accept) {
     ExactScheduler ex(g, m, ii, branch, counter, deadline, bubble);
     ExactRun run;
-    switch (ex.run(accept)) {
-    case ExactScheduler::Outcome::Accepted: run.outcome = ExactOutcome::Accepted; break;
-    case ExactScheduler::Outcome::Exhausted: run.outcome = ExactOutcome::Exhausted; break;
-    case ExactScheduler::Outcome::Timeout: run.outcome = ExactOutcome::Timeout; break;
-    }
+    run.outcome = ex.run(accept);
     run.nodes = ex.nodes();
     run.tables = ex.tables();
     return run;
