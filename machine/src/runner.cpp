@@ -3,6 +3,7 @@
 #include "compiled_runs.hpp"
 
 #include "kernel_measure.hpp"
+#include "schedule_cache.hpp"
 
 #include "machine/scene_sample.hpp"
 
@@ -147,6 +148,25 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
     return out;
 }
 
+// schedule_source through the disk cache (machine/schedule_cache.hpp): an alternative that did not
+// schedule is kept as its error, to be thrown again.
+Scheduled cached_schedule_source(const kernels::SourceSet& sources, const std::string& pk, const isa::Machine& m,
+                                 const assembler::AsmOptions& opts, bool alternative) {
+    const std::string key = schedule_key(sources, pk, m) + "/" + m.name + (alternative ? "/alternative" : "/main");
+    if (std::optional<detail::StoredSchedule> hit = detail::load_schedule(key)) {
+        if (!hit->error.empty()) throw std::runtime_error(hit->error);
+        return {hit->text, hit->build, hit->name};
+    }
+    try {
+        Scheduled out = schedule_source(sources, pk, m, opts, alternative);
+        detail::store_schedule(key, {out.text, out.name, "", out.build});
+        return out;
+    } catch (const std::runtime_error& e) {
+        if (alternative) detail::store_schedule(key, {"", "", e.what(), {}});
+        throw;
+    }
+}
+
 // The first error of a diagnostic, without its location: "no modulo schedule found for ...".
 std::string first_error(const std::string& diagnostics) {
     const std::size_t at = diagnostics.find("error: ");
@@ -208,7 +228,7 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
         Candidate k;
         try {
-            k.s = schedule_source(sources, pk, m, opts, !main);
+            k.s = cached_schedule_source(sources, pk, m, opts, !main);
         } catch (const std::runtime_error& e) {
             if (main) throw;
             out.dropped.push_back(pk + " not scheduled (" + first_error(e.what()) + ")");

@@ -6,6 +6,7 @@
 #include "sched/pipeline.hpp"
 
 #include "pipeline_emit.hpp"
+#include "pipeline_solver.hpp"
 #include "text.hpp"
 #include "trip.hpp"
 #include "sched/block.hpp"
@@ -26,6 +27,7 @@
 #include <bit>
 #include <chrono>
 #include <functional>
+#include <iterator>
 #include <cctype>
 #include <map>
 #include <numeric>
@@ -561,6 +563,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // shorter lifetimes (same reservation table), then as found if that one fails to assemble.
     const std::vector<DepEdge> edges = dep_edges(g);
     const std::vector<StageValue> values = stage_values(g);
+    const int shortest_lower = iteration_lower_bound(g, m);
     int scheduled_count = 0; // modulo schedules found, whether or not their code assembled
     auto shifted = [&](const Schedule& s) {
         ++scheduled_count;
@@ -571,6 +574,23 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         if (c.time != s.time) out.push_back(std::move(c));
         out.push_back(s);
         return out;
+    };
+    // The schedule at s's II whose iteration ends soonest, by the solver (pipeline_solver.hpp),
+    // as `shifted` gives it; none when the solver finds nothing shorter, or when s is within half
+    // an II of the longest path (the stages could hardly fall).
+    auto stage_count = [](const Schedule& s) {
+        int st = 1;
+        for (int t : s.time) st = std::max(st, t / s.ii + 1);
+        return st;
+    };
+    // Once per region, at the first II with a schedule: at a larger one the stages fall anyway,
+    // and a region whose IIs fail to assemble would pay the search at each.
+    bool solver_ran = false;
+    auto shortest = [&](const Schedule& s) {
+        if (solver_ran || iteration_length(g, s) < shortest_lower + (s.ii + 1) / 2) return std::vector<Schedule>{};
+        solver_ran = true;
+        const std::optional<Schedule> shorter = shortest_schedule(g, m, s, r.is_while ? r.exit_op : -1, kSolverBudget);
+        return shorter ? shifted(*shorter) : std::vector<Schedule>{};
     };
     // The caller has checked that the dependences admit stage numbers at this II (feasible_ii).
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
@@ -590,8 +610,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                     std::optional<Schedule> found = modulo_schedule(g, m, ii, branch, counter, attempt, r.exit_op, limit);
                     if (!found) continue;
                     for (Schedule& s : shifted(*found)) {
-                        int st = 1;
-                        for (int t : s.time) st = std::max(st, t / s.ii + 1);
+                        const int st = stage_count(s);
                         try {
                             ranked.push_back({st, allocate(r, g, s, named, m, filename).unroll, std::move(s)});
                             within = within || limit == 0 || st <= limit;
@@ -611,6 +630,19 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             // run pays about (stages - 1) x II to fill and drain, and the loops of a kernel run often.
             int limit = ranked.empty() ? 0 : ranked.front().stages - 1;
             while (limit >= 1 && attempts(limit)) --limit;
+            if (!ranked.empty()) { // the shortest iteration at this II, first on a tie
+                std::vector<Ranked> solved;
+                for (Schedule& s : shortest(ranked.front().s)) {
+                    try {
+                        solved.push_back({stage_count(s), allocate(r, g, s, named, m, filename).unroll, std::move(s)});
+                    } catch (const RegisterPressure&) {
+                    }
+                }
+                ranked.insert(ranked.begin(), std::make_move_iterator(solved.begin()), std::make_move_iterator(solved.end()));
+                std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
+                    return std::tie(a.stages, a.unroll) < std::tie(b.stages, b.unroll);
+                });
+            }
             for (const Ranked& k : ranked)
                 if (accept(k.s)) return true;
             return false;
@@ -618,7 +650,12 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         for (int attempt = 0; deadline ? Clock::now() < *deadline : attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = modulo_schedule(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1);
             if (!s) continue;
-            for (const Schedule& k : shifted(*s))
+            std::vector<Schedule> tries = shifted(*s);
+            if (!deadline) { // the solver's schedule first, from the first one found
+                std::vector<Schedule> better = shortest(tries.front());
+                tries.insert(tries.begin(), better.begin(), better.end());
+            }
+            for (const Schedule& k : tries)
                 if (accept(k)) return true;
         }
         return false;
@@ -642,7 +679,12 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         for (int attempt = 0; attempt < kAttemptsPerII; ++attempt) {
             std::optional<Schedule> s = modulo_schedule(g, m, ii, branch, counter, attempt, -1);
             if (!s) continue;
-            for (const Schedule& k : shifted(*s)) {
+            std::vector<Schedule> tries = shifted(*s);
+            { // the solver's schedule too, from the first one found
+                std::vector<Schedule> better = shortest(tries.front());
+                tries.insert(tries.end(), better.begin(), better.end());
+            }
+            for (const Schedule& k : tries) {
                 if (!seen.insert(k.time).second) continue;
                 std::optional<Built> b = build(k);
                 if (!b) continue;
@@ -797,6 +839,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     const Allocation& alloc = *alloc_found;
     res.ii = sched->ii;
     res.stages = stages;
+    res.iteration_cycles = iteration_length(g, *sched);
+    res.iteration_lower = shortest_lower;
     res.unroll = alloc.unroll;
     res.min_pipelined_trip = r.is_while ? 0 : res.stages - 1 + res.unroll;
     res.trip_register = r.trip;
@@ -819,6 +863,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     if (const std::string hint = alias_hint(g, critical); !hint.empty()) rep += "#     " + hint + "\n";
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
                        res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
+    rep += fmt::format("#   one iteration {} cycles from its first issue to its last landing (its longest path: {})\n",
+                       res.iteration_cycles, res.iteration_lower);
     if (!tried.empty()) {
         std::string why;
         for (const Tried& t : tried) {

@@ -244,6 +244,29 @@ class ModuloScheduler {
         return s;
     }
 
+    // Whether `s` keeps every rule `run` places ops under: its loop control, then each op in
+    // issue order where `fits` allows it, then every edge.
+    bool admits(const Schedule& s) {
+        const int n = static_cast<int>(g_.nodes.size());
+        rows_.reset(ii_);
+        time_.assign(static_cast<std::size_t>(n), -1);
+        last_time_ = time_;
+        if (s.loop_control && (!place_fixed(branch_, ii_ - 1) || !place_fixed(counter_, s.counter_row))) return false;
+        std::vector<int> order(static_cast<std::size_t>(n));
+        std::iota(order.begin(), order.end(), 0);
+        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+            return s.time[static_cast<std::size_t>(a)] < s.time[static_cast<std::size_t>(b)];
+        });
+        for (int op : order) {
+            if (!fits(op, s.time[static_cast<std::size_t>(op)])) return false;
+            place(op, s.time[static_cast<std::size_t>(op)]);
+        }
+        for (const Edge& e : g_.edges)
+            if (s.time[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_ > s.time[static_cast<std::size_t>(e.to)])
+                return false;
+        return true;
+    }
+
   private:
     bool legal(std::vector<isa::Instr> ops) const { return bundle_legal(m_, std::move(ops)); }
 
@@ -595,6 +618,10 @@ int writes_to(const isa::Instr& x, int f) {
 std::optional<Schedule> modulo_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch,
                                         const isa::Instr& counter, int attempt, int exit_node, int stages) {
     return ModuloScheduler(g, m, ii, branch, counter, attempt, exit_node, stages).run();
+}
+
+bool table_admits(const Graph& g, const isa::Machine& m, const Schedule& s, int exit_node) {
+    return ModuloScheduler(g, m, s.ii, s.branch, s.counter, 0, exit_node).admits(s);
 }
 
 ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,

@@ -43,6 +43,11 @@ struct Schedule {
 std::optional<Schedule> modulo_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch,
                                         const isa::Instr& counter, int attempt = 0, int exit_node = -1, int stages = 0);
 
+// Whether schedule `s` keeps every rule of the iterative scheduler's reservation table (slots,
+// ports, landings and the back edge, induction flights, a while loop's exit in the last row)
+// and every dependence.
+bool table_admits(const Graph& g, const isa::Machine& m, const Schedule& s, int exit_node);
+
 // Branch and bound over the modulo reservation tables at `ii` (see pipeline_search.cpp), calling
 // `accept` on each complete schedule until it returns true (Accepted), the tree is exhausted, or
 // the deadline passes. `bubble`: also the rules of a stage that lasts II + the taken-branch bubble.

@@ -49,7 +49,7 @@ TEST_CASE("A scene sample is the native renderer's visits of the sampled corners
 TEST_CASE("The IC kernel is chosen on the scene: padded pipeline on short lists, per-kind loops on long ones",
           "[unit][machine]") {
     machine::Options mo = model(machine::Model::V);
-    mo.ic_machine = kData + "/ic-float-2.toml";
+    mo.ic_machine = kData + "/ic-div-5.toml";
     const rt::RenderOptions opt = small(24);
     auto run = [&](int grid, const std::string& kernels_dir) {
         const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:2"), grid);

@@ -129,6 +129,9 @@ struct PipelineResult {
     std::optional<std::size_t> linear_region_at, pipelined_region_at;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
     int stages = 0, unroll = 1;
+    // One iteration, from its first issue to its last landing, and the longest path through it
+    // (no schedule is shorter): a run pays about the iteration to fill and drain.
+    int iteration_cycles = 0, iteration_lower = 0;
     int min_pipelined_trip = 0;          // smaller trip counts run the sequential copy only
     int min_trip = 0;                    // `.trip MIN`: smaller counts are the user's error (0: none)
     // The file's .pipeline regions. With several and no PipelineOptions::region, the code and the

@@ -1,0 +1,124 @@
+#include "machine/schedule_cache.hpp"
+
+#include "schedule_cache.hpp"
+
+#include "base/hash.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <unistd.h>
+
+namespace nesshi::machine {
+
+namespace {
+
+std::mutex cache_mutex;
+std::string cache_dir, cache_build;
+
+std::string file_of(const std::string& key) {
+    return cache_dir + "/" + base::hex64(base::Fnv1a().add(cache_build).add(std::string_view("\0", 1)).add(key).value()) + ".json";
+}
+
+} // namespace
+
+void enable_schedule_cache(const std::string& dir, const std::string& build) {
+    std::lock_guard lock(cache_mutex);
+    cache_dir = dir;
+    cache_build = build;
+}
+
+std::string default_schedule_cache_dir() {
+    if (const char* d = std::getenv("NESSHI_CACHE_DIR")) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/nesshi/kernels";
+    if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/nesshi/kernels";
+    return "";
+}
+
+namespace detail {
+
+std::optional<StoredSchedule> load_schedule(const std::string& key) {
+    std::string path, build;
+    {
+        std::lock_guard lock(cache_mutex);
+        if (cache_dir.empty()) return std::nullopt;
+        path = file_of(key);
+        build = cache_build;
+    }
+    std::ifstream in(path);
+    if (!in) return std::nullopt;
+    try {
+        const nlohmann::json j = nlohmann::json::parse(in);
+        if (j.at("key") != key || j.at("build") != build) return std::nullopt;
+        StoredSchedule s;
+        s.text = j.at("text");
+        s.name = j.at("name");
+        s.error = j.at("error");
+        const nlohmann::json& b = j.at("kernel_build");
+        s.build.source = b.at("source");
+        s.build.machine = b.at("machine");
+        s.build.scheduled = b.at("scheduled");
+        s.build.blocks = b.at("blocks");
+        s.build.nops = b.at("nops");
+        s.build.choice = b.at("choice");
+        s.build.candidates = b.at("candidates");
+        for (const nlohmann::json& l : b.at("loops"))
+            s.build.loops.push_back({l.at("line"), l.at("while"), l.at("ii"), l.at("mii"), l.at("stages"), l.at("unroll")});
+        return s;
+    } catch (const nlohmann::json::exception&) {
+        return std::nullopt; // damaged or of another layout: schedule again
+    }
+}
+
+void store_schedule(const std::string& key, const StoredSchedule& s) {
+    std::string path, build, dir;
+    {
+        std::lock_guard lock(cache_mutex);
+        if (cache_dir.empty()) return;
+        path = file_of(key);
+        build = cache_build;
+        dir = cache_dir;
+    }
+    nlohmann::json loops = nlohmann::json::array();
+    for (const KernelLoop& l : s.build.loops)
+        loops.push_back({{"line", l.line}, {"while", l.is_while}, {"ii", l.ii}, {"mii", l.mii}, {"stages", l.stages}, {"unroll", l.unroll}});
+    const nlohmann::json j = {{"key", key},
+                              {"build", build},
+                              {"text", s.text},
+                              {"name", s.name},
+                              {"error", s.error},
+                              {"kernel_build",
+                               {{"source", s.build.source},
+                                {"machine", s.build.machine},
+                                {"scheduled", s.build.scheduled},
+                                {"blocks", s.build.blocks},
+                                {"nops", s.build.nops},
+                                {"choice", s.build.choice},
+                                {"candidates", s.build.candidates},
+                                {"loops", loops}}}};
+    static std::atomic<unsigned> serial{0};
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    const std::string tmp = path + "." + std::to_string(::getpid()) + "." + std::to_string(serial++) + ".tmp";
+    {
+        std::ofstream out(tmp);
+        if (!out) return;
+        out << j.dump();
+        if (!out) {
+            out.close();
+            std::filesystem::remove(tmp, ec);
+            return;
+        }
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) std::filesystem::remove(tmp, ec);
+}
+
+} // namespace detail
+
+} // namespace nesshi::machine
