@@ -576,8 +576,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         return out;
     };
     // The schedule at s's II whose iteration ends soonest, by the solver (pipeline_solver.hpp),
-    // as `shifted` gives it; none when the solver finds nothing shorter, or when s is within half
-    // an II of the longest path (the stages could hardly fall).
+    // as `shifted` gives it; none when the solver finds nothing shorter, or when s has the fewest
+    // stages any schedule could have or is within half an II of the longest path (a run would
+    // gain a few cycles at most, and the search costs up to its budget).
     auto stage_count = [](const Schedule& s) {
         int st = 1;
         for (int t : s.time) st = std::max(st, t / s.ii + 1);
@@ -587,7 +588,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // and a region whose IIs fail to assemble would pay the search at each.
     bool solver_ran = false;
     auto shortest = [&](const Schedule& s) {
-        if (solver_ran || iteration_length(g, s) < shortest_lower + (s.ii + 1) / 2) return std::vector<Schedule>{};
+        if (solver_ran || iteration_length(g, s) < shortest_lower + (s.ii + 1) / 2 ||
+            stage_count(s) <= fewest_stages(g, m, s.ii))
+            return std::vector<Schedule>{};
         solver_ran = true;
         const std::optional<Schedule> shorter = shortest_schedule(g, m, s, r.is_while ? r.exit_op : -1, kSolverBudget);
         return shorter ? shifted(*shorter) : std::vector<Schedule>{};

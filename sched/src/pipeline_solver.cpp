@@ -359,6 +359,11 @@ class Encoding {
 
 int iteration_lower_bound(const Graph& g, const isa::Machine& m) { return paths_of(g, m).length; }
 
+int fewest_stages(const Graph& g, const isa::Machine& m, int ii) {
+    const Paths p = paths_of(g, m);
+    return *std::max_element(p.earliest.begin(), p.earliest.end()) / ii + 1;
+}
+
 std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node,
                                           std::uint64_t budget) {
     std::optional<Schedule> out;

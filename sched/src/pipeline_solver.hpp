@@ -27,6 +27,10 @@ int iteration_length(const Graph& g, const Schedule& s);
 // iteration is shorter.
 int iteration_lower_bound(const Graph& g, const isa::Machine& m);
 
+// The fewest stages any schedule at `ii` can have: the op whose longest path in is the longest
+// issues no earlier than that.
+int fewest_stages(const Graph& g, const isa::Machine& m, int ii);
+
 // A modulo schedule at found.ii (same loop control rows) whose iteration is shorter than
 // `found`'s, as short as the solver finds within `budget` (z3's resource units, so the result
 // does not depend on the machine's speed or load); none when it finds none. Every schedule
