@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <map>
 #include <mutex>
+#include <bit>
 #include <optional>
 #include <stdexcept>
 #include <string_view>
@@ -167,6 +168,38 @@ Scheduled cached_schedule_source(const kernels::SourceSet& sources, const std::s
     }
 }
 
+// The presets whose kernels are scheduled from their sources (no committed kernel of their own).
+const std::vector<isa::Machine>& scheduled_presets() {
+    static const std::vector<isa::Machine> presets = [] {
+        std::vector<isa::Machine> v;
+        for (std::string_view name : isa::preset_names())
+            if (name.size() > 5 && name.substr(name.size() - 5) == "-real") v.push_back(isa::load_machine(name));
+        return v;
+    }();
+    return presets;
+}
+
+// Whether m has p's latencies, branch penalty and memories, and at least its registers, ports and
+// slots (each of p's slots matched to one of m's that accepts every class it does).
+bool at_least(const isa::Machine& m, const isa::Machine& p) {
+    if (m.latency != p.latency || m.branch_penalty != p.branch_penalty || m.memories != p.memories) return false;
+    for (std::size_t f = 0; f < m.regs.size(); ++f)
+        if (m.regs[f].count < p.regs[f].count || m.regs[f].read_ports < p.regs[f].read_ports ||
+            m.regs[f].write_ports < p.regs[f].write_ports)
+            return false;
+    std::vector<bool> used(m.slots.size());
+    for (const isa::SlotDesc& ps : p.slots) { // the narrowest of m's that covers it
+        int best = -1;
+        for (std::size_t k = 0; k < m.slots.size(); ++k)
+            if (!used[k] && (m.slots[k].classes & ps.classes) == ps.classes &&
+                (best < 0 || std::popcount(m.slots[k].classes) < std::popcount(m.slots[static_cast<std::size_t>(best)].classes)))
+                best = static_cast<int>(k);
+        if (best < 0) return false;
+        used[static_cast<std::size_t>(best)] = true;
+    }
+    return true;
+}
+
 // The first error of a diagnostic, without its location: "no modulo schedule found for ...".
 std::string first_error(const std::string& diagnostics) {
     const std::size_t at = diagnostics.find("error: ");
@@ -248,6 +281,27 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         k.against = k.what;
         all.push_back(std::move(k));
     }
+    // A machine with a scheduled preset's latencies and at least its resources can run that
+    // preset's kernels as written: they are candidates too, so that the search finding less for
+    // the bigger machine never makes it slower (ic-real with a second IU, whose loops got
+    // schedules of fewer stages but longer iterations than ic-real's).
+    for (const isa::Machine& p : scheduled_presets())
+        if (!p.same_as(m) && at_least(m, p))
+            for (const std::string& pk : pks) {
+                Candidate k;
+                try {
+                    k.s = cached_schedule_source(sources, pk, p, opts, pk != pks.front());
+                } catch (const std::runtime_error&) {
+                    continue;
+                }
+                const assembler::AsmResult g = assembler::assemble_string(k.s.text, k.s.name, m, opts);
+                if (!g.ok) continue;
+                k.s.build.machine = m.name;
+                k.prog = iss::load_program(g.object, m);
+                k.what = fmt::format("{} scheduled for {}", pk, p.name);
+                k.against = k.what;
+                all.push_back(std::move(k));
+            }
     if (all.size() > 1)
         for (Candidate& k : all) {
             try {
