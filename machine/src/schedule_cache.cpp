@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -21,16 +22,36 @@ namespace {
 std::mutex cache_mutex;
 std::string cache_dir, cache_build;
 
+// One folder per build: another build's schedules are never read, and its folder goes once
+// unused for kPruneAfter.
 std::string file_of(const std::string& key) {
-    return cache_dir + "/" + base::hex64(base::Fnv1a().add(cache_build).add(std::string_view("\0", 1)).add(key).value()) + ".json";
+    return cache_dir + "/" + cache_build + "/" + base::hex64(base::Fnv1a().add(key).value()) + ".json";
+}
+
+constexpr auto kPruneAfter = std::chrono::hours(24 * 30);
+
+// Removes the folders of other builds not written for kPruneAfter (errors ignored: another run
+// may be pruning too, and the cache only saves time).
+void prune_other_builds(const std::string& dir, const std::string& build) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const auto now = fs::file_time_type::clock::now();
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        if (!it->is_directory(ec) || it->path().filename() == build) continue;
+        const auto when = fs::last_write_time(it->path(), ec);
+        if (!ec && now - when > kPruneAfter) fs::remove_all(it->path(), ec);
+    }
 }
 
 } // namespace
 
 void enable_schedule_cache(const std::string& dir, const std::string& build) {
-    std::lock_guard lock(cache_mutex);
-    cache_dir = dir;
-    cache_build = build;
+    {
+        std::lock_guard lock(cache_mutex);
+        cache_dir = dir;
+        cache_build = build;
+    }
+    if (!dir.empty()) prune_other_builds(dir, build);
 }
 
 std::string default_schedule_cache_dir() {
@@ -82,7 +103,7 @@ void store_schedule(const std::string& key, const StoredSchedule& s) {
         if (cache_dir.empty()) return;
         path = file_of(key);
         build = cache_build;
-        dir = cache_dir;
+        dir = cache_dir + "/" + cache_build;
     }
     nlohmann::json loops = nlohmann::json::array();
     for (const KernelLoop& l : s.build.loops)

@@ -8,9 +8,9 @@
 
 namespace nesshi::machine {
 
-// Keep scheduled kernels under `dir` (created when first written), for this `build` only
-// (machine::build_identity(): another build's schedules are never read). An empty dir turns the
-// cache off.
+// Keep scheduled kernels under `dir`/`build` (created when first written; `build` is
+// machine::build_identity(), so another build's schedules are never read, and the folders of
+// other builds unused for 30 days are removed). An empty dir turns the cache off.
 void enable_schedule_cache(const std::string& dir, const std::string& build);
 
 // Where the command line keeps them: $NESSHI_CACHE_DIR (empty: off), else
