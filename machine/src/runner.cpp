@@ -60,15 +60,19 @@ std::map<std::string, std::shared_ptr<const Candidates>>& schedule_cache() {
     return cache;
 }
 
-// The preset `m` is under another name (a file that only inherits it, a copy), else `m` itself: the
-// preset's kernels, compiled runs and statistics, byte for byte.
-const isa::Machine& canonical(const isa::Machine& m) {
-    static const std::vector<isa::Machine> presets = [] {
+const std::vector<isa::Machine>& presets() {
+    static const std::vector<isa::Machine> all = [] {
         std::vector<isa::Machine> v;
         for (std::string_view name : isa::preset_names()) v.push_back(isa::load_machine(name));
         return v;
     }();
-    for (const isa::Machine& p : presets)
+    return all;
+}
+
+// The preset `m` is under another name (a file that only inherits it, a copy), else `m` itself: the
+// preset's kernels, compiled runs and statistics, byte for byte.
+const isa::Machine& canonical(const isa::Machine& m) {
+    for (const isa::Machine& p : presets())
         if (p.same_as(m)) return p;
     return m;
 }
@@ -166,17 +170,6 @@ Scheduled cached_schedule_source(const kernels::SourceSet& sources, const std::s
         if (alternative) detail::store_schedule(key, {"", "", e.what(), {}});
         throw;
     }
-}
-
-// The presets whose kernels are scheduled from their sources (no committed kernel of their own).
-const std::vector<isa::Machine>& scheduled_presets() {
-    static const std::vector<isa::Machine> presets = [] {
-        std::vector<isa::Machine> v;
-        for (std::string_view name : isa::preset_names())
-            if (name.size() > 5 && name.substr(name.size() - 5) == "-real") v.push_back(isa::load_machine(name));
-        return v;
-    }();
-    return presets;
 }
 
 // Whether m has p's latencies, branch penalty and memories, and at least its registers, ports and
@@ -281,12 +274,13 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         k.against = k.what;
         all.push_back(std::move(k));
     }
-    // A machine with a scheduled preset's latencies and at least its resources can run that
-    // preset's kernels as written: they are candidates too, so that the search finding less for
-    // the bigger machine never makes it slower (ic-real with a second IU, whose loops got
-    // schedules of fewer stages but longer iterations than ic-real's).
-    for (const isa::Machine& p : scheduled_presets())
-        if (!p.same_as(m) && at_least(m, p))
+    // A machine with the latencies of a preset whose kernel is scheduled (the committed one is
+    // another's) and at least its resources can run that preset's kernels as written: they are
+    // candidates too, so that the search finding less for the bigger machine never makes it
+    // slower (ic-real with a second IU, whose loops got schedules of fewer stages but longer
+    // iterations than ic-real's). A preset's committed kernel is the first candidate above.
+    for (const isa::Machine& p : presets())
+        if (!p.same_as(m) && !scheduled_for(committed, p) && at_least(m, p))
             for (const std::string& pk : pks) {
                 Candidate k;
                 try {

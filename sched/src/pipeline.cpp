@@ -563,7 +563,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // shorter lifetimes (same reservation table), then as found if that one fails to assemble.
     const std::vector<DepEdge> edges = dep_edges(g);
     const std::vector<StageValue> values = stage_values(g);
-    const int shortest_lower = iteration_lower_bound(g, m);
+    const IterationBounds bounds = iteration_bounds(g, m);
     int scheduled_count = 0; // modulo schedules found, whether or not their code assembled
     auto shifted = [&](const Schedule& s) {
         ++scheduled_count;
@@ -578,18 +578,13 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // The schedule at s's II whose iteration ends soonest, by the solver (pipeline_solver.hpp),
     // as `shifted` gives it; none when the solver finds nothing shorter, or when s has the fewest
     // stages any schedule could have or is within half an II of the longest path (a run would
-    // gain a few cycles at most, and the search costs up to its budget).
-    auto stage_count = [](const Schedule& s) {
-        int st = 1;
-        for (int t : s.time) st = std::max(st, t / s.ii + 1);
-        return st;
-    };
-    // Once per region, at the first II with a schedule: at a larger one the stages fall anyway,
-    // and a region whose IIs fail to assemble would pay the search at each.
+    // gain a few cycles at most, and the search costs up to its budget). Once per region, at
+    // the first schedule worth it: at a larger II the stages fall anyway, and a region whose IIs
+    // fail to assemble would pay the search at each.
     bool solver_ran = false;
     auto shortest = [&](const Schedule& s) {
-        if (solver_ran || iteration_length(g, s) < shortest_lower + (s.ii + 1) / 2 ||
-            stage_count(s) <= fewest_stages(g, m, s.ii))
+        if (solver_ran || iteration_length(g, s) < bounds.length + (s.ii + 1) / 2 ||
+            s.stages() <= bounds.fewest_stages(s.ii))
             return std::vector<Schedule>{};
         solver_ran = true;
         const std::optional<Schedule> shorter = shortest_schedule(g, m, s, r.is_while ? r.exit_op : -1, kSolverBudget);
@@ -613,7 +608,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                     std::optional<Schedule> found = modulo_schedule(g, m, ii, branch, counter, attempt, r.exit_op, limit);
                     if (!found) continue;
                     for (Schedule& s : shifted(*found)) {
-                        const int st = stage_count(s);
+                        const int st = s.stages();
                         try {
                             ranked.push_back({st, allocate(r, g, s, named, m, filename).unroll, std::move(s)});
                             within = within || limit == 0 || st <= limit;
@@ -637,7 +632,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                 std::vector<Ranked> solved;
                 for (Schedule& s : shortest(ranked.front().s)) {
                     try {
-                        solved.push_back({stage_count(s), allocate(r, g, s, named, m, filename).unroll, std::move(s)});
+                        solved.push_back({s.stages(), allocate(r, g, s, named, m, filename).unroll, std::move(s)});
                     } catch (const RegisterPressure&) {
                     }
                 }
@@ -654,7 +649,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             std::optional<Schedule> s = modulo_schedule(g, m, ii, branch, counter, attempt, r.is_while ? r.exit_op : -1);
             if (!s) continue;
             std::vector<Schedule> tries = shifted(*s);
-            if (!deadline) { // the solver's schedule first, from the first one found
+            if (!deadline) { // the solver's schedule first (once per region)
                 std::vector<Schedule> better = shortest(tries.front());
                 tries.insert(tries.begin(), better.begin(), better.end());
             }
@@ -683,7 +678,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             std::optional<Schedule> s = modulo_schedule(g, m, ii, branch, counter, attempt, -1);
             if (!s) continue;
             std::vector<Schedule> tries = shifted(*s);
-            { // the solver's schedule too, from the first one found
+            { // the solver's schedule too (once per region)
                 std::vector<Schedule> better = shortest(tries.front());
                 tries.insert(tries.end(), better.begin(), better.end());
             }
@@ -843,7 +838,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     res.ii = sched->ii;
     res.stages = stages;
     res.iteration_cycles = iteration_length(g, *sched);
-    res.iteration_lower = shortest_lower;
+    res.iteration_lower = bounds.length;
     res.unroll = alloc.unroll;
     res.min_pipelined_trip = r.is_while ? 0 : res.stages - 1 + res.unroll;
     res.trip_register = r.trip;

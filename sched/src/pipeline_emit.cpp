@@ -42,10 +42,7 @@ struct Iter {
 class Emitter {
   public:
     Emitter(const Region& r, const Graph& g, const Schedule& s, const Allocation& a, const isa::Machine& m)
-        : r_(r), g_(g), s_(s), a_(a), m_(m) {
-        stages_ = 1;
-        for (int t : s.time) stages_ = std::max(stages_, t / s.ii + 1);
-    }
+        : r_(r), g_(g), s_(s), a_(a), m_(m), stages_(s.stages()) {}
     int stages() const { return stages_; }
 
     // Memory op `op` on an induction register (nullopt for any other op): the induction op,

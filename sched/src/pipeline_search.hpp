@@ -28,6 +28,13 @@ struct Schedule {
     int counter_row = 0;
     bool loop_control = true;       // false for a while loop: its exit test, in the last row, is the branch
 
+    // Stages (iterations in flight) of a normalised schedule.
+    int stages() const {
+        int st = 1;
+        for (int t : time) st = std::max(st, t / ii + 1);
+        return st;
+    }
+
     // Shifts every time by whole stages so the earliest op issues in cycle 0 of its stage 0.
     void normalise() {
         const int lo = *std::min_element(time.begin(), time.end());

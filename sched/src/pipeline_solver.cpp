@@ -357,11 +357,9 @@ class Encoding {
 
 } // namespace
 
-int iteration_lower_bound(const Graph& g, const isa::Machine& m) { return paths_of(g, m).length; }
-
-int fewest_stages(const Graph& g, const isa::Machine& m, int ii) {
+IterationBounds iteration_bounds(const Graph& g, const isa::Machine& m) {
     const Paths p = paths_of(g, m);
-    return *std::max_element(p.earliest.begin(), p.earliest.end()) / ii + 1;
+    return {p.length, *std::max_element(p.earliest.begin(), p.earliest.end())};
 }
 
 std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node,

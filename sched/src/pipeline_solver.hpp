@@ -23,13 +23,14 @@ constexpr std::uint64_t kSolverBudget = 5'000'000;
 // The iteration's length: the cycle its last write lands in, from the first issue.
 int iteration_length(const Graph& g, const Schedule& s);
 
-// The longest path through one iteration (its own latency included at the end): no schedule's
-// iteration is shorter.
-int iteration_lower_bound(const Graph& g, const isa::Machine& m);
-
-// The fewest stages any schedule at `ii` can have: the op whose longest path in is the longest
-// issues no earlier than that.
-int fewest_stages(const Graph& g, const isa::Machine& m, int ii);
+// What one iteration's dependences alone allow, at any II: `length`, its longest path (the last
+// op's latency included), which no schedule's iteration is shorter than; `latest_start`, the
+// longest path into any op, so a schedule at II has at least latest_start / II + 1 stages.
+struct IterationBounds {
+    int length = 0, latest_start = 0;
+    int fewest_stages(int ii) const { return latest_start / ii + 1; }
+};
+IterationBounds iteration_bounds(const Graph& g, const isa::Machine& m);
 
 // A modulo schedule at found.ii (same loop control rows) whose iteration is shorter than
 // `found`'s, as short as the solver finds within `budget` (z3's resource units, so the result
