@@ -114,6 +114,37 @@ std::vector<std::string> run_labels(const iss::Program& p, const std::string& fi
     return out;
 }
 
+// The loop of run `label` in a kernel of per-kind runs: the kernel's loops are in source order, as
+// its `*_run` labels are in address order, one loop each (none when the counts differ).
+const KernelLoop* run_loop(const iss::Program& p, const KernelBuild& b, const std::string& label) {
+    std::vector<std::pair<std::uint32_t, std::string>> runs;
+    for (const isa::Symbol& x : p.object().symbols)
+        if (x.kind == isa::SymbolKind::Code && x.name.size() > 4 && x.name.compare(x.name.size() - 4, 4, "_run") == 0)
+            runs.emplace_back(x.value, x.name);
+    if (runs.size() != b.loops.size()) return nullptr;
+    std::sort(runs.begin(), runs.end());
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        if (runs[k].second == label) return &b.loops[k];
+    return nullptr;
+}
+
+// What the row's loop, scheduled for the machine, adds to its bounds (`iterations` in `runs` runs
+// of one iteration a step or shape):
+// - its RecMII as the pipeliner found it in the source: the kernel's code alone does not show the
+//   recurrences through the exit test (a load that is not .speculate waits for the last test);
+// - the run bound: a software-pipelined run of n iterations issues its last one (n - 1) x II
+//   after its first, and that one lasts at least its longest path.
+void add_loop_bounds(KernelRow& r, const KernelLoop* loop, double iterations, double runs) {
+    if (!loop) return;
+    if (loop->rec_mii > r.rec_mii) {
+        r.rec_mii = loop->rec_mii;
+        r.rec_binds = "the loop's recurrences with its exit test (the pipeliner's RecMII)";
+    }
+    if (runs <= 0 || r.bound() <= 0) return;
+    const double n = iterations / runs;
+    r.run_bound = ((n - 1) * r.bound() + loop->longest_path) / n;
+}
+
 // A row of a per-kind loop kernel (KernelMetric::run).
 KernelRow measure_run_row(const KernelMetric& k, const WorkloadRun& w, KernelRow r) {
     const KernelRunner& run = *w.run;
@@ -131,6 +162,7 @@ KernelRow measure_run_row(const KernelMetric& k, const WorkloadRun& w, KernelRow
             return in.info().kind == isa::Kind::Load && in.imm == static_cast<std::int32_t>(kernels::abi::get("REC_INDEX"));
         });
     }
+    add_loop_bounds(r, run_loop(p, w.build, k.run + "_run"), per, measure(run, {k.run + "_run"}).entries);
     return r;
 }
 
@@ -174,6 +206,9 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
         auto occupancy_load = [](const isa::Instr& in) { return in.info().mnemonic == "lbu"; };
         set_bounds(r, *run.prog, bounded, k.iterations, k.iterations_are_loads ? std::function<bool(const isa::Instr&)>(occupancy_load) : nullptr);
     }
+    // A loop kernel's steps (BoundsFrom::Loops) measure its kernel only, not its runs' fill and
+    // drain: the loop adds its RecMII, not a run bound.
+    if (k.bounds == BoundsFrom::Loops && w.build.loops.size() == 1) add_loop_bounds(r, &w.build.loops[0], 0, 0);
     return r;
 }
 
@@ -240,15 +275,16 @@ std::string KernelReport::text() const {
     std::string out;
     for (const auto& [role, name] : machines) out += fmt::format("{} rows: machine {}\n", role, name);
     if (!machines.empty()) out += "\n";
-    out += fmt::format("{:<13} {:<4} {:>8} {:>7} {:>6} {:>6} {:>6} {:>7} {:>7} {:>6}  {}\n", "metric", "mach", "cycles",
-                                  "paper", "ops", "ILP", "util", "ResMII", "RecMII", "/bound", "note");
+    out += fmt::format("{:<13} {:<4} {:>8} {:>7} {:>6} {:>6} {:>6} {:>7} {:>7} {:>6} {:>5}  {}\n", "metric", "mach", "cycles",
+                                  "paper", "ops", "ILP", "util", "ResMII", "RecMII", "/bound", "/run", "note");
     for (const KernelRow& r : rows) {
         const std::string paper = r.paper ? fmt::format("{:.0f}", *r.paper) : "-";
         const std::string res = r.res_mii > 0 ? fmt::format("{:.2f}", r.res_mii) : "-";
         const std::string rec = r.rec_mii > 0 ? fmt::format("{:.2f}", r.rec_mii) : "-";
         const std::string over = r.bound() > 0 ? fmt::format("{:.2f}", r.cycles / r.bound()) : "-";
-        out += fmt::format("{:<13} {:<4} {:>8.2f} {:>7} {:>6.1f} {:>6.2f} {:>6.2f} {:>7} {:>7} {:>6}  {}\n", r.metric, r.machine,
-                           r.cycles, paper, r.ops, r.ilp, r.utilization, res, rec, over, r.note);
+        const std::string over_run = r.run_bound > 0 ? fmt::format("{:.2f}", r.cycles / r.run_bound) : "-";
+        out += fmt::format("{:<13} {:<4} {:>8.2f} {:>7} {:>6.1f} {:>6.2f} {:>6.2f} {:>7} {:>7} {:>6} {:>5}  {}\n", r.metric,
+                           r.machine, r.cycles, paper, r.ops, r.ilp, r.utilization, res, rec, over, over_run, r.note);
     }
     out += goals_line(*this);
     out += fmt::format("\ncycles: per voxel step / ray / primitive, measured on the ISS (fast engine) from label regions;\n"
@@ -257,7 +293,9 @@ std::string KernelReport::text() const {
                        "triangle {:.0f} + {:.0f} load, quadric {:.0f} + {:.0f} load); ILP = ops / cycles in the measured "
                        "code; util = ILP /\n"
                        "issue slots; ResMII, RecMII: lower bounds per step or primitive from the machine description;\n"
-                       "/bound: cycles over the larger of the two (1.00 = at the bound).\n",
+                       "/bound: cycles over the larger of the two (1.00 = at the bound); /run (software-pipelined runs of n\n"
+                       "shapes): cycles over ((n - 1) x bound + one iteration's longest path) / n, the best a run's fill and\n"
+                       "drain allow.\n",
                        kPaper.dda_step_vliw, kPaper.dda_step_seq, kPaper.dda_init, kPaper.fifo_ray, kPaper.triangle,
                        kPaper.triangle_load, kPaper.quadric, kPaper.quadric_load);
     return out;
@@ -270,7 +308,8 @@ std::string KernelReport::json() const {
     for (const KernelRow& r : rows) {
         nlohmann::json e{{"metric", r.metric}, {"machine", r.machine}, {"cycles", r.cycles},   {"ops", r.ops},
                          {"ilp", r.ilp},       {"utilization", r.utilization}, {"res_mii", r.res_mii},
-                         {"rec_mii", r.rec_mii}, {"bound", r.bound()}, {"note", r.note}};
+                         {"rec_mii", r.rec_mii}, {"bound", r.bound()},
+                         {"run_bound", r.run_bound > 0 ? nlohmann::json(r.run_bound) : nlohmann::json(nullptr)}, {"note", r.note}};
         e["paper"] = r.paper ? nlohmann::json(*r.paper) : nlohmann::json(nullptr);
         j["kernels"].push_back(e);
     }

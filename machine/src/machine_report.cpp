@@ -1,6 +1,7 @@
 // Machine reports: stats JSON (render's keys plus "cycles" and "host"), the terminal summary and
 // the sampled activity trace.
 #include "pe.hpp"
+#include "kernel_build_json.hpp"
 #include "base/error.hpp"
 #include "base/write_file.hpp"
 
@@ -69,9 +70,7 @@ std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& o
             if (!b.choice.empty()) j["choice"] = b.choice;
             if (!b.loops.empty()) {
                 j["loops"] = nlohmann::json::array();
-                for (const KernelLoop& l : b.loops)
-                    j["loops"].push_back({{"line", l.line}, {"kind", l.is_while ? "while" : "counted"}, {"ii", l.ii},
-                                          {"mii", l.mii}, {"stages", l.stages}, {"unroll", l.unroll}});
+                for (const KernelLoop& l : b.loops) j["loops"].push_back(loop_json(l));
             }
             return j;
         };
@@ -122,8 +121,10 @@ std::string format_stats(const Stats& m) {
         if (b->scheduled) {
             std::string loops;
             for (const KernelLoop& l : b->loops)
-                loops += fmt::format("; {} loop at line {}: II {} (MII {}), {} stage{}, unrolled {}x", l.is_while ? "while" : "counted",
-                                     l.line, l.ii, l.mii, l.stages, l.stages == 1 ? "" : "s", l.unroll);
+                loops += fmt::format("; {} loop at line {}: II {} (MII {}), {} stage{}, unrolled {}x, one iteration {} cycles "
+                                     "(longest path {})",
+                                     l.is_while ? "while" : "counted", l.line, l.ii, l.mii, l.stages, l.stages == 1 ? "" : "s",
+                                     l.unroll, l.iteration, l.longest_path);
             o += fmt::format("{} kernel: {} scheduled for {} ({} blocks; {} nop bundle{} in its hand-scheduled code for the latencies{})\n",
                              stage, b->source, b->machine, b->blocks, b->nops, b->nops == 1 ? "" : "s", loops);
         }

@@ -138,7 +138,8 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
             const std::vector<int> lines = sched::region_lines(src, name, m);
             for (std::size_t k = 0; k < pr2.loops.size(); ++k) {
                 const sched::LoopSummary& l = pr2.loops[k];
-                b.loops.push_back({k < lines.size() ? lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll});
+                b.loops.push_back({k < lines.size() ? lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll, l.rec_mii,
+                                   l.iteration_cycles, l.iteration_lower});
             }
         }
         const sched::Legalized packed = sched::legalize(around, name, assembles);

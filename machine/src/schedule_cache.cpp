@@ -1,6 +1,7 @@
 #include "machine/schedule_cache.hpp"
 
 #include "schedule_cache.hpp"
+#include "kernel_build_json.hpp"
 
 #include "base/hash.hpp"
 
@@ -88,8 +89,7 @@ std::optional<StoredSchedule> load_schedule(const std::string& key) {
         s.build.nops = b.at("nops");
         s.build.choice = b.at("choice");
         s.build.candidates = b.at("candidates");
-        for (const nlohmann::json& l : b.at("loops"))
-            s.build.loops.push_back({l.at("line"), l.at("while"), l.at("ii"), l.at("mii"), l.at("stages"), l.at("unroll")});
+        for (const nlohmann::json& l : b.at("loops")) s.build.loops.push_back(loop_from_json(l));
         return s;
     } catch (const nlohmann::json::exception&) {
         return std::nullopt; // damaged or of another layout: schedule again
@@ -106,8 +106,7 @@ void store_schedule(const std::string& key, const StoredSchedule& s) {
         dir = cache_dir + "/" + cache_build;
     }
     nlohmann::json loops = nlohmann::json::array();
-    for (const KernelLoop& l : s.build.loops)
-        loops.push_back({{"line", l.line}, {"while", l.is_while}, {"ii", l.ii}, {"mii", l.mii}, {"stages", l.stages}, {"unroll", l.unroll}});
+    for (const KernelLoop& l : s.build.loops) loops.push_back(loop_json(l));
     const nlohmann::json j = {{"key", key},
                               {"build", build},
                               {"text", s.text},

@@ -52,7 +52,7 @@ void drive_dda(KernelRunner& run, std::mt19937& rng, int rays) {
 }
 
 WorkloadRun grid_run(const std::shared_ptr<const iss::Program>& prog, int n, double density, std::mt19937& rng) {
-    WorkloadRun w{std::make_unique<KernelRunner>(prog), kGridRays};
+    WorkloadRun w{std::make_unique<KernelRunner>(prog), kGridRays, 0, {}};
     const OccupancyGrid g = random_grid(n, density, rng);
     w.run->load(kernels::os_image(g.g, g.occ));
     w.run->run();
@@ -116,11 +116,17 @@ DdaRuns run_dda(const std::shared_ptr<const iss::Program>& prog) {
 }
 
 DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine) {
-    return run_dda(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), machine));
+    KernelBuild build;
+    DdaRuns r = run_dda(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), isa::load_machine(machine), &build));
+    r.empty.build = r.sparse.build = build;
+    return r;
 }
 
 WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w) {
-    return run_intersect(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), machine), w);
+    KernelBuild build;
+    WorkloadRun r = run_intersect(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), isa::load_machine(machine), &build), w);
+    r.build = std::move(build);
+    return r;
 }
 
 std::uint64_t workload_busy_cycles(const std::shared_ptr<const iss::Program>& prog, const std::string& path) {
@@ -165,7 +171,7 @@ WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workl
         for (int i = 0; i < kPrimitives; ++i) lists[0].push_back(static_cast<std::uint32_t>(i));
         tests = double{kPrimitiveRays} * kPrimitives;
     }
-    WorkloadRun out{std::make_unique<KernelRunner>(prog), static_cast<double>(rays), tests};
+    WorkloadRun out{std::make_unique<KernelRunner>(prog), static_cast<double>(rays), tests, {}};
     KernelRunner& run = *out.run;
     const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, lists_by_kind(*prog));
     run.load(im.resident);

@@ -16,6 +16,7 @@ struct WorkloadRun {
     std::unique_ptr<KernelRunner> run;
     double rays = 0;
     double primitives = 0; // primitive tests the rays asked for (an intersection workload)
+    KernelBuild build;     // how its kernel was made (from sources; empty for a program given)
 };
 
 // The 3DDDA kernel for `machine` (kernels::kernel_path) on the empty grid, then on the sparse

@@ -845,7 +845,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
     res.min_trip = by_trip ? trip.min : 0;
-    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, choice, {}}};
+    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, choice,
+                  res.iteration_cycles, res.iteration_lower, {}}};
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;

@@ -10,9 +10,9 @@ hand code's bundles are split where they exceed them; units are not varied yet).
 machines, and a failure prints the two files to reproduce it with `nesshi render`.
 Machines run in parallel, one per core. Also printed: the largest cycles / bound of each stage's
 loop rows over the first K machines (`nesshi kernels --json`), and how many machines have every
-row within 1.15x, 1.5x and 2x. Asserted as a ratchet: at most a tenth of them have a row above 2x
-(the IC's per-kind loops pay a run's fill and drain per list, and a machine where they find no
-modulo schedule keeps the padded hand pipeline).
+row within 1.15x, 1.5x and 2x of the row's bound and of its run bound (`/run` in the report: the
+bound of software-pipelined runs as long as the workload's, fill and drain included). Asserted as
+ratchets (below).
 
 usage: random_machines.py NESSHI OUTDIR [N [SEED [K]]]
 """
@@ -62,8 +62,11 @@ def main():
     rng = random.Random(seed)
     native = {s: render(nesshi, s, os.path.join(out, "native-" + s.replace(":", "-")))[1] for s in SCENES}
     bad = 0
-    worst = {"os": (0.0, None, None), "ic": (0.0, None, None)}  # the largest cycles / bound of a loop row
-    per_machine = {"os": [], "ic": []}  # each machine's largest cycles / bound, per stage
+    # Per stage, the largest ratio of a loop row (cycles / bound, and cycles / run bound: the
+    # bound of software-pipelined runs as long as the workload's, the row's bound where it has
+    # none) with its metric and machine file, and each machine's largest of both.
+    worst = {stage: {"bound": (0.0, None, None), "run": (0.0, None, None)} for stage in ("os", "ic")}
+    per_machine = {stage: [] for stage in ("os", "ic")}  # (largest / bound, largest / run bound, machine)
     machines = []  # drawn first, in order, so the same seed draws the same machines
     for i in range(n):
         files = []
@@ -96,32 +99,41 @@ def main():
             if report:
                 bad += sum(1 for line in report if line.startswith("machine "))
                 print("\n".join(report))
-            largest = {"os": 0.0, "ic": 0.0}
+            largest = {stage: [0.0, 0.0] for stage in per_machine}
             for row in rows:
-                if row.get("bound") and row["machine"] in largest:
-                    largest[row["machine"]] = max(largest[row["machine"]], row["cycles"] / row["bound"])
+                stage = row["machine"]
+                if not row.get("bound") or stage not in largest:
+                    continue
+                ratios = (row["cycles"] / row["bound"], row["cycles"] / (row.get("run_bound") or row["bound"]))
+                for j, (key, ratio) in enumerate(zip(("bound", "run"), ratios)):
+                    largest[stage][j] = max(largest[stage][j], ratio)
+                    if ratio > worst[stage][key][0]:
+                        worst[stage][key] = (ratio, row["metric"], machines[i][0 if stage == "os" else 1])
             for stage in per_machine:
                 if rows:
-                    per_machine[stage].append((largest[stage], i))
-            for row in rows:
-                if row.get("bound") and row["machine"] in worst:
-                    ratio = row["cycles"] / row["bound"]
-                    if ratio > worst[row["machine"]][0]:
-                        worst[row["machine"]] = (ratio, row["metric"], machines[i][0 if row["machine"] == "os" else 1])
-    for stage, (ratio, metric, path) in worst.items():
-        print(f"{stage} loop rows over the first {k} machines: at most {ratio:.2f} x the bound ({metric} on {path})")
-        ratios = [r for r, _ in per_machine[stage]]
-        print(f"  machines whose every {stage} loop row is within 1.15x: {sum(r <= 1.15 for r in ratios)}, "
-              f"1.5x: {sum(r <= 1.5 for r in ratios)}, 2x: {sum(r <= 2 for r in ratios)} of {len(ratios)}")
-    # A ratchet, not the goal of 1.15x: the IC's per-kind loops run a whole run's fill and drain
-    # per 40-shape list, and a machine whose loops find no modulo schedule keeps the padded hand
-    # pipeline. At most a tenth of the machines may have a loop row above 2x its bound (8 of the
-    # first 10 before stage scheduling and the back edge's write ports; 1 of 30 since the read
-    # ports' packing bound lets the loops on three float read ports schedule at their MII).
+                    per_machine[stage].append((*largest[stage], i))
+    for stage, by in worst.items():
+        for j, (key, what) in enumerate((("bound", "the bound"), ("run", "the run bound"))):
+            ratio, metric, path = by[key]
+            ratios = [m[j] for m in per_machine[stage]]
+            print(f"{stage} loop rows over the first {k} machines: at most {ratio:.2f} x {what} ({metric} on {path}); "
+                  f"machines with every row within 1.15x: {sum(r <= 1.15 for r in ratios)}, "
+                  f"1.5x: {sum(r <= 1.5 for r in ratios)}, 2x: {sum(r <= 2 for r in ratios)} of {len(ratios)}")
+    # Ratchets (the goal is every row within 1.15x on every machine). The OS's voxel loop meets it
+    # on every machine. The IC: a machine whose per-kind loops lose to the padded hand pipeline on
+    # the workloads' short mixed lists keeps that pipeline, 1.3-1.9x its bound on long lists; at
+    # most a tenth of the machines may have a loop row above 2x its bound, and at least 13 of the
+    # first 20 (stop 42: 13) every row within 1.15x of its run bound.
     for stage, machines_ratios in per_machine.items():
-        far = [i for r, i in machines_ratios if r > 2]
+        far = [i for r, _, i in machines_ratios if r > 2]
         if len(far) > len(machines_ratios) // 10:
             print(f"FAILED: {len(far)} of {len(machines_ratios)} machines have a {stage} loop row above 2x its bound: {far}")
+            bad += 1
+        near = sum(1 for _, r, _ in machines_ratios if r <= 1.15)
+        want = len(machines_ratios) if stage == "os" else (13 * len(machines_ratios)) // 20
+        if near < want:
+            print(f"FAILED: {near} of {len(machines_ratios)} machines have every {stage} loop row within 1.15x of its run bound "
+                  f"(at least {want} expected)")
             bad += 1
     if bad:
         print(f"FAILED: {bad} of {2 * n} renders, or loop rows above the ratchet")

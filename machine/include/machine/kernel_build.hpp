@@ -12,6 +12,8 @@ struct KernelLoop {
     int line = 0;          // of its .pipeline in the source
     bool is_while = false; // `.pipeline while` (else counted)
     int ii = 0, mii = 0, stages = 0, unroll = 1;
+    int rec_mii = 0; // its recurrences as written, the exit test's control dependences included
+    int iteration = 0, longest_path = 0; // one iteration's cycles, first issue to last landing, and its longest path
 };
 
 // How a kernel was built for its machine.

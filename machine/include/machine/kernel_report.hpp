@@ -97,6 +97,9 @@ struct KernelRow {
     double ops = 0, ilp = 0, utilization = 0;
     double res_mii = 0, rec_mii = 0;   // 0: not computed
     double bound() const { return res_mii > rec_mii ? res_mii : rec_mii; } // a loop row's bound; 0 for the others
+    // A row of software-pipelined runs of n iterations (the per-kind loops): ((n - 1) x bound() +
+    // one iteration's longest path) / n, what fill and drain leave at the best; 0 for the others.
+    double run_bound = 0;
     // What binds them (sched::ResBound/RecBound::binds, "..., / 2 iterations" when a pass holds
     // more); not printed in text() or json(), which keep their format.
     std::string res_binds, rec_binds;

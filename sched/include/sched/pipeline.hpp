@@ -112,6 +112,9 @@ struct LoopSummary {
     bool is_while = false;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0, stages = 0, unroll = 1;
     std::optional<TripChoice> trip; // with `.trip`
+    // One iteration from its first issue to its last landing, and its longest path (as in
+    // PipelineResult): a run of N iterations takes at least (N - 1) x MII + the longest path.
+    int iteration_cycles = 0, iteration_lower = 0;
     std::string json() const;       // one object; `trip` null without .trip
     // The schedule as a picture (`nesshi pipeline --svg`): the modulo reservation table, ops
     // coloured by iteration stage, with the register ports per row, above the virtual registers'
