@@ -901,21 +901,28 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
                            res.min_pipelined_trip);
     if (choice) rep += choice->text();
+    std::array<std::set<std::string>, 2> given; // the registers the kernel's copies take, per file
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         std::string regs;
-        for (const std::string& s : alloc.regs[v]) regs += (regs.empty() ? "" : " ") + s;
+        for (const std::string& s : alloc.regs[v]) {
+            regs += (regs.empty() ? "" : " ") + s;
+            given[r.virtuals[v].file == isa::RegFile::Int ? 0 : 1].insert(s);
+        }
         rep += fmt::format("#   {:<10} lifetime {:>3} cycles -> {}\n", r.virtuals[v].name, alloc.lifetime[v], regs);
     }
-    std::vector<TableRow> rows = schedule_rows(g, r, *sched, m);
+    const std::vector<TableRow> rows = schedule_rows(g, r, *sched, m);
+    LoopReport picture = schedule_picture(g, r, *sched, rows, alloc.lifetime, m, filename,
+                                          res.ii == res.mii ? "at the bound" : fmt::format("{} above the MII", res.ii - res.mii));
+    picture.res_mii = res.res_mii;
+    picture.rec_mii = res.rec_mii;
+    res.loops[0].svg = picture.svg();
+    // MaxLive: the most values alive in one cycle of the kernel, per file (a lower bound on the
+    // registers any allocation needs); beside it, the registers the kernel's copies were given.
+    if (!r.virtuals.empty())
+        rep += fmt::format("#   MaxLive: IRF {}, FPRF {}; registers allocated: IRF {} of {}, FPRF {} of {}\n", picture.max_live[0],
+                           picture.max_live[1], given[0].size(), m.regs[0].count, given[1].size(), m.regs[1].count);
     rep += mrt_text(rows);
     res.report = rep;
-    {
-        LoopReport picture = schedule_picture(g, r, *sched, std::move(rows), alloc.lifetime, m, filename,
-                                              res.ii == res.mii ? "at the bound" : fmt::format("{} above the MII", res.ii - res.mii));
-        picture.res_mii = res.res_mii;
-        picture.rec_mii = res.rec_mii;
-        res.loops[0].svg = picture.svg();
-    }
 
     res.code = code_before + emitted + after;
     res.pipelined = header + rep + res.code;
