@@ -25,13 +25,17 @@ void add_kernels(CLI::App& app) {
     cmd->add_option("--os-machine", machines->os, "measure the os rows on this machine: preset or TOML (default os)");
     cmd->add_option("--ic-machine", machines->ic, "measure the ic rows on this machine (default ic)");
     cmd->add_option("--seq-machine", machines->seq, "measure the seq rows on this machine (default seq)");
-    cmd->callback([json, dir, machines] {
+    auto loops = std::make_shared<bool>(false);
+    cmd->add_flag("--loops", *loops,
+                  "After the table, the pipeliner's report of each loop scheduled for the machines (as nesshi pipeline prints it)");
+    cmd->callback([json, dir, machines, loops] {
         const bool json_on_stdout = stdout_output({{"--json", *json}});
         check_output(*json);
         const machine::KernelReport report =
             machine::kernel_report(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir), *machines);
         fmt::print(json_on_stdout ? stderr : stdout, "{}", report.text());
-        if (!json->empty()) base::write_file(*json, report.json() + "\n");
+        if (*loops) fmt::print(json_on_stdout ? stderr : stdout, "{}", report.loops_text());
+        if (!json->empty()) base::write_file(*json, report.json(*loops) + "\n");
     });
 }
 

@@ -301,10 +301,21 @@ std::string KernelReport::text() const {
     return out;
 }
 
-std::string KernelReport::json() const {
+std::string KernelReport::loops_text() const {
+    if (loop_reports.empty())
+        return "\nno kernel has loops scheduled for its machine (a preset runs its committed kernels)\n";
+    std::string out;
+    for (const auto& [role, report] : loop_reports)
+        out += fmt::format("\n{} kernel: its loops as scheduled for {}\n{}", role,
+                           machines.count(role) ? machines.at(role) : role, report);
+    return out;
+}
+
+std::string KernelReport::json(bool loops) const {
     nlohmann::json j;
     j["kernels"] = nlohmann::json::array();
     if (!machines.empty()) j["machines"] = machines;
+    if (loops) j["loop_reports"] = loop_reports;
     for (const KernelRow& r : rows) {
         nlohmann::json e{{"metric", r.metric}, {"machine", r.machine}, {"cycles", r.cycles},   {"ops", r.ops},
                          {"ilp", r.ilp},       {"utilization", r.utilization}, {"res_mii", r.res_mii},
@@ -328,6 +339,7 @@ KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachin
             r.machines[k.machine] = given == used ? given : fmt::format("{} (the preset {} under another name)", given, used);
         }
         r.rows.push_back(measure_row(k, run));
+        if (!run.build.loop_report.empty()) r.loop_reports[k.machine] = run.build.loop_report;
     }
     return r;
 }

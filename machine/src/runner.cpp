@@ -24,6 +24,7 @@
 #include <mutex>
 #include <bit>
 #include <optional>
+#include <regex>
 #include <stdexcept>
 #include <string_view>
 #include <vector>
@@ -86,6 +87,37 @@ const std::string kPrefix = "kernels/";
 constexpr int kAlternativeIiSearch = 16;
 constexpr int kAlternativeUnscheduled = 8; // IIs in a row with no modulo schedule at all: give up
 
+// The pipeliner's reports of a .pk's regions, scheduled in a text whose lines before each region
+// differ from the .pk's: each region's block (one per `.pipeline`, in order) with its line numbers
+// moved to the .pk's, where its `.pipeline` is at `lines[k]` (a region's own text is the .pk's).
+std::string with_source_lines(const std::string& report, const std::vector<int>& lines) {
+    static const std::regex head(R"(lines (\d+)-\d+\))"), number(R"(\b(lines? )(\d+)(-(\d+))?)");
+    const std::string marker = "# SOFTWARE PIPELINE INFORMATION";
+    std::size_t at = report.find(marker);
+    std::string out = report.substr(0, at);
+    for (std::size_t k = 0; at != std::string::npos; ++k) {
+        const std::size_t next = report.find(marker, at + marker.size());
+        const std::string block = report.substr(at, next == std::string::npos ? std::string::npos : next - at);
+        at = next;
+        std::smatch m;
+        if (k >= lines.size() || !std::regex_search(block, m, head)) {
+            out += block;
+            continue;
+        }
+        const int shift = lines[k] - std::stoi(m[1]);
+        auto from = block.cbegin();
+        for (std::sregex_iterator it(block.begin(), block.end(), number), end; it != end; ++it) {
+            const std::smatch& x = *it;
+            out.append(from, x[0].first);
+            out += x[1].str() + std::to_string(std::stoi(x[2]) + shift);
+            if (x[4].matched) out += "-" + std::to_string(std::stoi(x[4]) + shift);
+            from = x[0].second;
+        }
+        out.append(from, block.cend());
+    }
+    return out;
+}
+
 // The source `pk` ("ic/intersect.pk") scheduled for m: the hand-scheduled code between its
 // blocks first gets the nops m's latencies need (with its blocks written sequentially), then the
 // scheduled file once more (blocks may start earlier than written). Its `.pipeline` regions are
@@ -136,6 +168,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
             around = pr2.pipelined;
             // Each loop named by its line in the .pk (the scheduled text around it has fewer lines).
             const std::vector<int> lines = sched::region_lines(src, name, m);
+            b.loop_report = with_source_lines(pr2.report, lines);
             for (std::size_t k = 0; k < pr2.loops.size(); ++k) {
                 const sched::LoopSummary& l = pr2.loops[k];
                 b.loops.push_back({k < lines.size() ? lines[k] : l.line, l.is_while, l.ii, l.mii, l.stages, l.unroll, l.rec_mii,

@@ -90,6 +90,7 @@ std::optional<StoredSchedule> load_schedule(const std::string& key) {
         s.build.choice = b.at("choice");
         s.build.candidates = b.at("candidates");
         for (const nlohmann::json& l : b.at("loops")) s.build.loops.push_back(loop_from_json(l));
+        s.build.loop_report = b.at("loop_report");
         return s;
     } catch (const nlohmann::json::exception&) {
         return std::nullopt; // damaged or of another layout: schedule again
@@ -120,7 +121,8 @@ void store_schedule(const std::string& key, const StoredSchedule& s) {
                                 {"nops", s.build.nops},
                                 {"choice", s.build.choice},
                                 {"candidates", s.build.candidates},
-                                {"loops", loops}}}};
+                                {"loops", loops},
+                                {"loop_report", s.build.loop_report}}}};
     static std::atomic<unsigned> serial{0};
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);

@@ -26,6 +26,7 @@ struct KernelBuild {
     std::string choice;     // when the committed kernel was also a candidate: which was kept, and the cycles of both
     int candidates = 1;     // kernels measured against each other for the choice (1: none)
     std::vector<KernelLoop> loops; // its loops as scheduled (empty when the committed kernel was kept)
+    std::string loop_report;       // the pipeliner's report of those loops (`nesshi pipeline`'s), one block each
 };
 
 } // namespace nesshi::machine

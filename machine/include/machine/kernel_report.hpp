@@ -111,13 +111,19 @@ struct KernelReport {
     // The rows' machine column names the stage (os, ic, seq); a stage measured on another
     // description than its preset is listed here with that description's name.
     std::map<std::string, std::string> machines;
+    // Per stage (os, ic, seq) whose kernel has loops scheduled for its machine: the pipeliner's
+    // report of each (`nesshi pipeline`'s, from the kernel's .pk source).
+    std::map<std::string, std::string> loop_reports;
 
     const KernelRow* find(std::string_view metric, std::string_view machine) const;
     // The table, the goals line (when every goal's rows are present), the legend.
     std::string text() const;
+    // The loop reports, a heading per stage; a line saying so when no kernel has loops.
+    std::string loops_text() const;
     // {"kernels": [...]}: each row's metric, machine, cycles, paper (or null), ops, ilp,
-    // utilization, res_mii, rec_mii, note; pretty-printed, no final newline.
-    std::string json() const;
+    // utilization, res_mii, rec_mii, bound, run_bound (or null), note; with `loops`, also
+    // "loop_reports" (stage -> text); pretty-printed, no final newline.
+    std::string json(bool loops = false) const;
 };
 
 // Runs every metric of kernel_metrics() on the kernels of `sources`. Throws std::runtime_error
