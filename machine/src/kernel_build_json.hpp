@@ -1,5 +1,6 @@
-// A scheduled kernel's loop as JSON: one form for the stats JSON (machine.kernels.*.loops) and
-// the disk cache of scheduled kernels, which reads it back.
+// How a kernel was built, as JSON: a loop in the one form the stats JSON
+// (machine.kernels.*.loops) and the disk cache share, and the whole build as the disk cache
+// keeps it and reads it back.
 #pragma once
 
 #include "machine/kernel_build.hpp"
@@ -9,7 +10,9 @@
 namespace nesshi::machine {
 
 nlohmann::json loop_json(const KernelLoop& l);
-// Throws nlohmann::json::exception on another layout.
+nlohmann::json build_json(const KernelBuild& b);
+// Both throw nlohmann::json::exception on another layout.
 KernelLoop loop_from_json(const nlohmann::json& j);
+KernelBuild build_from_json(const nlohmann::json& j);
 
 } // namespace nesshi::machine

@@ -81,16 +81,7 @@ std::optional<StoredSchedule> load_schedule(const std::string& key) {
         s.text = j.at("text");
         s.name = j.at("name");
         s.error = j.at("error");
-        const nlohmann::json& b = j.at("kernel_build");
-        s.build.source = b.at("source");
-        s.build.machine = b.at("machine");
-        s.build.scheduled = b.at("scheduled");
-        s.build.blocks = b.at("blocks");
-        s.build.nops = b.at("nops");
-        s.build.choice = b.at("choice");
-        s.build.candidates = b.at("candidates");
-        for (const nlohmann::json& l : b.at("loops")) s.build.loops.push_back(loop_from_json(l));
-        s.build.loop_report = b.at("loop_report");
+        s.build = build_from_json(j.at("kernel_build"));
         return s;
     } catch (const nlohmann::json::exception&) {
         return std::nullopt; // damaged or of another layout: schedule again
@@ -106,23 +97,8 @@ void store_schedule(const std::string& key, const StoredSchedule& s) {
         build = cache_build;
         dir = cache_dir + "/" + cache_build;
     }
-    nlohmann::json loops = nlohmann::json::array();
-    for (const KernelLoop& l : s.build.loops) loops.push_back(loop_json(l));
-    const nlohmann::json j = {{"key", key},
-                              {"build", build},
-                              {"text", s.text},
-                              {"name", s.name},
-                              {"error", s.error},
-                              {"kernel_build",
-                               {{"source", s.build.source},
-                                {"machine", s.build.machine},
-                                {"scheduled", s.build.scheduled},
-                                {"blocks", s.build.blocks},
-                                {"nops", s.build.nops},
-                                {"choice", s.build.choice},
-                                {"candidates", s.build.candidates},
-                                {"loops", loops},
-                                {"loop_report", s.build.loop_report}}}};
+    const nlohmann::json j = {{"key", key},   {"build", build},   {"text", s.text},
+                              {"name", s.name}, {"error", s.error}, {"kernel_build", build_json(s.build)}};
     static std::atomic<unsigned> serial{0};
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
