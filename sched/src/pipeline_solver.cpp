@@ -2,11 +2,15 @@
 
 #include "isa/ops.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <z3++.h>
 
 #include <algorithm>
 #include <array>
 #include <map>
+#include <mutex>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -302,13 +306,21 @@ class Encoding {
     // A bundle writes one register once per landing cycle (isa::check_bundle): ops writing the
     // same register (the pipeliner's stand-ins for its virtual registers repeat) with the same
     // latency take different rows.
+    // The groups in order of their first op, so that regions differing only in their registers
+    // get the same constraints in the same order (and so the same schedule: search_key).
     void distinct_writes() {
-        std::map<std::tuple<int, int, int>, std::vector<int>> writers; // (file, register, latency) -> ops
+        std::map<std::tuple<int, int, int>, std::size_t> group; // (file, register, latency) -> index in writers
+        std::vector<std::vector<int>> writers;
         for (int i = 0; i < n_; ++i)
             for (const isa::RegOperand& o : isa::register_operands(g_.nodes[static_cast<std::size_t>(i)].instr))
-                if (o.write)
-                    writers[{static_cast<int>(o.file), static_cast<int>(o.reg), uses_[static_cast<std::size_t>(i)].latency}].push_back(i);
-        for (const auto& [key, ops] : writers) {
+                if (o.write) {
+                    const auto [at, added] = group.emplace(
+                        std::tuple{static_cast<int>(o.file), static_cast<int>(o.reg), uses_[static_cast<std::size_t>(i)].latency},
+                        writers.size());
+                    if (added) writers.emplace_back();
+                    writers[at->second].push_back(i);
+                }
+        for (const std::vector<int>& ops : writers) {
             if (ops.size() < 2) continue;
             for (int r = 0; r < ii_; ++r) {
                 z3::expr_vector in(c_);
@@ -368,8 +380,67 @@ IterationBounds iteration_bounds(const Graph& g, const isa::Machine& m) {
     return {p.length, *std::max_element(p.earliest.begin(), p.earliest.end())};
 }
 
+namespace {
+
+// What the encoding reads of a search, with registers numbered by first use: two regions that
+// differ only in their registers (the kernels' loops for two shape codes: `bne %code, r54` against
+// r55) are the same search, so it runs once per process (the solver is deterministic).
+std::string search_key(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget) {
+    std::map<std::pair<int, int>, int> number;
+    auto reg = [&](int file, int r) { return number.emplace(std::pair{file, r}, static_cast<int>(number.size())).first->second; };
+    std::string key = fmt::format("{:x} {} {} {} {} {}\n", m.fingerprint(), found.ii, exit_node, budget, found.loop_control,
+                                  found.counter_row);
+    auto instr = [&](const isa::Instr& in) {
+        key += in.info().mnemonic;
+        for (const isa::RegOperand& o : isa::register_operands(in))
+            key += fmt::format(" {}{}{}{}", static_cast<int>(o.file), o.write ? "w" : "r", o.base ? "b" : "", reg(static_cast<int>(o.file), o.reg));
+    };
+    for (const Node& nd : g.nodes) {
+        instr(nd.instr);
+        key += fmt::format(" {} {}\n", nd.adjusted, nd.base < 0 ? -1 : reg(static_cast<int>(isa::RegFile::Int), nd.base));
+    }
+    if (found.loop_control) {
+        instr(found.branch);
+        instr(found.counter);
+    }
+    for (const Edge& e : g.edges) key += fmt::format("\n{} {} {} {}", e.from, e.to, e.latency, e.distance);
+    for (const Induction& i : g.inductions) key += fmt::format("\ni {} {}", i.op, reg(static_cast<int>(isa::RegFile::Int), i.reg));
+    key += fmt::format("\n{}", fmt::join(found.time, " "));
+    return key;
+}
+
+std::mutex searches_mutex;
+std::map<std::string, std::optional<std::vector<int>>>& searches() { // key -> the times found, if any
+    static std::map<std::string, std::optional<std::vector<int>>> done;
+    return done;
+}
+
+std::optional<Schedule> search(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget);
+
+} // namespace
+
 std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node,
                                           std::uint64_t budget) {
+    const std::string key = search_key(g, m, found, exit_node, budget);
+    {
+        std::lock_guard lock(searches_mutex);
+        if (const auto hit = searches().find(key); hit != searches().end()) {
+            if (!hit->second) return std::nullopt;
+            Schedule s = found;
+            s.time = *hit->second;
+            if (table_admits(g, m, s, exit_node)) return s;
+            return std::nullopt;
+        }
+    }
+    std::optional<Schedule> out = search(g, m, found, exit_node, budget);
+    std::lock_guard lock(searches_mutex);
+    searches().emplace(key, out ? std::optional<std::vector<int>>(out->time) : std::nullopt);
+    return out;
+}
+
+namespace {
+
+std::optional<Schedule> search(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget) {
     std::optional<Schedule> out;
     const Paths paths = paths_of(g, m);
     // Bisection between the longest path and the best so far, each bound its own encoding (the
@@ -412,5 +483,7 @@ std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m,
     }
     return out;
 }
+
+} // namespace
 
 } // namespace nesshi::sched::pipe
