@@ -26,6 +26,42 @@
 
 namespace nesshi::sched::pipe {
 
+// First fit of each virtual's copies, in `order`, on registers whose cycles on the circle (the
+// kernel, unroll x II cycles) are free; `take` gives a new register.
+template <class Take>
+void share(Allocation& a, const Region& r, const Schedule& s, int circle, const std::vector<std::size_t>& order, Take& take) {
+    std::vector<std::vector<char>> busy[2];   // per file, per register taken: cycles occupied
+    std::vector<int> busy_reg[2];             // the register of each
+    a.regs.assign(r.virtuals.size(), {});
+    for (const std::size_t v : order) {
+        const Virtual& x = r.virtuals[v];
+        const int f = static_cast<int>(x.file);
+        const bool own = r.carry.count(x.name) || r.liveout.count(x.name);
+        const int t0 = s.time[static_cast<std::size_t>(x.def)];
+        for (int c = 0; c < a.copies[v]; ++c) {
+            std::vector<char> need(static_cast<std::size_t>(circle), 0);
+            for (int k = c; k < a.unroll; k += a.copies[v])
+                for (int t = 0; t < a.lifetime[v]; ++t)
+                    need[static_cast<std::size_t>(((t0 + k * s.ii + t) % circle + circle) % circle)] = 1;
+            int slot = -1;
+            for (std::size_t b = 0; !own && slot < 0 && b < busy[f].size(); ++b) {
+                if (busy[f][b].empty()) continue; // a register of its own
+                bool free = true;
+                for (int t = 0; free && t < circle; ++t) free = !(need[static_cast<std::size_t>(t)] && busy[f][b][static_cast<std::size_t>(t)]);
+                if (free) slot = static_cast<int>(b);
+            }
+            if (slot < 0) {
+                busy_reg[f].push_back(take(x.file, x.name));
+                busy[f].push_back(own ? std::vector<char>{} : std::vector<char>(static_cast<std::size_t>(circle), 0));
+                slot = static_cast<int>(busy[f].size()) - 1;
+            }
+            if (!own)
+                for (int t = 0; t < circle; ++t) busy[f][static_cast<std::size_t>(slot)][static_cast<std::size_t>(t)] |= need[static_cast<std::size_t>(t)];
+            a.regs[v].push_back(reg_name(x.file, busy_reg[f][static_cast<std::size_t>(slot)]));
+        }
+    }
+}
+
 Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
                     const isa::Machine& m, std::string_view file, int min_unroll) {
     Allocation a;
@@ -101,39 +137,29 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     // epilogue and exit paths hold subsets of those instances. Carried values and live-outs keep
     // registers of their own: the value before the loop and after its exit live longer than any
     // instance in the kernel.
+    // First fit in program order; when that runs out of registers, first fit by the cycle each
+    // value starts on the circle, then longest lifetime first (each packs some circles tighter).
     const int circle = a.unroll * s.ii;
-    std::vector<std::vector<char>> busy[2];   // per file, per register taken: cycles occupied
-    std::vector<int> busy_reg[2];             // the register of each
-    a.regs.assign(r.virtuals.size(), {});
-    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
-        const Virtual& x = r.virtuals[v];
-        const int f = static_cast<int>(x.file);
-        const bool own = r.carry.count(x.name) || r.liveout.count(x.name);
-        const int t0 = s.time[static_cast<std::size_t>(x.def)];
-        for (int c = 0; c < a.copies[v]; ++c) {
-            std::vector<char> need(static_cast<std::size_t>(circle), 0);
-            for (int k = c; k < a.unroll; k += a.copies[v])
-                for (int t = 0; t < a.lifetime[v]; ++t)
-                    need[static_cast<std::size_t>(((t0 + k * s.ii + t) % circle + circle) % circle)] = 1;
-            int slot = -1;
-            for (std::size_t b = 0; !own && slot < 0 && b < busy[f].size(); ++b) {
-                if (busy[f][b].empty()) continue; // a register of its own
-                bool free = true;
-                for (int t = 0; free && t < circle; ++t) free = !(need[static_cast<std::size_t>(t)] && busy[f][b][static_cast<std::size_t>(t)]);
-                if (free) slot = static_cast<int>(b);
-            }
-            if (slot < 0) {
-                busy_reg[f].push_back(take(x.file, x.name));
-                busy[f].push_back(own ? std::vector<char>{} : std::vector<char>(static_cast<std::size_t>(circle), 0));
-                slot = static_cast<int>(busy[f].size()) - 1;
-            }
-            if (!own)
-                for (int t = 0; t < circle; ++t) busy[f][static_cast<std::size_t>(slot)][static_cast<std::size_t>(t)] |= need[static_cast<std::size_t>(t)];
-            a.regs[v].push_back(reg_name(x.file, busy_reg[f][static_cast<std::size_t>(slot)]));
+    std::vector<std::size_t> by_program(r.virtuals.size());
+    std::iota(by_program.begin(), by_program.end(), std::size_t{0});
+    std::vector<std::size_t> by_start = by_program, by_lifetime = by_program;
+    auto start = [&](std::size_t v) { return ((s.time[static_cast<std::size_t>(r.virtuals[v].def)] % circle) + circle) % circle; };
+    std::stable_sort(by_start.begin(), by_start.end(), [&](std::size_t x, std::size_t y) { return start(x) < start(y); });
+    std::stable_sort(by_lifetime.begin(), by_lifetime.end(),
+                     [&](std::size_t x, std::size_t y) { return a.lifetime[x] * a.copies[y] > a.lifetime[y] * a.copies[x]; });
+    const std::vector<std::size_t>* orders[] = {&by_program, &by_start, &by_lifetime};
+    for (std::size_t o = 0;; ++o) {
+        try {
+            share(a, r, s, circle, *orders[o], take);
+            return a;
+        } catch (const RegisterPressure&) {
+            if (o + 1 == std::size(orders)) throw;
+            pool[0] = pool0[0], pool[1] = pool0[1];
+            a.scratch = scratch0;
         }
     }
-    return a;
 }
+
 
 bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa::Machine& m, bool entry_nops) {
     if (m.branch_penalty == 0) return true;
