@@ -397,7 +397,8 @@ std::string search_key(const Graph& g, const isa::Machine& m, const Schedule& fo
     };
     for (const Node& nd : g.nodes) {
         instr(nd.instr);
-        key += fmt::format(" {} {}\n", nd.adjusted, nd.base < 0 ? -1 : reg(static_cast<int>(isa::RegFile::Int), nd.base));
+        key += fmt::format(" {} {} {} {} {} {} {}\n", nd.latency, nd.mem, nd.store, nd.speculative, nd.width, nd.adjusted,
+                           nd.base < 0 ? -1 : reg(static_cast<int>(isa::RegFile::Int), nd.base));
     }
     if (found.loop_control) {
         instr(found.branch);
