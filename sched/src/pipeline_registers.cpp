@@ -26,6 +26,8 @@
 
 namespace nesshi::sched::pipe {
 
+namespace {
+
 // First fit of each virtual's copies, in `order`, on registers whose cycles on the circle (the
 // kernel, unroll x II cycles) are free; `take` gives a new register.
 template <class Take>
@@ -61,6 +63,8 @@ void share(Allocation& a, const Region& r, const Schedule& s, int circle, const 
         }
     }
 }
+
+} // namespace
 
 Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
                     const isa::Machine& m, std::string_view file, int min_unroll) {
@@ -138,7 +142,8 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     // registers of their own: the value before the loop and after its exit live longer than any
     // instance in the kernel.
     // First fit in program order; when that runs out of registers, first fit by the cycle each
-    // value starts on the circle, then longest lifetime first (each packs some circles tighter).
+    // value starts on the circle, then by lifetime per copy, longest first (each packs some
+    // circles tighter). The error, when all three fail, names the value the last one could not place.
     const int circle = a.unroll * s.ii;
     std::vector<std::size_t> by_program(r.virtuals.size());
     std::iota(by_program.begin(), by_program.end(), std::size_t{0});

@@ -384,7 +384,8 @@ namespace {
 
 // What the encoding reads of a search, with registers numbered by first use: two regions that
 // differ only in their registers (the kernels' loops for two shape codes: `bne %code, r54` against
-// r55) are the same search, so it runs once per process (the solver is deterministic).
+// r55) are the same search, so it runs once per process (the solver is deterministic; two
+// threads asking at once may both run it, for the same result).
 std::string search_key(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget) {
     std::map<std::pair<int, int>, int> number;
     auto reg = [&](int file, int r) { return number.emplace(std::pair{file, r}, static_cast<int>(number.size())).first->second; };
