@@ -120,30 +120,15 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     // to run and no register more; only more code and exit paths.
     if (r.is_while)
         while (a.unroll < kMaxBubbleUnroll && 20 * static_cast<int>(m.branch_penalty) > s.ii * a.unroll) a.unroll *= 2;
-    const std::vector<int> pool0[2] = {pool[0], pool[1]};
-    const std::vector<std::string> scratch0 = a.scratch;
-    try { // a register set of its own for every virtual, while there are enough
-        for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
-            std::vector<std::string> regs;
-            for (int c = 0; c < a.copies[v]; ++c)
-                regs.push_back(reg_name(r.virtuals[v].file, take(r.virtuals[v].file, r.virtuals[v].name)));
-            a.regs.push_back(regs);
-        }
-        return a;
-    } catch (const RegisterPressure&) {
-        pool[0] = pool0[0], pool[1] = pool0[1];
-        a.scratch = scratch0;
-        a.regs.clear();
-    }
-    // Else virtuals share registers where their lifetimes do not meet. In the kernel (unroll x II
-    // cycles, a circle) copy c of v holds the instances of the iterations k = c mod copies, each
-    // from its def's issue to its last read (the next owner may issue in that cycle); the prologue,
+    // First a register set of its own for every virtual, while there are enough. Else virtuals
+    // share registers where their lifetimes do not meet. In the kernel (unroll x II cycles, a
+    // circle) copy c of v holds the instances of the iterations k = c mod copies, each from its
+    // def's issue to its last read (the next owner may issue in that cycle); the prologue,
     // epilogue and exit paths hold subsets of those instances. Carried values and live-outs keep
     // registers of their own: the value before the loop and after its exit live longer than any
-    // instance in the kernel.
-    // First fit in program order; when that runs out of registers, first fit by the cycle each
-    // value starts on the circle, then by lifetime per copy, longest first (each packs some
-    // circles tighter). The error, when all three fail, names the value the last one could not place.
+    // instance in the kernel. Shared first fit in program order; when that runs out of registers,
+    // by the cycle each value starts on the circle, then by lifetime per copy, longest first (each
+    // packs some circles tighter). The error, when all fail, names the value the last could not place.
     const int circle = a.unroll * s.ii;
     std::vector<std::size_t> by_program(r.virtuals.size());
     std::iota(by_program.begin(), by_program.end(), std::size_t{0});
@@ -152,19 +137,30 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     std::stable_sort(by_start.begin(), by_start.end(), [&](std::size_t x, std::size_t y) { return start(x) < start(y); });
     std::stable_sort(by_lifetime.begin(), by_lifetime.end(),
                      [&](std::size_t x, std::size_t y) { return a.lifetime[x] * a.copies[y] > a.lifetime[y] * a.copies[x]; });
-    const std::vector<std::size_t>* orders[] = {&by_program, &by_start, &by_lifetime};
-    for (std::size_t o = 0;; ++o) {
+    auto own_sets = [&] {
+        a.regs.clear();
+        for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
+            std::vector<std::string> regs;
+            for (int c = 0; c < a.copies[v]; ++c)
+                regs.push_back(reg_name(r.virtuals[v].file, take(r.virtuals[v].file, r.virtuals[v].name)));
+            a.regs.push_back(regs);
+        }
+    };
+    auto shared = [&](const std::vector<std::size_t>& order) { return [&, o = &order] { share(a, r, s, circle, *o, take); }; };
+    const std::function<void()> attempts[] = {own_sets, shared(by_program), shared(by_start), shared(by_lifetime)};
+    const std::vector<int> pool0[2] = {pool[0], pool[1]};
+    const std::vector<std::string> scratch0 = a.scratch;
+    for (std::size_t k = 0;; ++k) {
         try {
-            share(a, r, s, circle, *orders[o], take);
+            attempts[k]();
             return a;
         } catch (const RegisterPressure&) {
-            if (o + 1 == std::size(orders)) throw;
+            if (k + 1 == std::size(attempts)) throw;
             pool[0] = pool0[0], pool[1] = pool0[1];
             a.scratch = scratch0;
         }
     }
 }
-
 
 bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa::Machine& m, bool entry_nops) {
     if (m.branch_penalty == 0) return true;

@@ -417,31 +417,7 @@ std::map<std::string, std::optional<std::vector<int>>>& searches() { // key -> t
     return done;
 }
 
-std::optional<Schedule> search(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget);
-
-} // namespace
-
-std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node,
-                                          std::uint64_t budget) {
-    const std::string key = search_key(g, m, found, exit_node, budget);
-    {
-        std::lock_guard lock(searches_mutex);
-        if (const auto hit = searches().find(key); hit != searches().end()) {
-            if (!hit->second) return std::nullopt;
-            Schedule s = found;
-            s.time = *hit->second;
-            if (table_admits(g, m, s, exit_node)) return s;
-            return std::nullopt;
-        }
-    }
-    std::optional<Schedule> out = search(g, m, found, exit_node, budget);
-    std::lock_guard lock(searches_mutex);
-    searches().emplace(key, out ? std::optional<std::vector<int>>(out->time) : std::nullopt);
-    return out;
-}
-
-namespace {
-
+// The bisection itself.
 std::optional<Schedule> search(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget) {
     std::optional<Schedule> out;
     const Paths paths = paths_of(g, m);
@@ -487,5 +463,27 @@ std::optional<Schedule> search(const Graph& g, const isa::Machine& m, const Sche
 }
 
 } // namespace
+
+std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node,
+                                          std::uint64_t budget) {
+    const std::string key = search_key(g, m, found, exit_node, budget);
+    std::optional<std::optional<std::vector<int>>> known;
+    {
+        std::lock_guard lock(searches_mutex);
+        if (const auto hit = searches().find(key); hit != searches().end()) known = hit->second;
+    }
+    if (known) {
+        if (!*known) return std::nullopt;
+        Schedule s = found;
+        s.time = **known;
+        if (table_admits(g, m, s, exit_node)) return s;
+        return std::nullopt;
+    }
+    std::optional<Schedule> out = search(g, m, found, exit_node, budget);
+    std::lock_guard lock(searches_mutex);
+    searches().emplace(key, out ? std::optional<std::vector<int>>(out->time) : std::nullopt);
+    return out;
+}
+
 
 } // namespace nesshi::sched::pipe
