@@ -21,7 +21,8 @@
 #   m+1  prefetch      its dispatch code and jump target, payload words 0..11 into buffer Y.
 #   m+2                its list entry (the record address).
 # Bodies come in two variants, A (reads buffer A f30-f46, base r10, prefetches into B) and B
-# (the reverse): modulo variable expansion of the payload buffer. The END record (CODE_END)
+# (the reverse): modulo variable expansion of the payload buffer. The .pk writes the A bodies
+# once; `#copy` makes the B bodies from them, placed after the rest of the kernel. The END record (CODE_END)
 # closes every list, so there is no count and no loop compare: `done` is just another target.
 # The jump (jr, branch penalty 0) ends each body; nothing of m's head is left in flight.
 #
@@ -121,6 +122,7 @@ next_ray:
         { movif f26, r7 ; addi r8, r8, 1 }
         { fmin f27, f26, f8 ; movif f28, r8 }
         { fsel f10, r6, f27, f8 ; jr r13 }
+
 
 tri1_A:
         { lw r14, REC_CODE(r11) ; fmul f76, f30, f1 ; fmul f77, f31, f2 ; fmul f78, f32, f3 }
@@ -365,6 +367,33 @@ ball1_A:
         nop
         { fadd f16, f79, f108 ; fadd f49, f79, f108 ; jr r13 }
 
+
+# ---- end of the list: accept the last candidate, then HIT or RETURN ----
+done:
+        { fle r32, f23, f47 ; fle r33, f48, f49 }
+        { fsel f67, r32, f16, f21 }
+        { fsel f67, r33, f67, f21 }
+        { flt r34, f67, f10 }
+        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; fsel f13, r34, f17, f13 }
+        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; movfi r7, f12 }
+        { bnez r7, hit }
+return:
+        { iu0: jmp next_ray ; fpu0: send CH_IC_OS, r2 }
+
+hit:
+        { li r8, 0x7fffffff ; ftoi r12, f15 }
+        { and r8, r2, r8 }
+        { iu0: lw r9, REC_INDEX(r7) ; fpu0: send CH_IC_SC, r8 }
+        { iu0: lw r15, REC_CODE(r7) ; fpu0: send CH_IC_SC, r9 ; fpu1: fsend CH_IC_SC, f10 }
+        { slti r16, r15, CODE_QUAD1 }
+        { li r17, 1 ; fsel f13, r16, f13, f23 ; fsel f14, r16, f14, f23 }
+        { iu0: sel r12, r16, r17, r12 ; fpu0: fsend CH_IC_SC, f13 ; fpu1: fsend CH_IC_SC, f14 }
+        { iu0: jmp next_ray ; fpu0: send CH_IC_SC, r12 }
+
+# The B bodies: the A bodies with the payload buffers exchanged (read B f50-f66 at base r11,
+# prefetch into A f30-f46 at base r10, dispatch through IC_JUMPS_A).
+
+# ---- lines 156-918 copied by '#copy bodies' (line 968) ----
 tri1_B:
         { lw r14, REC_CODE(r10) ; fmul f76, f50, f1 ; fmul f77, f51, f2 ; fmul f78, f52, f3 }
         { lw r13, IC_JUMPS_A(r14) ; fmul f71, f50, f4 ; fmul f72, f51, f5 ; fadd f79, f76, f77 }
@@ -607,25 +636,3 @@ ball1_B:
         { addi r1, r1, 4 }
         nop
         { fadd f16, f79, f108 ; fadd f49, f79, f108 ; jr r13 }
-
-# ---- end of the list: accept the last candidate, then HIT or RETURN ----
-done:
-        { fle r32, f23, f47 ; fle r33, f48, f49 }
-        { fsel f67, r32, f16, f21 }
-        { fsel f67, r33, f67, f21 }
-        { flt r34, f67, f10 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; fsel f13, r34, f17, f13 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; movfi r7, f12 }
-        { bnez r7, hit }
-return:
-        { iu0: jmp next_ray ; fpu0: send CH_IC_OS, r2 }
-
-hit:
-        { li r8, 0x7fffffff ; ftoi r12, f15 }
-        { and r8, r2, r8 }
-        { iu0: lw r9, REC_INDEX(r7) ; fpu0: send CH_IC_SC, r8 }
-        { iu0: lw r15, REC_CODE(r7) ; fpu0: send CH_IC_SC, r9 ; fpu1: fsend CH_IC_SC, f10 }
-        { slti r16, r15, CODE_QUAD1 }
-        { li r17, 1 ; fsel f13, r16, f13, f23 ; fsel f14, r16, f14, f23 }
-        { iu0: sel r12, r16, r17, r12 ; fpu0: fsend CH_IC_SC, f13 ; fpu1: fsend CH_IC_SC, f14 }
-        { iu0: jmp next_ray ; fpu0: send CH_IC_SC, r12 }

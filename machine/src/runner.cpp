@@ -258,8 +258,9 @@ struct Candidate {
     std::uint64_t cycles = 0;
 };
 
-// Every candidate kernel for m: each source scheduled for m, and the committed kernel where it is
-// legal on m as written (a machine with more resources and the same latencies), in that order;
+// Every candidate kernel for m: the committed kernel where it is legal on m as written (its preset,
+// or a machine with more resources and the same latencies), then each source scheduled for m (for
+// the preset, its alternatives only), then the presets' kernels m can run as written;
 // `dropped` says which alternatives did not schedule or assemble, and why. With more than one,
 // each is measured on the kernel workloads.
 struct Candidates {
@@ -284,8 +285,12 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         all.push_back(std::move(k));
     }
     const std::vector<std::string> pks = candidate_sources(sources, path);
+    // A preset's committed kernel is its main source scheduled for it (kernels.regenerate holds
+    // them equal): only the alternatives are scheduled beside it.
+    const bool preset = scheduled_for(committed, m);
     for (const std::string& pk : pks) {
         const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
+        if (main && preset) continue;
         Candidate k;
         try {
             k.s = cached_schedule_source(sources, pk, m, opts, !main);
@@ -308,14 +313,15 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         k.against = k.what;
         all.push_back(std::move(k));
     }
-    // A machine with the latencies of a preset whose kernel is scheduled (the committed one is
-    // another's) and at least its resources can run that preset's kernels as written: they are
-    // candidates too, so that the search finding less for the bigger machine never makes it
-    // slower (ic-real with a second IU, whose loops got schedules of fewer stages but longer
-    // iterations than ic-real's). A preset's committed kernel is the first candidate above.
+    // A machine with the latencies of a preset and at least its resources can run that preset's
+    // kernels as written: they are candidates too, so that the search finding less for the bigger
+    // machine never makes it slower (ic-real with a second IU, whose loops got schedules of fewer
+    // stages but longer iterations than ic-real's). A preset's committed kernel is the first
+    // candidate above.
     for (const isa::Machine& p : presets())
-        if (!p.same_as(m) && !scheduled_for(committed, p) && at_least(m, p))
+        if (!p.same_as(m) && at_least(m, p))
             for (const std::string& pk : pks) {
+                if (pk == pks.front() && scheduled_for(committed, p)) continue; // the committed kernel, above
                 Candidate k;
                 try {
                     k.s = cached_schedule_source(sources, pk, p, opts, pk != pks.front());
@@ -380,21 +386,31 @@ Scheduled choose(const Candidates& c, const LazySceneSample* scene) {
 }
 } // namespace
 
+namespace {
+// A kernel's .include "../abi.inc" (and any other) resolves inside `sources`.
+assembler::AsmOptions kernel_asm_options(const kernels::SourceSet& sources) {
+    assembler::AsmOptions opts;
+    opts.read_file = [&sources](const std::string& p, std::string& text) {
+        if (p.compare(0, kPrefix.size(), kPrefix) != 0 || !sources.has(p.substr(kPrefix.size()))) return false;
+        text = sources.text(p.substr(kPrefix.size()));
+        return true;
+    };
+    return opts;
+}
+} // namespace
+
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const isa::Machine& given, KernelBuild* build, const LazySceneSample* scene) {
     const isa::Machine& m = canonical(given);
     KernelBuild b;
     b.machine = m.name;
-    assembler::AsmOptions opts;
-    opts.read_file = [&](const std::string& p, std::string& text) {
-        if (p.compare(0, kPrefix.size(), kPrefix) != 0 || !sources.has(p.substr(kPrefix.size()))) return false;
-        text = sources.text(p.substr(kPrefix.size()));
-        return true;
-    };
+    const assembler::AsmOptions opts = kernel_asm_options(sources);
     std::string text = sources.text(path);
     std::string name = kPrefix + path;
     const std::string pk = path.substr(0, path.rfind('.')) + ".pk";
-    if (!scheduled_for(text, m) && sources.has(pk)) { // another machine: schedule its sources for m
+    // Another machine: schedule its sources for m. A preset: weigh its committed kernel against
+    // the alternatives scheduled for it (ic/intersect.loops.pk wins on long voxel lists).
+    if (sources.has(pk) && (!scheduled_for(text, m) || candidate_sources(sources, path).size() > 1)) {
         const std::string key = schedule_key(sources, path, m);
         std::shared_ptr<const Candidates> found;
         {
@@ -424,6 +440,18 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const std::string& machine) {
     return assemble_kernel(sources, path, isa::load_machine(machine));
+}
+
+std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& sources, const std::string& pk,
+                                                    const std::string& machine) {
+    const isa::Machine loaded = isa::load_machine(machine);
+    const isa::Machine& m = canonical(loaded);
+    const assembler::AsmOptions opts = kernel_asm_options(sources);
+    const std::string stem = pk.substr(0, pk.find('.', pk.rfind('/') + 1));
+    const Scheduled s = cached_schedule_source(sources, pk, m, opts, pk != stem + ".pk");
+    const assembler::AsmResult r = assembler::assemble_string(s.text, s.name, m, opts);
+    if (!r.ok) throw std::runtime_error(s.name + " does not assemble for machine '" + m.name + "':\n" + r.diagnostics);
+    return iss::load_program(r.object, m);
 }
 
 KernelRunner::KernelRunner(std::shared_ptr<const iss::Program> program, iss::Engine engine)

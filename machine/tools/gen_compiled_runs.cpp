@@ -270,7 +270,9 @@ int main(int argc, char** argv) {
             }
             const size_t at = spec.find('@');
             if (at == std::string::npos || parts == 0) throw std::runtime_error("not KERNEL@MACHINE[:PARTS]: " + spec);
-            const auto prog = machine::assemble_kernel(src, spec.substr(0, at), spec.substr(at + 1));
+            const std::string kernel = spec.substr(0, at), mach = spec.substr(at + 1);
+            const auto prog = kernel.ends_with(".pk") ? machine::assemble_source(src, kernel, mach)
+                                                      : machine::assemble_kernel(src, kernel, mach);
             const std::string id = ident(spec);
             const std::vector<std::string> files = program_code(*prog, spec, id, parts);
             write_if_changed(dir + "/" + id + ".cpp", files[0]);

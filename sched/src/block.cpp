@@ -411,7 +411,7 @@ std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, 
 
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                        const assembler::AsmOptions& opts) {
-    const std::vector<std::string> lines = split_lines(text);
+    const std::vector<std::string> lines = split_lines(expand_copies(text, filename));
     const std::vector<bool> keep = machine_lines(lines, filename, m);
     // The sequential meaning: each block op alone in its bundle, followed by enough nops for its
     // result to land, so the file assembles and every op decodes exactly.
@@ -589,7 +589,7 @@ std::vector<bool> machine_lines(const std::vector<std::string>& lines, std::stri
 }
 
 std::string machine_sections(std::string_view text, std::string_view filename, const isa::Machine& m) {
-    const std::vector<std::string> lines = split_lines(text);
+    const std::vector<std::string> lines = split_lines(expand_copies(text, filename));
     const std::vector<bool> keep = machine_lines(lines, filename, m);
     std::string out;
     for (std::size_t i = 0; i < lines.size(); ++i) out += (keep[i] ? lines[i] : std::string()) + '\n';

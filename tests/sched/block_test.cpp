@@ -252,3 +252,38 @@ TEST_CASE("random blocks: the bundles compute what the sequential block computes
     }
     CHECK(blocks == 200);
 }
+
+TEST_CASE("expand_copies appends each copy with its words swapped, comments and virtuals as written", "[unit][sched][block]") {
+    const std::string text = "#copy begin body\n"
+                             "x_A:    fadd %v1, f30, f31   # f30 stays in a comment\n"
+                             "        lw r10, IC_JUMPS_A(r10)\n"
+                             "        jr r11\n"
+                             "#copy end\n"
+                             "done:\n"
+                             "#copy body: f30-f31 = f50-f51, r10 = r11, *_A = *_B\n";
+    // Markers blank, so "done:" keeps its line 6; the copy follows the last line.
+    CHECK(sched::expand_copies(text, "t.pk") ==
+          "\nx_A:    fadd %v1, f30, f31   # f30 stays in a comment\n        lw r10, IC_JUMPS_A(r10)\n        jr r11\n\n"
+          "done:\n\n"
+          "# ---- lines 2-4 copied by '#copy body' (line 7) ----\n"
+          "x_B:    fadd %v1, f50, f51   # f30 stays in a comment\n        lw r11, IC_JUMPS_B(r11)\n        jr r10\n");
+    CHECK(sched::expand_copies("        nop\n", "t.pk") == "        nop\n");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin b\n        nop\n", "t.pk"),
+                      "t.pk:1: error: '#copy begin' is never closed by '#copy end'");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy b: r1 = r2\n#copy begin b\n#copy end\n", "t.pk"),
+                      "t.pk:1: error: '#copy b' names no block closed before it ('#copy begin b' ... '#copy end')");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin b\n#copy end\n#copy b: f1-f3 = f5-f6\n", "t.pk"),
+                      "t.pk:3: error: '#copy': 3 registers against 2 in 'f1-f3 = f5-f6'");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin b\n#copy end\n#copy b: r1 r2\n", "t.pk"),
+                      "t.pk:3: error: '#copy': each swap is 'X = Y' in 'r1 r2'");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy end\n", "t.pk"), "t.pk:1: error: '#copy end' without '#copy begin'");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin a\n#copy begin b\n", "t.pk"),
+                      "t.pk:2: error: '#copy begin' inside another (they do not nest)");
+    // pack_source schedules the copy like any other block.
+    const isa::Machine m = isa::load_machine("os");
+    const std::string pk = "#copy begin b\nl_A:\n#pack begin\n        li r1, 1\n        li r2, 2\n#pack end\n#copy end\n"
+                           "        halt\n#copy b: r1 = r3, *_A = *_B\n";
+    const sched::PackResult r = sched::pack_source(pk, "t.pk", m);
+    CHECK(r.blocks.size() == 2);
+    CHECK(r.text.find("l_B:\n        { li r3, 1 ; li r2, 2 }") != std::string::npos);
+}

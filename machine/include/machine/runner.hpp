@@ -42,6 +42,11 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
 std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& sources, const std::string& path,
                                                     const std::string& machine);
 
+// Source `pk` ("ic/intersect.loops.pk") scheduled for `machine` and assembled, as assemble_kernel
+// builds it when it weighs that candidate (the build compiles the runs of the ones presets take).
+std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& sources, const std::string& pk,
+                                                    const std::string& machine);
+
 // Whether an IC kernel wants its voxel lists laid out kind by kind (kernels::ic_image's by_kind).
 inline bool lists_by_kind(const iss::Program& p) { return p.find_symbol(kernels::abi::kListsByKindLabel) != nullptr; }
 

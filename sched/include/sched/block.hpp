@@ -62,6 +62,17 @@ struct PackResult {
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                        const assembler::AsmOptions& opts = {});
 
+// Lines written once and instantiated with names exchanged: the lines between `#copy begin NAME`
+// and `#copy end` stay where they are, and each `#copy NAME: X = Y, ...` line appends a copy of
+// them after the file's last line (so no line written in the file changes its number), in which
+// every whole word X of the code (not of comments) becomes Y and every Y becomes X. A swap is two
+// words (r10 = r11), two register ranges of one length (f30-f46 = f50-f66, paired in order) or two
+// suffixes (*_A = *_B: tri1_A <-> tri1_B); %virtual registers are never swapped. The IC kernel's
+// B bodies are its A bodies with the payload buffers exchanged this way. Marker lines become
+// blank. pack_source and machine_sections expand them first. Throws base::Error on a malformed
+// line, a block never closed, or a copy of a block not closed before it.
+std::string expand_copies(std::string_view text, std::string_view filename);
+
 // Code for one preset only: lines between `#if machine NAME` and `#else` (or `#endif`) are kept
 // when m is the preset NAME (same description), the lines between `#else` and `#endif` when it is
 // not; the marker lines go. The OS kernel keeps its hand-scheduled voxel loop for `os` this way
