@@ -182,7 +182,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
         b.nops = hand.nops + region_nops + packed.nops;
     } catch (const base::Error& e) {
         throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
-                                 m.source + "):\n" + e.what());
+                                 m.source + "):\n" + sched::copied_lines_named(e.what(), sources.text(pk), name));
     }
     return out;
 }

@@ -409,9 +409,11 @@ std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, 
 
 } // namespace
 
-PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
-                       const assembler::AsmOptions& opts) {
-    const std::vector<std::string> lines = split_lines(expand_copies(text, filename));
+namespace {
+
+PackResult pack_expanded(std::string_view text, std::string_view filename, const isa::Machine& m,
+                         const assembler::AsmOptions& opts) {
+    const std::vector<std::string> lines = split_lines(text);
     const std::vector<bool> keep = machine_lines(lines, filename, m);
     // The sequential meaning: each block op alone in its bundle, followed by enough nops for its
     // result to land, so the file assembles and every op decodes exactly.
@@ -554,6 +556,19 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
     }
     for (const std::string& s : result) out.text += s + '\n';
     return out;
+}
+
+} // namespace
+
+PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
+                       const assembler::AsmOptions& opts) {
+    try {
+        return pack_expanded(expand_copies(text, filename), filename, m, opts);
+    } catch (const base::Error& e) { // a line of a #copy is named by the line it copies
+        const std::string named = copied_lines_named(e.what(), text, filename);
+        if (named == e.what()) throw;
+        throw base::Error(named);
+    }
 }
 
 std::vector<bool> machine_lines(const std::vector<std::string>& lines, std::string_view filename, const isa::Machine& m) {

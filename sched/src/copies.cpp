@@ -102,7 +102,16 @@ std::string swapped(const std::string& line, const Swaps& s) {
 
 } // namespace
 
-std::string expand_copies(std::string_view text, std::string_view filename) {
+namespace {
+
+// One `#copy NAME:` line: the block it copies ([first, last) line index) and its own line.
+struct Copy {
+    std::string name;
+    std::size_t first = 0, last = 0;
+    int line = 0;
+};
+
+std::string expand(std::string_view text, std::string_view filename, std::vector<Copy>* made) {
     const std::vector<std::string> lines = split_lines(text);
     std::map<std::string, std::pair<std::size_t, std::size_t>> blocks; // name -> [first, last) line index
     std::string open;
@@ -141,6 +150,7 @@ std::string expand_copies(std::string_view text, std::string_view filename) {
             copies += fmt::format("# ---- lines {}-{} copied by '#copy {}' (line {}) ----\n", it->second.first + 1,
                                   it->second.second, name, ln);
             for (std::size_t k = it->second.first; k < it->second.second; ++k) copies += swapped(lines[k], s) + '\n';
+            if (made) made->push_back({name, it->second.first, it->second.second, ln});
             out += '\n';
             continue;
         }
@@ -148,6 +158,57 @@ std::string expand_copies(std::string_view text, std::string_view filename) {
     }
     if (!open.empty()) throw base::Error(base::SourceLoc(filename, static_cast<int>(opened + 1)), "'#copy begin' is never closed by '#copy end'");
     return out + copies;
+}
+
+} // namespace
+
+std::string expand_copies(std::string_view text, std::string_view filename) { return expand(text, filename, nullptr); }
+
+std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename) {
+    std::vector<Copy> copies;
+    try {
+        (void)expand(text, filename, &copies);
+    } catch (const base::Error&) {
+        return diagnostics;
+    }
+    if (copies.empty()) return diagnostics;
+    const int written = static_cast<int>(split_lines(text).size());
+    // The copy's own line and the written line of an appended one (0: the copy's header comment).
+    auto origin = [&](int line) -> std::pair<const Copy*, int> {
+        int at = written + 1;
+        for (const Copy& c : copies) {
+            const int n = static_cast<int>(c.last - c.first);
+            if (line == at) return {&c, 0};
+            if (line <= at + n) return {&c, static_cast<int>(c.first) + (line - at)};
+            at += n + 1;
+        }
+        return {nullptr, 0};
+    };
+    static const std::regex at_line(R"(:(\d+)(:\d+)?:)");
+    const std::string prefix(filename);
+    std::string out;
+    std::size_t pos = 0;
+    while (pos < diagnostics.size()) {
+        std::size_t eol = diagnostics.find('\n', pos);
+        if (eol == std::string::npos) eol = diagnostics.size();
+        std::string line = diagnostics.substr(pos, eol - pos);
+        std::smatch m;
+        const std::size_t hit = line.find(prefix + ":");
+        if (hit != std::string::npos) {
+            const std::string rest = line.substr(hit + prefix.size());
+            if (std::regex_search(rest, m, at_line) && m.position(0) == 0) {
+                const auto [copy, from] = origin(std::stoi(m[1]));
+                if (copy && from > 0)
+                    line = line.substr(0, hit + prefix.size()) + ":" + std::to_string(from) + m[2].str() + ":" +
+                           rest.substr(static_cast<std::size_t>(m.length(0))) +
+                           fmt::format(" [in the copy made by '#copy {}' at line {}]", copy->name, copy->line);
+            }
+        }
+        out += line;
+        if (eol < diagnostics.size()) out += '\n';
+        pos = eol + 1;
+    }
+    return out;
 }
 
 } // namespace nesshi::sched

@@ -287,3 +287,16 @@ TEST_CASE("expand_copies appends each copy with its words swapped, comments and 
     CHECK(r.blocks.size() == 2);
     CHECK(r.text.find("l_B:\n        { li r3, 1 ; li r2, 2 }") != std::string::npos);
 }
+
+TEST_CASE("an error in a #copy names the line it copies and the copy", "[unit][sched][block]") {
+    const std::string pk = "#copy begin b\n#pack begin\n        li r1, 1\n#pack end\n#copy end\n        halt\n#copy b: r1 = q1\n";
+    try {
+        (void)sched::pack_source(pk, "t.pk", isa::load_machine("os"));
+        FAIL("q1 is no register");
+    } catch (const base::Error& e) {
+        INFO(e.what());
+        CHECK(std::string(e.what()).find("t.pk:3:") != std::string::npos);
+        CHECK(std::string(e.what()).find("[in the copy made by '#copy b' at line 7]") != std::string::npos);
+        CHECK(std::string(e.what()).find("t.pk:10") == std::string::npos);
+    }
+}

@@ -72,6 +72,9 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
 // blank. pack_source and machine_sections expand them first. Throws base::Error on a malformed
 // line, a block never closed, or a copy of a block not closed before it.
 std::string expand_copies(std::string_view text, std::string_view filename);
+// `diagnostics` about the expansion of `text` with each "FILE:L:" of a line a copy appended named
+// by the line it was copied from, and the copy said at the end of that line.
+std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename);
 
 // Code for one preset only: lines between `#if machine NAME` and `#else` (or `#endif`) are kept
 // when m is the preset NAME (same description), the lines between `#else` and `#endif` when it is
