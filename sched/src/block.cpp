@@ -563,7 +563,9 @@ PackResult pack_expanded(std::string_view text, std::string_view filename, const
 PackResult pack_source(std::string_view text, std::string_view filename, const isa::Machine& m,
                        const assembler::AsmOptions& opts) {
     try {
-        return pack_expanded(expand_copies(text, filename), filename, m, opts);
+        PackResult r = pack_expanded(expand_copies(text, filename), filename, m, opts);
+        for (BlockStats& b : r.blocks) b.line = written_line(text, filename, b.line);
+        return r;
     } catch (const base::Error& e) { // a line of a #copy is named by the line it copies
         const std::string named = copied_lines_named(e.what(), text, filename);
         if (named == e.what()) throw;

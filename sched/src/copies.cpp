@@ -164,26 +164,46 @@ std::string expand(std::string_view text, std::string_view filename, std::vector
 
 std::string expand_copies(std::string_view text, std::string_view filename) { return expand(text, filename, nullptr); }
 
-std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename) {
-    std::vector<Copy> copies;
-    try {
-        (void)expand(text, filename, &copies);
-    } catch (const base::Error&) {
-        return diagnostics;
+namespace {
+
+// Where each line a copy appended to `text` comes from: the copy, and the line it copies (0 for the
+// copy's header comment); none for a line written in the file.
+class CopyOrigins {
+  public:
+    CopyOrigins(std::string_view text, std::string_view filename) : written_(static_cast<int>(split_lines(text).size())) {
+        try {
+            (void)expand(text, filename, &copies_);
+        } catch (const base::Error&) {
+            copies_.clear(); // the caller reports the error itself
+        }
     }
-    if (copies.empty()) return diagnostics;
-    const int written = static_cast<int>(split_lines(text).size());
-    // The copy's own line and the written line of an appended one (0: the copy's header comment).
-    auto origin = [&](int line) -> std::pair<const Copy*, int> {
-        int at = written + 1;
-        for (const Copy& c : copies) {
+    bool any() const { return !copies_.empty(); }
+    std::pair<const Copy*, int> operator()(int line) const {
+        int at = written_ + 1;
+        for (const Copy& c : copies_) {
             const int n = static_cast<int>(c.last - c.first);
             if (line == at) return {&c, 0};
-            if (line <= at + n) return {&c, static_cast<int>(c.first) + (line - at)};
+            if (line > at && line <= at + n) return {&c, static_cast<int>(c.first) + (line - at)};
             at += n + 1;
         }
         return {nullptr, 0};
-    };
+    }
+
+  private:
+    int written_;
+    std::vector<Copy> copies_;
+};
+
+} // namespace
+
+int written_line(std::string_view text, std::string_view filename, int line) {
+    const auto [copy, from] = CopyOrigins(text, filename)(line);
+    return copy ? from : line;
+}
+
+std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename) {
+    const CopyOrigins origin(text, filename);
+    if (!origin.any()) return diagnostics;
     static const std::regex at_line(R"(:(\d+)(:\d+)?:)");
     const std::string prefix(filename);
     std::string out;

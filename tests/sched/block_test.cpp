@@ -284,7 +284,9 @@ TEST_CASE("expand_copies appends each copy with its words swapped, comments and 
     const std::string pk = "#copy begin b\nl_A:\n#pack begin\n        li r1, 1\n        li r2, 2\n#pack end\n#copy end\n"
                            "        halt\n#copy b: r1 = r3, *_A = *_B\n";
     const sched::PackResult r = sched::pack_source(pk, "t.pk", m);
-    CHECK(r.blocks.size() == 2);
+    REQUIRE(r.blocks.size() == 2);
+    CHECK(r.blocks[0].line == 3); // the copy's block is reported at the line it copies
+    CHECK(r.blocks[1].line == 3);
     CHECK(r.text.find("l_B:\n        { li r3, 1 ; li r2, 2 }") != std::string::npos);
 }
 

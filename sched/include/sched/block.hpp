@@ -75,6 +75,8 @@ std::string expand_copies(std::string_view text, std::string_view filename);
 // `diagnostics` about the expansion of `text` with each "FILE:L:" of a line a copy appended named
 // by the line it was copied from, and the copy said at the end of that line.
 std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename);
+// The line of `text` that line `line` of its expansion holds: itself, or the line a copy copied.
+int written_line(std::string_view text, std::string_view filename, int line);
 
 // Code for one preset only: lines between `#if machine NAME` and `#else` (or `#endif`) are kept
 // when m is the preset NAME (same description), the lines between `#else` and `#endif` when it is
