@@ -3,9 +3,14 @@
 // tracer, and prints wall times, simulated bundles per second and their ratio, measured in one run;
 // also per CPU second of this process, which a busy shared machine does not inflate, with the
 // built-in kernels' compiled runs and again without them (the threaded interpreter).
+// --scenes LIST (or `all`: the paper's five) prints one row per scene instead, the table:
+// machine / native in CPU time and simulated bundles per CPU-second, compiled and interpreted.
+// --os-machine / --ic-machine run the stages on a description of the user's (a preset name or a
+// TOML file), so its row can be set beside a preset's.
 // --paper DIR also times the whole `nesshi paper` matrix into DIR (must not hold cells yet, else
 // the finished ones are loaded, not timed): the target is under 30 minutes on 2 cores.
-// Usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]
+// Usage: bench_machine_render [--scene S | --scenes all|S,S,...] [--model V|M|S] [--grid N] [--size N]
+//                             [--os-machine M] [--ic-machine M] [--paper DIR]
 #include "args.hpp"
 
 #include "iss/compiled.hpp"
@@ -15,10 +20,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <ctime>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -33,63 +40,115 @@ double cpu_seconds() {
     return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
 }
 
+// One scene measured: native once, the machine with compiled runs and on the interpreter alone.
+struct Measured {
+    double native_s = 0, native_cpu = 0, machine_cpu = 0, interp_cpu = 0;
+    nesshi::machine::Result compiled, interpreted;
+    bool same_image = false, same_cycles = false;
+};
+
+Measured measure(const nesshi::rt::PreparedScene& prep, const nesshi::rt::RenderOptions& opt, const nesshi::machine::Options& mo) {
+    using namespace nesshi;
+    Measured out;
+    const auto t_native = std::chrono::steady_clock::now();
+    const double c_native = cpu_seconds();
+    const rt::RenderResult native = rt::render_native(prep, opt);
+    out.native_s = seconds_since(t_native), out.native_cpu = cpu_seconds() - c_native;
+    // With the built-in kernels' compiled runs (iss/compiled.hpp), then on the threaded
+    // interpreter alone: the two speeds and their ratio, in one run.
+    auto machine_run = [&](bool compiled, double& cpu) {
+        iss::set_compiled_enabled(compiled);
+        const double c0 = cpu_seconds();
+        machine::Result r = machine::render(prep, opt, mo);
+        cpu = cpu_seconds() - c0;
+        return r;
+    };
+    const bool compiled_default = iss::compiled_enabled();
+    out.compiled = machine_run(compiled_default, out.machine_cpu);
+    out.interpreted = machine_run(false, out.interp_cpu);
+    iss::set_compiled_enabled(compiled_default);
+    out.same_image = native.image.rgb == out.compiled.render.image.rgb;
+    out.same_cycles = out.interpreted.machine.total_cycles == out.compiled.machine.total_cycles &&
+                      out.interpreted.render.image.rgb == out.compiled.render.image.rgb;
+    return out;
+}
+
+void print_one(const std::string& scene, int size, int grid, const std::string& model, const Measured& r) {
+    const nesshi::machine::Stats& s = r.compiled.machine;
+    fmt::print("{} {}x{} grid {}, model {}, 1 PE, 1 host thread{}\n", scene, size, size, grid, model,
+               nesshi::iss::compiled_enabled() ? "" : " (NESSHI_COMPILED=0: both runs interpreted)");
+    fmt::print("  simulated cycles          {:>14}\n", s.total_cycles);
+    fmt::print("  simulated bundles         {:>14}   (OS + IC or seq; SC is modelled)\n", s.simulated_bundles);
+    fmt::print("  machine wall time         {:>12.2f} s\n", s.wall_seconds);
+    fmt::print("  simulated bundles/s       {:>12.1f} M\n", s.bundles_per_second() / 1e6);
+    fmt::print("  native wall time          {:>12.3f} s   (1 thread, same prepared scene)\n", r.native_s);
+    fmt::print("  machine / native          {:>12.0f} x\n", s.wall_seconds / r.native_s);
+    fmt::print("  machine cpu time          {:>12.2f} s   (native {:.3f} s)\n", r.machine_cpu, r.native_cpu);
+    fmt::print("  simulated bundles/cpu s   {:>12.1f} M   compiled runs\n", double(s.simulated_bundles) / r.machine_cpu / 1e6);
+    fmt::print("  simulated bundles/cpu s   {:>12.1f} M   threaded interpreter only\n",
+               double(r.interpreted.machine.simulated_bundles) / r.interp_cpu / 1e6);
+    fmt::print("  compiled / interpreted    {:>12.2f} x   (cpu time ratio)\n", r.interp_cpu / r.machine_cpu);
+    fmt::print("  machine / native, cpu     {:>12.0f} x\n", r.machine_cpu / r.native_cpu);
+    fmt::print("  images identical          {:>14}\n", r.same_image ? "yes" : "NO");
+    fmt::print("  same cycles, both engines {:>14}\n", r.same_cycles ? "yes" : "NO");
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     using namespace nesshi;
     using namespace nesshi::rt;
-    const bench::Args args =
-        bench::parse_args(argc, argv, "usage: bench_machine_render [--scene S] [--model V|M|S] [--grid N] [--size N] [--paper DIR]",
-                          {"--scene", "--model", "--grid", "--size", "--paper"});
+    const char* usage = "usage: bench_machine_render [--scene S | --scenes all|S,S,...] [--model V|M|S] [--grid N] [--size N] "
+                        "[--os-machine M] [--ic-machine M] [--paper DIR]";
+    const bench::Args args = bench::parse_args(
+        argc, argv, usage, {"--scene", "--scenes", "--model", "--grid", "--size", "--os-machine", "--ic-machine", "--paper"});
     const std::string scene = args.text("--scene", "balls"), model = args.text("--model", "V"),
-                      paper_dir = args.text("--paper", "");
+                      paper_dir = args.text("--paper", ""), scenes = args.text("--scenes", "");
+    if (args.values.count("--scene") && args.values.count("--scenes")) {
+        fmt::print(stderr, "bench_machine_render: --scene or --scenes, not both\n{}\n", usage);
+        return 2;
+    }
     const int grid = int(args.number("--grid", 50)), size = int(args.number("--size", 512));
     try {
         machine::Options mo;
         if (!machine::parse_model(model, mo.model)) throw std::runtime_error("unknown model " + model);
         mo.threads = 1;
-        const PreparedScene prep = prepare(load_scene(scene), grid);
+        mo.os_machine = args.text("--os-machine", "");
+        mo.ic_machine = args.text("--ic-machine", "");
         RenderOptions opt;
         opt.width = opt.height = size;
-
         opt.threads = 1;
-        const auto t_native = std::chrono::steady_clock::now();
-        const double c_native = cpu_seconds();
-        const RenderResult native = render_native(prep, opt);
-        const double native_s = seconds_since(t_native), native_cpu = cpu_seconds() - c_native;
-
-        // With the built-in kernels' compiled runs (iss/compiled.hpp), then on the threaded
-        // interpreter alone: the two speeds and their ratio, in one run.
-        auto machine_run = [&](bool compiled, double& cpu) {
-            iss::set_compiled_enabled(compiled);
-            const double c0 = cpu_seconds();
-            machine::Result r = machine::render(prep, opt, mo);
-            cpu = cpu_seconds() - c0;
-            return r;
-        };
-        const bool compiled_default = iss::compiled_enabled();
-        double machine_cpu = 0, interp_cpu = 0;
-        const machine::Result m = machine_run(compiled_default, machine_cpu);
-        const machine::Result mi = machine_run(false, interp_cpu);
-        iss::set_compiled_enabled(compiled_default);
-        const machine::Stats& s = m.machine;
-        fmt::print("{} {}x{} grid {}, model {}, 1 PE, 1 host thread{}\n", scene, size, size, grid, model,
-                   compiled_default ? "" : " (NESSHI_COMPILED=0: both runs interpreted)");
-        fmt::print("  simulated cycles          {:>14}\n", s.total_cycles);
-        fmt::print("  simulated bundles         {:>14}   (OS + IC or seq; SC is modelled)\n", s.simulated_bundles);
-        fmt::print("  machine wall time         {:>12.2f} s\n", s.wall_seconds);
-        fmt::print("  simulated bundles/s       {:>12.1f} M\n", s.bundles_per_second() / 1e6);
-        fmt::print("  native wall time          {:>12.3f} s   (1 thread, same prepared scene)\n", native_s);
-        fmt::print("  machine / native          {:>12.0f} x\n", s.wall_seconds / native_s);
-        fmt::print("  machine cpu time          {:>12.2f} s   (native {:.3f} s)\n", machine_cpu, native_cpu);
-        fmt::print("  simulated bundles/cpu s   {:>12.1f} M   compiled runs\n", double(s.simulated_bundles) / machine_cpu / 1e6);
-        fmt::print("  simulated bundles/cpu s   {:>12.1f} M   threaded interpreter only\n",
-                   double(mi.machine.simulated_bundles) / interp_cpu / 1e6);
-        fmt::print("  compiled / interpreted    {:>12.2f} x   (cpu time ratio)\n", interp_cpu / machine_cpu);
-        fmt::print("  machine / native, cpu     {:>12.0f} x\n", machine_cpu / native_cpu);
-        fmt::print("  images identical          {:>14}\n", native.image.rgb == m.render.image.rgb ? "yes" : "NO");
-        fmt::print("  same cycles, both engines {:>14}\n",
-                   mi.machine.total_cycles == s.total_cycles && mi.render.image.rgb == m.render.image.rgb ? "yes" : "NO");
+        if (scenes.empty()) {
+            print_one(scene, size, grid, model, measure(prepare(load_scene(scene), grid), opt, mo));
+        } else {
+            std::vector<std::string> list;
+            const std::string names = scenes == "all" ? "balls,mount,rings,tetra,tree" : scenes;
+            for (std::size_t at = 0; at <= names.size();) {
+                const std::size_t comma = std::min(names.find(',', at), names.size());
+                std::string name = names.substr(at, comma - at);
+                name.erase(0, name.find_first_not_of(' '));
+                name.erase(name.find_last_not_of(' ') + 1);
+                if (!name.empty()) list.push_back(name);
+                at = comma + 1;
+            }
+            const std::string stages = mo.model == machine::Model::V
+                                           ? fmt::format("OS {}, IC {}", mo.os_machine.empty() ? "os" : mo.os_machine,
+                                                         mo.ic_machine.empty() ? "ic" : mo.ic_machine)
+                                           : "seq";
+            fmt::print("{}x{} grid {}, model {} on {}, 1 PE, 1 host thread; CPU time of this process\n", size, size, grid, model,
+                       stages);
+            fmt::print("{:<8} {:>14} {:>16} {:>22} {:>24} {:>14} {:>9}\n", "scene", "machine/native", "sim. bundles",
+                       "M bundles/cpu s, comp.", "M bundles/cpu s, interp.", "comp./interp.", "identical");
+            for (const std::string& sc : list) {
+                const Measured r = measure(prepare(load_scene(sc), grid), opt, mo);
+                const machine::Stats& s = r.compiled.machine;
+                fmt::print("{:<8} {:>13.1f}x {:>16} {:>22.1f} {:>24.1f} {:>13.2f}x {:>9}\n", sc, r.machine_cpu / r.native_cpu,
+                           s.simulated_bundles, double(s.simulated_bundles) / r.machine_cpu / 1e6,
+                           double(r.interpreted.machine.simulated_bundles) / r.interp_cpu / 1e6, r.interp_cpu / r.machine_cpu,
+                           r.same_image && r.same_cycles ? "yes" : "NO");
+                std::fflush(stdout);
+            }
+        }
         std::fflush(stdout);
 
         if (!paper_dir.empty()) {

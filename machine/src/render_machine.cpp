@@ -45,7 +45,8 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions&
     const isa::Machine seq = isa::load_machine(or_preset(mo.seq_machine, "seq"));
     s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? isa::load_machine(or_preset(mo.os_machine, "os")) : seq,
                                 &s.os_build);
-    // The IC kernel's candidates on a machine other than a preset are measured on this scene.
+    // The IC kernel's candidates (on a preset: its committed kernel and the alternatives) are
+    // measured on this scene.
     const LazySceneSample sample(prep, opt);
     s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? isa::load_machine(or_preset(mo.ic_machine, "ic")) : seq,
                                 &s.ic_build, vliw ? &sample : nullptr);

@@ -182,7 +182,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
         b.nops = hand.nops + region_nops + packed.nops;
     } catch (const base::Error& e) {
         throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +
-                                 m.source + "):\n" + sched::copied_lines_named(e.what(), sources.text(pk), name));
+                                 m.source + "):\n" + sched::CopiedLines(sources.text(pk), name).named(e.what()));
     }
     return out;
 }
@@ -274,7 +274,14 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
     Candidates out;
     std::vector<Candidate>& all = out.all;
     const std::string committed = sources.text(path);
-    if (const assembler::AsmResult c = assembler::assemble_string(committed, kPrefix + path, m, opts); c.ok) {
+    // A preset's committed kernel is its main source scheduled for it (kernels.regenerate holds
+    // them equal): only the alternatives are scheduled beside it.
+    const bool preset = scheduled_for(committed, m);
+    if (const assembler::AsmResult c = assembler::assemble_string(committed, kPrefix + path, m, opts); !c.ok && preset) {
+        out.failed = Scheduled{committed, {}, kPrefix + path}; // assemble_kernel reports its diagnostics
+        out.failed->build.machine = m.name;
+        return out;
+    } else if (c.ok) {
         Candidate k;
         k.s.text = committed;
         k.s.name = kPrefix + path;
@@ -285,9 +292,6 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         all.push_back(std::move(k));
     }
     const std::vector<std::string> pks = candidate_sources(sources, path);
-    // A preset's committed kernel is its main source scheduled for it (kernels.regenerate holds
-    // them equal): only the alternatives are scheduled beside it.
-    const bool preset = scheduled_for(committed, m);
     for (const std::string& pk : pks) {
         const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
         if (main && preset) continue;
@@ -355,6 +359,7 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
 Scheduled choose(const Candidates& c, const LazySceneSample* scene) {
     if (c.failed) return *c.failed;
     const std::vector<Candidate>& all = c.all;
+    if (all.empty()) throw std::logic_error("choose: no candidate kernel"); // the main source or the committed one is one
     if (all.size() == 1) {
         Scheduled out = all[0].s;
         if (!c.dropped.empty()) out.build.choice = fmt::format("{}: {}", all[0].what, fmt::join(c.dropped, "; "));
@@ -408,9 +413,11 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     std::string text = sources.text(path);
     std::string name = kPrefix + path;
     const std::string pk = path.substr(0, path.rfind('.')) + ".pk";
-    // Another machine: schedule its sources for m. A preset: weigh its committed kernel against
-    // the alternatives scheduled for it (ic/intersect.loops.pk wins on long voxel lists).
-    if (sources.has(pk) && (!scheduled_for(text, m) || candidate_sources(sources, path).size() > 1)) {
+    // Another machine: schedule its sources for m. A preset rendering a scene: weigh its committed
+    // kernel against the alternatives scheduled for it (ic/intersect.loops.pk wins on long voxel
+    // lists); without a scene (the kernel report, the build's compiled runs) it is the committed one.
+    const bool preset = scheduled_for(text, m);
+    if (sources.has(pk) && (!preset || (scene && candidate_sources(sources, path).size() > 1))) {
         const std::string key = schedule_key(sources, path, m);
         std::shared_ptr<const Candidates> found;
         {
@@ -446,12 +453,23 @@ std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& so
                                                     const std::string& machine) {
     const isa::Machine loaded = isa::load_machine(machine);
     const isa::Machine& m = canonical(loaded);
+    static std::mutex mutex;
+    static std::map<std::string, std::shared_ptr<const iss::Program>> built; // tests ask for one several times
+    const std::string key = schedule_key(sources, pk, m);
+    {
+        std::lock_guard lock(mutex);
+        if (const auto hit = built.find(key); hit != built.end()) return hit->second;
+    }
     const assembler::AsmOptions opts = kernel_asm_options(sources);
     const std::string stem = pk.substr(0, pk.find('.', pk.rfind('/') + 1));
     const Scheduled s = cached_schedule_source(sources, pk, m, opts, pk != stem + ".pk");
     const assembler::AsmResult r = assembler::assemble_string(s.text, s.name, m, opts);
     if (!r.ok) throw std::runtime_error(s.name + " does not assemble for machine '" + m.name + "':\n" + r.diagnostics);
-    return iss::load_program(r.object, m);
+    detail::register_compiled_runs(); // as assemble_kernel: the built-in programs' compiled runs
+    std::shared_ptr<const iss::Program> prog = iss::load_program(r.object, m);
+    std::lock_guard lock(mutex);
+    built.emplace(key, prog);
+    return prog;
 }
 
 KernelRunner::KernelRunner(std::shared_ptr<const iss::Program> program, iss::Engine engine)

@@ -4,7 +4,8 @@
 //   nesshi_gen_compiled_runs OUTDIR os/dda.s@os ic/intersect.s@ic:4 ...
 //
 // Each KERNEL@MACHINE is assembled as a machine run assembles it (machine::assemble_kernel on the
-// embedded sources) and written to OUTDIR/<id>.cpp (its tables) and OUTDIR/<id>_0.cpp ..
+// embedded sources; a KERNEL that is a .pk, an alternative source such as ic/intersect.loops.pk,
+// by machine::assemble_source, as a preset's render weighs it) and written to OUTDIR/<id>.cpp (its tables) and OUTDIR/<id>_0.cpp ..
 // <id>_{PARTS-1}.cpp (its runs; PARTS 1 unless given); OUTDIR/register.cpp registers them all. Run by
 // the build (machine/CMakeLists.txt), never by hand. The generated code calls only the helpers of
 // iss/src/compiled.hpp (Counts, op<>, end<>, jump<>, jump_to<>, stop, leave), so the semantics stay

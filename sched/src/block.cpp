@@ -564,12 +564,20 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
                        const assembler::AsmOptions& opts) {
     try {
         PackResult r = pack_expanded(expand_copies(text, filename), filename, m, opts);
-        for (BlockStats& b : r.blocks) b.line = written_line(text, filename, b.line);
+        const CopiedLines copied(text, filename); // a copy's block is reported at the line it copies
+        for (BlockStats& b : r.blocks)
+            if (const auto o = copied(b.line)) b.line = o->line;
         return r;
     } catch (const base::Error& e) { // a line of a #copy is named by the line it copies
-        const std::string named = copied_lines_named(e.what(), text, filename);
-        if (named == e.what()) throw;
-        throw base::Error(named);
+        const CopiedLines copied(text, filename);
+        std::string message = copied.named(e.message());
+        base::SourceLoc loc = e.loc();
+        if (const auto o = copied(loc.line)) {
+            loc.line = o->line;
+            message += o->note();
+        }
+        if (message == e.message() && loc.line == e.loc().line) throw;
+        throw base::Error(loc, message);
     }
 }
 

@@ -43,6 +43,7 @@ std::vector<std::string> range_words(const std::string& text) {
     static const std::regex range(R"(([a-z])(\d+)-([a-z])(\d+))");
     std::smatch m;
     if (!std::regex_match(text, m, range) || m[1] != m[3]) return {text};
+    if (std::stoi(m[2]) > std::stoi(m[4])) return {}; // a range runs upwards: the caller says so
     std::vector<std::string> out;
     for (int r = std::stoi(m[2]); r <= std::stoi(m[4]); ++r) out.push_back(m[1].str() + std::to_string(r));
     return out;
@@ -69,10 +70,13 @@ Swaps parse_swaps(const std::string& list, std::string_view filename, int line) 
             continue;
         }
         const std::vector<std::string> ra = range_words(a), rb = range_words(b);
+        if (ra.empty() || rb.empty()) throw bad("a register range runs upwards (f30-f46)");
         if (ra.size() != rb.size()) throw bad(fmt::format("{} registers against {}", ra.size(), rb.size()));
         for (std::size_t k = 0; k < ra.size(); ++k) {
             if (!std::regex_match(ra[k], ident) || !std::regex_match(rb[k], ident))
                 throw bad("a swap names words, register ranges (f30-f46) or suffixes (*_A)");
+            if (s.words.count(ra[k]) || s.words.count(rb[k]) || ra[k] == rb[k])
+                throw bad(fmt::format("'{}' or '{}' is swapped twice", ra[k], rb[k]));
             s.word(ra[k], rb[k]);
         }
     }
@@ -120,41 +124,41 @@ std::string expand(std::string_view text, std::string_view filename, std::vector
     for (std::size_t i = 0; i < lines.size(); ++i) {
         const std::string t = trim(lines[i]);
         const int ln = static_cast<int>(i + 1);
-        if (t.starts_with("#copy begin")) {
-            if (!open.empty()) throw base::Error(base::SourceLoc(filename, ln), "'#copy begin' inside another (they do not nest)");
-            open = strip_comment(std::string_view(t).substr(std::string_view("#copy begin").size()));
-            if (open.empty()) throw base::Error(base::SourceLoc(filename, ln), "'#copy begin' names its block: '#copy begin NAME'");
-            if (blocks.count(open)) throw base::Error(base::SourceLoc(filename, ln), fmt::format("a second '#copy begin {}'", open));
-            opened = i;
-            out += '\n'; // blank: every line keeps its number
+        if (!t.starts_with("#copy") || (t.size() > 5 && !std::isspace(static_cast<unsigned char>(t[5])))) {
+            out += lines[i] + '\n';
             continue;
         }
-        if (t.starts_with("#copy end") && strip_comment(std::string_view(t).substr(9)).empty()) {
-            if (open.empty()) throw base::Error(base::SourceLoc(filename, ln), "'#copy end' without '#copy begin'");
+        const std::string rest = strip_comment(std::string_view(t).substr(5)); // "begin NAME", "end", "NAME: swaps"
+        const std::string word = rest.substr(0, rest.find_first_of(" \t:"));
+        auto fail = [&](const std::string& why) { return base::Error(base::SourceLoc(filename, ln), why); };
+        out += '\n'; // a marker line goes blank: every line keeps its number
+        if (word == "begin") {
+            if (!open.empty()) throw fail("'#copy begin' inside another (they do not nest)");
+            open = trim(std::string_view(rest).substr(5));
+            if (open.empty()) throw fail("'#copy begin' names its block: '#copy begin NAME'");
+            if (blocks.count(open)) throw fail(fmt::format("a second '#copy begin {}'", open));
+            opened = i;
+            continue;
+        }
+        if (rest == "end") {
+            if (open.empty()) throw fail("'#copy end' without '#copy begin'");
             blocks[open] = {opened + 1, i};
             open.clear();
-            out += '\n';
             continue;
         }
-        if (t.starts_with("#copy ")) {
-            const std::string d = "#copy " + strip_comment(std::string_view(t).substr(6));
-            const std::size_t colon = d.find(':');
-            const std::string name = trim(std::string_view(d).substr(6, colon == std::string::npos ? std::string::npos : colon - 6));
-            const auto it = blocks.find(name);
-            if (it == blocks.end())
-                throw base::Error(base::SourceLoc(filename, ln),
-                                  fmt::format("'#copy {}' names no block closed before it ('#copy begin {}' ... '#copy end')", name, name));
-            const Swaps s = colon == std::string::npos ? Swaps{} : parse_swaps(d.substr(colon + 1), filename, ln);
-            // The copy goes after the file's last line, so that no line written in the file
-            // changes its number.
-            copies += fmt::format("# ---- lines {}-{} copied by '#copy {}' (line {}) ----\n", it->second.first + 1,
-                                  it->second.second, name, ln);
-            for (std::size_t k = it->second.first; k < it->second.second; ++k) copies += swapped(lines[k], s) + '\n';
-            if (made) made->push_back({name, it->second.first, it->second.second, ln});
-            out += '\n';
-            continue;
-        }
-        out += lines[i] + '\n';
+        if (!open.empty()) throw fail(fmt::format("a '#copy' inside the block '{}' it would copy from (copy after '#copy end')", open));
+        const std::size_t colon = rest.find(':');
+        const std::string name = trim(std::string_view(rest).substr(0, colon));
+        const auto it = blocks.find(name);
+        if (it == blocks.end())
+            throw fail(fmt::format("'#copy {}' names no block closed before it ('#copy begin {}' ... '#copy end')", name, name));
+        const Swaps sw = colon == std::string::npos ? Swaps{} : parse_swaps(rest.substr(colon + 1), filename, ln);
+        // The copy goes after the file's last line, so that no line written in the file changes
+        // its number.
+        copies += fmt::format("# ---- lines {}-{} copied by '#copy {}' (line {}) ----\n", it->second.first + 1, it->second.second,
+                              name, ln);
+        for (std::size_t k = it->second.first; k < it->second.second; ++k) copies += swapped(lines[k], sw) + '\n';
+        if (made) made->push_back({name, it->second.first, it->second.second, ln});
     }
     if (!open.empty()) throw base::Error(base::SourceLoc(filename, static_cast<int>(opened + 1)), "'#copy begin' is never closed by '#copy end'");
     return out + copies;
@@ -164,65 +168,44 @@ std::string expand(std::string_view text, std::string_view filename, std::vector
 
 std::string expand_copies(std::string_view text, std::string_view filename) { return expand(text, filename, nullptr); }
 
-namespace {
-
-// Where each line a copy appended to `text` comes from: the copy, and the line it copies (0 for the
-// copy's header comment); none for a line written in the file.
-class CopyOrigins {
-  public:
-    CopyOrigins(std::string_view text, std::string_view filename) : written_(static_cast<int>(split_lines(text).size())) {
-        try {
-            (void)expand(text, filename, &copies_);
-        } catch (const base::Error&) {
-            copies_.clear(); // the caller reports the error itself
-        }
+CopiedLines::CopiedLines(std::string_view text, std::string_view filename)
+    : filename_(filename) {
+    std::vector<Copy> made;
+    try {
+        (void)expand(text, filename, &made);
+    } catch (const base::Error&) {
+        return; // the caller reports the error itself
     }
-    bool any() const { return !copies_.empty(); }
-    std::pair<const Copy*, int> operator()(int line) const {
-        int at = written_ + 1;
-        for (const Copy& c : copies_) {
-            const int n = static_cast<int>(c.last - c.first);
-            if (line == at) return {&c, 0};
-            if (line > at && line <= at + n) return {&c, static_cast<int>(c.first) + (line - at)};
-            at += n + 1;
-        }
-        return {nullptr, 0};
+    int at = static_cast<int>(split_lines(text).size()) + 1; // each copy: its header comment, then its lines
+    for (const Copy& c : made) {
+        spans_.push_back({at, static_cast<int>(c.first), static_cast<int>(c.last - c.first), c.name, c.line});
+        at += static_cast<int>(c.last - c.first) + 1;
     }
-
-  private:
-    int written_;
-    std::vector<Copy> copies_;
-};
-
-} // namespace
-
-int written_line(std::string_view text, std::string_view filename, int line) {
-    const auto [copy, from] = CopyOrigins(text, filename)(line);
-    return copy ? from : line;
 }
 
-std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename) {
-    const CopyOrigins origin(text, filename);
-    if (!origin.any()) return diagnostics;
+std::optional<CopiedLines::Origin> CopiedLines::operator()(int line) const {
+    for (const Span& s : spans_)
+        if (line > s.at && line <= s.at + s.count) return Origin{s.first + (line - s.at), s.name, s.line};
+    return std::nullopt;
+}
+
+std::string CopiedLines::named(const std::string& diagnostics) const {
+    if (spans_.empty()) return diagnostics;
     static const std::regex at_line(R"(:(\d+)(:\d+)?:)");
-    const std::string prefix(filename);
     std::string out;
     std::size_t pos = 0;
     while (pos < diagnostics.size()) {
         std::size_t eol = diagnostics.find('\n', pos);
         if (eol == std::string::npos) eol = diagnostics.size();
         std::string line = diagnostics.substr(pos, eol - pos);
-        std::smatch m;
-        const std::size_t hit = line.find(prefix + ":");
+        const std::size_t hit = line.find(filename_ + ":");
         if (hit != std::string::npos) {
-            const std::string rest = line.substr(hit + prefix.size());
-            if (std::regex_search(rest, m, at_line) && m.position(0) == 0) {
-                const auto [copy, from] = origin(std::stoi(m[1]));
-                if (copy && from > 0)
-                    line = line.substr(0, hit + prefix.size()) + ":" + std::to_string(from) + m[2].str() + ":" +
-                           rest.substr(static_cast<std::size_t>(m.length(0))) +
-                           fmt::format(" [in the copy made by '#copy {}' at line {}]", copy->name, copy->line);
-            }
+            const std::string rest = line.substr(hit + filename_.size());
+            std::smatch m;
+            if (std::regex_search(rest, m, at_line) && m.position(0) == 0)
+                if (const std::optional<Origin> o = (*this)(std::stoi(m[1])))
+                    line = line.substr(0, hit + filename_.size()) + ":" + std::to_string(o->line) + m[2].str() + ":" +
+                           rest.substr(static_cast<std::size_t>(m.length(0))) + o->note();
         }
         out += line;
         if (eol < diagnostics.size()) out += '\n';
@@ -230,5 +213,7 @@ std::string copied_lines_named(const std::string& diagnostics, std::string_view 
     }
     return out;
 }
+
+std::string CopiedLines::Origin::note() const { return fmt::format(" [in the copy made by '#copy {}' at line {}]", copy, copy_line); }
 
 } // namespace nesshi::sched

@@ -279,6 +279,17 @@ TEST_CASE("expand_copies appends each copy with its words swapped, comments and 
     CHECK_THROWS_WITH(sched::expand_copies("#copy end\n", "t.pk"), "t.pk:1: error: '#copy end' without '#copy begin'");
     CHECK_THROWS_WITH(sched::expand_copies("#copy begin a\n#copy begin b\n", "t.pk"),
                       "t.pk:2: error: '#copy begin' inside another (they do not nest)");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin b\n#copy b: r1 = r2\n#copy end\n", "t.pk"),
+                      "t.pk:2: error: a '#copy' inside the block 'b' it would copy from (copy after '#copy end')");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin b\n#copy end\n#copy b: f3-f1 = f5-f7\n", "t.pk"),
+                      "t.pk:3: error: '#copy': a register range runs upwards (f30-f46) in 'f3-f1 = f5-f7'");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy begin b\n#copy end\n#copy b: f1-f3 = f2-f4\n", "t.pk"),
+                      "t.pk:3: error: '#copy': 'f2' or 'f3' is swapped twice in 'f1-f3 = f2-f4'");
+    CHECK_THROWS_WITH(sched::expand_copies("#copy beginning\n", "t.pk"),
+                      "t.pk:1: error: '#copy beginning' names no block closed before it ('#copy begin beginning' ... '#copy end')");
+    // Expanding an expansion changes nothing (the kernel build expands before pack_source does).
+    const std::string once = sched::expand_copies(text, "t.pk");
+    CHECK(sched::expand_copies(once, "t.pk") == once);
     // pack_source schedules the copy like any other block.
     const isa::Machine m = isa::load_machine("os");
     const std::string pk = "#copy begin b\nl_A:\n#pack begin\n        li r1, 1\n        li r2, 2\n#pack end\n#copy end\n"

@@ -32,8 +32,8 @@ class LazySceneSample; // machine/scene_sample.hpp
 // gets the nop bundles m's latencies need (sched/legalize.hpp). `build`, if given, says which.
 // A machine that is a preset under another name (Machine::same_as) is that preset: its kernels,
 // compiled runs and statistics. When more than one kernel is a candidate on `m` (the sources
-// scheduled for m, the committed kernel if legal on it; on a preset, its committed kernel and the
-// alternatives such as ic/intersect.loops.pk scheduled for it), the one busy for the fewest cycles is
+// scheduled for m, the committed kernel if legal on it; on a preset given a scene, its committed
+// kernel and the alternatives such as ic/intersect.loops.pk scheduled for it), the one busy for the fewest cycles is
 // kept: on `scene`'s sampled visits when given (an IC kernel for one render; traced only then),
 // else on the kernel report's workloads.
 // Throws std::runtime_error with the diagnostics.

@@ -31,6 +31,7 @@
 #include "isa/encoding.hpp"
 #include "isa/machine.hpp"
 
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -72,18 +73,39 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
 // blank. pack_source and machine_sections expand them first. Throws base::Error on a malformed
 // line, a block never closed, or a copy of a block not closed before it.
 std::string expand_copies(std::string_view text, std::string_view filename);
-// `diagnostics` about the expansion of `text` with each "FILE:L:" of a line a copy appended named
-// by the line it was copied from, and the copy said at the end of that line.
-std::string copied_lines_named(const std::string& diagnostics, std::string_view text, std::string_view filename);
-// The line of `text` that line `line` of its expansion holds: itself, or the line a copy copied.
-int written_line(std::string_view text, std::string_view filename, int line);
+
+// Where the lines a `#copy` appended to `text` come from, for diagnostics about its expansion.
+class CopiedLines {
+  public:
+    CopiedLines(std::string_view text, std::string_view filename);
+    struct Origin {
+        int line = 0;     // the written line it copies
+        std::string copy; // the block's name
+        int copy_line = 0; // of the `#copy NAME:` line
+        std::string note() const; // " [in the copy made by '#copy NAME' at line N]"
+    };
+    // Line `line` of the expansion when a copy appended it; none for a line written in the file.
+    std::optional<Origin> operator()(int line) const;
+    // `diagnostics` with each "FILE:L:" of an appended line as the written line, and the note.
+    std::string named(const std::string& diagnostics) const;
+
+  private:
+    struct Span {
+        int at = 0, first = 0, count = 0; // the copy's header comment line; its lines follow
+        std::string name;
+        int line = 0;
+    };
+    std::string filename_;
+    std::vector<Span> spans_;
+};
 
 // Code for one preset only: lines between `#if machine NAME` and `#else` (or `#endif`) are kept
 // when m is the preset NAME (same description), the lines between `#else` and `#endif` when it is
 // not; the marker lines go. The OS kernel keeps its hand-scheduled voxel loop for `os` this way
 // and a `.pipeline while` region, scheduled per machine, for every other one (kernels/os/dda.pk).
 // Sections do not nest. Returns, per line of `lines`, whether it stays; pack_source drops the
-// others, and machine_sections(text, ...) blanks them (line numbers kept for diagnostics).
+// others, and machine_sections(text, ...) blanks them (line numbers kept for diagnostics) after
+// expanding the text's #copy lines (expand_copies).
 std::vector<bool> machine_lines(const std::vector<std::string>& lines, std::string_view filename, const isa::Machine& m);
 std::string machine_sections(std::string_view text, std::string_view filename, const isa::Machine& m);
 
