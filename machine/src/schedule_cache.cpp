@@ -20,13 +20,21 @@ namespace nesshi::machine {
 
 namespace {
 
-std::mutex cache_mutex;
-std::string cache_dir, cache_build;
+// Made on first use, so that a program may turn the cache on from a static initializer (the unit
+// tests do): a namespace-scope string would be initialized again after it, empty.
+struct Cache {
+    std::mutex mutex;
+    std::string dir, build;
+};
+Cache& cache() {
+    static Cache c;
+    return c;
+}
 
 // One folder per build: another build's schedules are never read, and its folder goes once
 // unused for kPruneAfter.
 std::string file_of(const std::string& key) {
-    return cache_dir + "/" + cache_build + "/" + base::hex64(base::Fnv1a().add(key).value()) + ".json";
+    return cache().dir + "/" + cache().build + "/" + base::hex64(base::Fnv1a().add(key).value()) + ".json";
 }
 
 constexpr auto kPruneAfter = std::chrono::hours(24 * 30);
@@ -48,9 +56,9 @@ void prune_other_builds(const std::string& dir, const std::string& build) {
 
 void enable_schedule_cache(const std::string& dir, const std::string& build) {
     {
-        std::lock_guard lock(cache_mutex);
-        cache_dir = dir;
-        cache_build = build;
+        std::lock_guard lock(cache().mutex);
+        cache().dir = dir;
+        cache().build = build;
     }
     if (!dir.empty()) prune_other_builds(dir, build);
 }
@@ -67,10 +75,10 @@ namespace detail {
 std::optional<StoredSchedule> load_schedule(const std::string& key) {
     std::string path, build;
     {
-        std::lock_guard lock(cache_mutex);
-        if (cache_dir.empty()) return std::nullopt;
+        std::lock_guard lock(cache().mutex);
+        if (cache().dir.empty()) return std::nullopt;
         path = file_of(key);
-        build = cache_build;
+        build = cache().build;
     }
     std::ifstream in(path);
     if (!in) return std::nullopt;
@@ -91,11 +99,11 @@ std::optional<StoredSchedule> load_schedule(const std::string& key) {
 void store_schedule(const std::string& key, const StoredSchedule& s) {
     std::string path, build, dir;
     {
-        std::lock_guard lock(cache_mutex);
-        if (cache_dir.empty()) return;
+        std::lock_guard lock(cache().mutex);
+        if (cache().dir.empty()) return;
         path = file_of(key);
-        build = cache_build;
-        dir = cache_dir + "/" + cache_build;
+        build = cache().build;
+        dir = cache().dir + "/" + cache().build;
     }
     const nlohmann::json j = {{"key", key},   {"build", build},   {"text", s.text},
                               {"name", s.name}, {"error", s.error}, {"kernel_build", build_json(s.build)}};
