@@ -564,6 +564,7 @@ PackResult pack_source(std::string_view text, std::string_view filename, const i
                        const assembler::AsmOptions& opts) {
     try {
         PackResult r = pack_expanded(expand_copies(text, filename), filename, m, opts);
+        if (text.find("#copy") == std::string_view::npos) return r;
         const CopiedLines copied(text, filename); // a copy's block is reported at the line it copies
         for (BlockStats& b : r.blocks)
             if (const auto o = copied(b.line)) b.line = o->line;

@@ -116,6 +116,9 @@ struct Copy {
 };
 
 std::string expand(std::string_view text, std::string_view filename, std::vector<Copy>* made) {
+    // Most sources have no #copy, and pack_source expands every text legalize tries: return them as
+    // they are (the same as splitting and joining when the last line ends).
+    if (text.find("#copy") == std::string_view::npos && (text.empty() || text.back() == '\n')) return std::string(text);
     const std::vector<std::string> lines = split_lines(text);
     std::map<std::string, std::pair<std::size_t, std::size_t>> blocks; // name -> [first, last) line index
     std::string open;
