@@ -5,7 +5,7 @@ namespace nesshi::assembler {
 
 namespace {
 
-struct Parser {
+struct ExprParser {
     std::span<const Token> t;
     const Resolver* resolve; // null: syntax check only
     size_t i = 0;
@@ -125,7 +125,7 @@ struct Parser {
 } // namespace
 
 ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve, int* nesting) {
-    Parser p{toks, &resolve, 0, {}};
+    ExprParser p{toks, &resolve, 0, {}};
     if (nesting) p.depth = nesting;
     int64_t v = p.binary(0);
     if (!p.failed() && p.i < toks.size()) p.fail("unexpected '" + toks[p.i].text + "' after expression", toks[p.i].col);
@@ -134,7 +134,7 @@ ExprResult eval_expr(std::span<const Token> toks, const Resolver& resolve, int* 
 }
 
 bool is_expr(std::span<const Token> toks) {
-    Parser p{toks, nullptr, 0, {}};
+    ExprParser p{toks, nullptr, 0, {}};
     p.binary(0);
     return !p.failed() && p.i == toks.size();
 }

@@ -1,6 +1,8 @@
 // The SC stage: shading of HIT and MISS messages, the ray trees of pixel corners, DIS and COL.
 #include "sc_stage.hpp"
 
+#include "ray_tag.hpp"
+
 #include "kernels/abi.hpp"
 #include "kernels/messages.hpp"
 
@@ -11,18 +13,6 @@ namespace nesshi::machine {
 
 namespace abi = kernels::abi;
 using namespace sc_cost;
-
-namespace {
-abi::Kind tag_kind(rt::RayKind k) {
-    switch (k) {
-    case rt::RayKind::eye: return abi::Kind::eye;
-    case rt::RayKind::shadow: return abi::Kind::shadow;
-    case rt::RayKind::reflection: return abi::Kind::reflect;
-    case rt::RayKind::refraction: return abi::Kind::refract;
-    }
-    return abi::Kind::eye;
-}
-} // namespace
 
 ScStage::ScStage(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const OpPrices& prices,
                  std::vector<std::uint32_t> corners, int window, int ray_slots, CornerSink sink, Fifo& from_os,

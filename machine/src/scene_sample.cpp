@@ -3,6 +3,8 @@
 
 #include "machine/runner.hpp"
 
+#include "ray_tag.hpp"
+
 #include "iss/stats.hpp"
 #include "kernels/abi.hpp"
 #include "kernels/image.hpp"
@@ -19,15 +21,6 @@ namespace nesshi::machine {
 namespace abi = kernels::abi;
 
 namespace {
-
-abi::Kind tag_kind(rt::RayKind k) {
-    switch (k) {
-    case rt::RayKind::shadow: return abi::Kind::shadow;
-    case rt::RayKind::reflection: return abi::Kind::reflect;
-    case rt::RayKind::refraction: return abi::Kind::refract;
-    default: return abi::Kind::eye;
-    }
-}
 
 // The native renderer's ray tree (rt/render.cpp), recording each non-empty voxel visit.
 struct Sampler {

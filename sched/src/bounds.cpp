@@ -16,7 +16,7 @@ namespace {
 // "4" for whole numbers, else two decimals: "3.50".
 std::string number(double x) { return x == std::floor(x) ? fmt::format("{:.0f}", x) : fmt::format("{:.2f}", x); }
 
-std::string reg_name(int flat) { return fmt::format("{}{}", flat < isa::kMaxRegs ? 'r' : 'f', flat % isa::kMaxRegs); }
+std::string flat_reg_name(int flat) { return fmt::format("{}{}", flat < isa::kMaxRegs ? 'r' : 'f', flat % isa::kMaxRegs); }
 
 // Register reads and the write of one op as flat indices (r0..r127: 0..127, f0..f127: 128..255).
 void regs_of(const isa::Instr& in, std::vector<int>& reads, int& write) {
@@ -159,7 +159,7 @@ RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops) {
             auto it = val.find(reg);
             if (it == val.end() || it->second.producer != last_writer[reg] || !(it->second.ready > out.cycles)) continue;
             out.cycles = it->second.ready;
-            out.reg = reg_name(reg);
+            out.reg = flat_reg_name(reg);
             out.chain.clear();
             for (std::size_t i = it->second.producer; i != n; i = i == s ? n : from[i]) out.chain.push_back(i);
             std::reverse(out.chain.begin(), out.chain.end());

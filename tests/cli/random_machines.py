@@ -14,7 +14,12 @@ row within 1.15x, 1.5x and 2x of the row's bound and of its run bound (`/run` in
 bound of software-pipelined runs as long as the workload's, fill and drain included). Asserted as
 ratchets (below).
 
-usage: random_machines.py NESSHI OUTDIR [N [SEED [K]]]
+usage: random_machines.py NESSHI OUTDIR [N [SEED [K [SHARD/SHARDS]]]]
+       random_machines.py --summary OUTDIR SHARDS
+
+With SHARD/SHARDS (say 1/4) only machines i with i % SHARDS == SHARD - 1 run, their results go to
+OUTDIR/shard-SHARD.json, and the ratchets wait for --summary, which reads every shard's file: CTest
+runs the shards side by side and the summary after them.
 """
 import concurrent.futures
 import json
@@ -54,19 +59,29 @@ def render(nesshi, scene, out, machines=None):
 
 
 def main():
+    if sys.argv[1] == "--summary":
+        out, shards = sys.argv[2], int(sys.argv[3])
+        results = []
+        for s in range(1, shards + 1):
+            path = os.path.join(out, f"shard-{s}.json")
+            if not os.path.exists(path):
+                print(f"FAILED: {path} is missing: shard {s}/{shards} did not finish")
+                sys.exit(1)
+            with open(path) as f:
+                results.append(json.load(f))
+        sys.exit(summarize(results))
     nesshi, out = sys.argv[1], sys.argv[2]
     n = int(sys.argv[3]) if len(sys.argv) > 3 else 100
     seed = int(sys.argv[4]) if len(sys.argv) > 4 else 25
     k = int(sys.argv[5]) if len(sys.argv) > 5 else 10
+    shard, shards = map(int, sys.argv[6].split("/")) if len(sys.argv) > 6 else (1, 1)
     os.makedirs(out, exist_ok=True)
+    if shards > 1:
+        result_path = os.path.join(out, f"shard-{shard}.json")
+        if os.path.exists(result_path):
+            os.remove(result_path)
     rng = random.Random(seed)
     native = {s: render(nesshi, s, os.path.join(out, "native-" + s.replace(":", "-")))[1] for s in SCENES}
-    bad = 0
-    # Per stage, the largest ratio of a loop row (cycles / bound, and cycles / run bound: the
-    # bound of software-pipelined runs as long as the workload's, the row's bound where it has
-    # none) with its metric and machine file, and each machine's largest of both.
-    worst = {stage: {"bound": (0.0, None, None), "run": (0.0, None, None)} for stage in ("os", "ic")}
-    per_machine = {stage: [] for stage in ("os", "ic")}  # (largest / bound, largest / run bound, machine)
     machines = []  # drawn first, in order, so the same seed draws the same machines
     for i in range(n):
         files = []
@@ -92,26 +107,54 @@ def main():
                                capture_output=True, text=True)
             if p.returncode == 0:
                 rows = json.loads(p.stdout)["kernels"]
+            else:
+                report.append(f"machine {i}: nesshi kernels exit {p.returncode}\n{p.stderr[-2000:]}")
         return report, rows
 
-    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-        for i, (report, rows) in enumerate(pool.map(check, range(n))):
+    mine = [i for i in range(n) if i % shards == shard - 1]
+    result = {"n": n, "k": k, "bad": 0, "rows": {}}  # rows: machine index -> (files, kernel rows)
+    workers = 1 if shards > 1 else (os.cpu_count() or 1)  # CTest runs the shards side by side
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        for i, (report, rows) in zip(mine, pool.map(check, mine)):
             if report:
-                bad += sum(1 for line in report if line.startswith("machine "))
+                result["bad"] += sum(1 for line in report if line.startswith("machine "))
                 print("\n".join(report))
-            largest = {stage: [0.0, 0.0] for stage in per_machine}
-            for row in rows:
-                stage = row["machine"]
-                if not row.get("bound") or stage not in largest:
-                    continue
-                ratios = (row["cycles"] / row["bound"], row["cycles"] / (row.get("run_bound") or row["bound"]))
-                for j, (key, ratio) in enumerate(zip(("bound", "run"), ratios)):
-                    largest[stage][j] = max(largest[stage][j], ratio)
-                    if ratio > worst[stage][key][0]:
-                        worst[stage][key] = (ratio, row["metric"], machines[i][0 if stage == "os" else 1])
-            for stage in per_machine:
-                if rows:
-                    per_machine[stage].append((*largest[stage], i))
+            if rows:
+                result["rows"][str(i)] = (machines[i], rows)
+    if shards > 1:
+        with open(result_path + ".part", "w") as f:
+            json.dump(result, f)
+        os.replace(result_path + ".part", result_path)
+        print(f"shard {shard}/{shards}: {len(mine)} machines, {result['bad']} renders failed")
+        sys.exit(1 if result["bad"] else 0)
+    sys.exit(summarize([result]))
+
+
+def summarize(results):
+    """Prints the largest ratios and applies the ratchets to the rows of every shard; the exit code."""
+    n, k = results[0]["n"], results[0]["k"]
+    bad = sum(r["bad"] for r in results)
+    rows_of = {int(i): v for r in results for i, v in r["rows"].items()}
+    # Per stage, the largest ratio of a loop row (cycles / bound, and cycles / run bound: the
+    # bound of software-pipelined runs as long as the workload's, the row's bound where it has
+    # none) with its metric and machine file, and each machine's largest of both.
+    worst = {stage: {"bound": (0.0, None, None), "run": (0.0, None, None)} for stage in ("os", "ic")}
+    per_machine = {stage: [] for stage in ("os", "ic")}  # (largest / bound, largest / run bound, machine)
+    for i in sorted(rows_of):
+        files, rows = rows_of[i]
+        largest = {stage: [0.0, 0.0] for stage in per_machine}
+        for row in rows:
+            stage = row["machine"]
+            if not row.get("bound") or stage not in largest:
+                continue
+            ratios = (row["cycles"] / row["bound"], row["cycles"] / (row.get("run_bound") or row["bound"]))
+            for j, (key, ratio) in enumerate(zip(("bound", "run"), ratios)):
+                largest[stage][j] = max(largest[stage][j], ratio)
+                if ratio > worst[stage][key][0]:
+                    worst[stage][key] = (ratio, row["metric"], files[0 if stage == "os" else 1])
+        for stage in per_machine:
+            if rows:
+                per_machine[stage].append((*largest[stage], i))
     for stage, by in worst.items():
         for j, (key, what) in enumerate((("bound", "the bound"), ("run", "the run bound"))):
             ratio, metric, path = by[key]
@@ -138,8 +181,9 @@ def main():
             bad += 1
     if bad:
         print(f"FAILED: {bad} of {2 * n} renders, or loop rows above the ratchet")
-        sys.exit(1)
+        return 1
     print(f"ok: {n} random machines render {len(SCENES)} scenes as native does")
+    return 0
 
 
 if __name__ == "__main__":

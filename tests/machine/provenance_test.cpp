@@ -10,7 +10,6 @@
 using namespace nesshi;
 
 namespace {
-const std::string kData = NESSHI_TEST_DATA;
 
 rt::RenderOptions size(int n) {
     rt::RenderOptions ro;

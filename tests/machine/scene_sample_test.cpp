@@ -15,7 +15,6 @@ using namespace nesshi;
 using namespace nesshi::machine::test;
 
 namespace {
-const std::string kData = NESSHI_TEST_DATA;
 
 std::uint64_t nonempty_visits(const rt::RenderStats& s) {
     std::uint64_t n = 0;

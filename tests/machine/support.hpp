@@ -4,6 +4,11 @@
 #include "machine/machine.hpp"
 #include "rt/render.hpp"
 
+#include <string>
+
+// Where the machine tests' data files live (the build passes the folder).
+inline const std::string kData = NESSHI_TEST_DATA;
+
 namespace nesshi::machine::test {
 
 inline rt::RenderOptions small(int size) {

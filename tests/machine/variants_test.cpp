@@ -14,7 +14,6 @@ using namespace nesshi;
 using namespace nesshi::machine::test;
 
 namespace {
-const std::string kData = NESSHI_TEST_DATA;
 } // namespace
 
 TEST_CASE("Variants render what the native renderer renders, a second IU speeds the IC up, latencies slow it", "[unit][machine]") {
