@@ -1,6 +1,8 @@
 # cmake -DROOT=<source dir> -P CheckLayers.cmake
 # The layering of DESIGN.md ("Layout"): a library's sources include only its own headers and those
-# of the libraries below it, never a higher one, and never reach across folders with "../".
+# of the libraries below it, never a higher one, and never reach across folders with "../"; an
+# include without a folder ("x.hpp") names a file of the library's own folder (or one its build
+# generates), never another folder's private header reached through an include path.
 # Fails listing every offending include.
 cmake_minimum_required(VERSION 3.25)
 set(allowed_base "base")
@@ -15,7 +17,16 @@ set(allowed_paper "paper;machine;rt;sched;kernels;iss;assembler;isa;base")
 set(ours "base;isa;assembler;iss;kernels;sched;rt;machine;paper;cli")
 
 set(errors "")
-foreach(lib base isa assembler iss kernels sched rt machine paper cli bench)
+set(libs base isa assembler iss kernels sched rt machine paper cli bench)
+foreach(lib ${libs}) # the names of each folder's files
+  file(GLOB_RECURSE files "${ROOT}/${lib}/*.hpp" "${ROOT}/${lib}/*.cpp")
+  set(names_${lib} "")
+  foreach(f ${files})
+    get_filename_component(name "${f}" NAME)
+    list(APPEND names_${lib} "${name}")
+  endforeach()
+endforeach()
+foreach(lib ${libs})
   file(GLOB_RECURSE files "${ROOT}/${lib}/*.hpp" "${ROOT}/${lib}/*.cpp")
   foreach(f ${files})
     file(STRINGS "${f}" lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
@@ -26,8 +37,18 @@ foreach(lib base isa assembler iss kernels sched rt machine paper cli bench)
         string(APPEND errors "${rel}: relative include across folders: \"${inc}\"\n")
         continue()
       endif()
-      if(NOT DEFINED allowed_${lib} OR NOT inc MATCHES "/")
-        continue() # the front ends may include anything; "x.hpp" is a file of the same folder
+      if(NOT inc MATCHES "/")
+        if(NOT inc IN_LIST names_${lib})
+          foreach(other ${libs})
+            if(inc IN_LIST names_${other})
+              string(APPEND errors "${rel}: \"${inc}\" is a file of ${other}/, not of ${lib}/: include a public header by its path\n")
+            endif()
+          endforeach()
+        endif()
+        continue()
+      endif()
+      if(NOT DEFINED allowed_${lib})
+        continue() # the front ends may include anything
       endif()
       string(REGEX REPLACE "/.*" "" top "${inc}")
       if(top IN_LIST ours AND NOT top IN_LIST allowed_${lib})

@@ -1,0 +1,2 @@
+// A private header of the ISS (the fixture of layout.layers-refuses).
+#pragma once
