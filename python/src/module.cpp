@@ -4,6 +4,8 @@
 #include "convert.hpp"
 
 #include "base/error.hpp"
+#include "machine/provenance.hpp"
+#include "machine/schedule_cache.hpp"
 
 #include <pybind11/eval.h>
 #include <pybind11/stl.h>
@@ -21,7 +23,9 @@ PYBIND11_MODULE(nesshi, m) {
     m.doc() = "Nesshisen: toolchain and simulator for the VLIW processors of a 1993 ray-tracing machine.\n\n"
               "machine(), presets(), assemble(), load_object(), disassemble(), loop_report(), Processor, pipeline(), scene(), "
               "render().\n\nA library's error raises nesshi.Error (nesshi.AssemblyError for assembly) with the command "
-              "line's message; a wrong argument raises TypeError, ValueError or KeyError.";
+              "line's message; a wrong argument raises TypeError, ValueError or KeyError.\n\nKernels scheduled for a "
+              "machine other than the presets are kept on disk as the command line keeps them (under "
+              "$XDG_CACHE_HOME/nesshi/kernels; NESSHI_CACHE_DIR names another folder, empty turns it off).";
     m.attr("__version__") = NESSHI_VERSION;
     // The exception classes are Python classes (attributes as keyword arguments), made once here.
     py::dict ns;
@@ -66,4 +70,6 @@ class AssemblyError(Error):
     bind_program(m);
     bind_pipeline(m);
     bind_render(m);
+    // As the command line does (cli/main.cpp): a study renders many scenes on one description.
+    nesshi::machine::enable_schedule_cache(nesshi::machine::default_schedule_cache_dir(), nesshi::machine::build_identity());
 }

@@ -1,4 +1,7 @@
 import json
+import os
+import subprocess
+import sys
 
 import nesshi
 import numpy as np
@@ -58,3 +61,15 @@ def test_render_releases_the_gil():
         spins += 1
     t.join()
     assert spins > 10000
+
+
+def test_kernels_scheduled_for_a_machine_file_are_kept_on_disk(tmp_path):
+    # A fresh interpreter: the module turns the cache on when it is imported.
+    script = ('import nesshi\n'
+              'm = nesshi.machine(\'inherits = "ic"\\nname = "ic-cached"\\n[latency]\\nfmul = 3\\n\')\n'
+              'nesshi.render("balls:1", size=4, grid=3, ic_machine=m)\n')
+    env = dict(os.environ, NESSHI_CACHE_DIR=str(tmp_path / "kernels"))
+    subprocess.run([sys.executable, "-c", script], env=env, check=True)
+    assert list((tmp_path / "kernels").rglob("*.json")), "no scheduled kernel was kept"
+    env["NESSHI_CACHE_DIR"] = ""
+    subprocess.run([sys.executable, "-c", script], env=env, check=True)  # off: still renders
