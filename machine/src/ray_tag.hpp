@@ -1,7 +1,7 @@
-// The kind a ray's tag carries to the kernels (kernels/abi.hpp), for the renderer's ray kind.
+// The kind a ray's tag carries to the kernels (kernels/messages.hpp), for the renderer's ray kind.
 #pragma once
 
-#include "kernels/abi.hpp"
+#include "kernels/messages.hpp"
 #include "rt/trace.hpp"
 
 namespace nesshi::machine {

@@ -1,6 +1,8 @@
 // The provenance of a machine run: what its results depend on, and the differences named.
 #include "machine/provenance.hpp"
 
+#include "support.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
