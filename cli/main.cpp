@@ -3,7 +3,6 @@
 #include "errors.hpp"
 
 #include "base/write_file.hpp"
-#include "machine/provenance.hpp"
 #include "machine/schedule_cache.hpp"
 
 #include <fmt/format.h>
@@ -50,7 +49,7 @@ int main(int argc, char** argv) {
     nesshi::cli::add_completion(app);
     one_value_per_option(app);
     // Kernels scheduled for a machine file are kept between runs (NESSHI_CACHE_DIR= turns it off).
-    nesshi::machine::enable_schedule_cache(nesshi::machine::default_schedule_cache_dir(), nesshi::machine::build_identity());
+    nesshi::machine::enable_default_schedule_cache();
     // A closed pipe (`nesshi isa | head -1`) is an EPIPE write error, which ends the command
     // quietly (errors.cpp), instead of a SIGPIPE that kills it half-way through writing a file.
     std::signal(SIGPIPE, SIG_IGN);

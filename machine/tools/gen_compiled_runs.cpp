@@ -14,13 +14,11 @@
 #include "machine/runner.hpp"
 
 #include "iss/compiled_emit.hpp"
-#include "iss/program.hpp"
 #include "kernels/sources.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <fstream>

@@ -4,7 +4,6 @@
 #include "convert.hpp"
 
 #include "base/error.hpp"
-#include "machine/provenance.hpp"
 #include "machine/schedule_cache.hpp"
 
 #include <pybind11/eval.h>
@@ -71,5 +70,5 @@ class AssemblyError(Error):
     bind_pipeline(m);
     bind_render(m);
     // As the command line does (cli/main.cpp): a study renders many scenes on one description.
-    nesshi::machine::enable_schedule_cache(nesshi::machine::default_schedule_cache_dir(), nesshi::machine::build_identity());
+    nesshi::machine::enable_default_schedule_cache();
 }

@@ -5,12 +5,11 @@
 // ~/.cache/nesshi/kernels), so that only the first case pays, and the sanitizer build reads what
 // the release suite stored (the build identity hashes sources, not flags). The cache only saves
 // time: a kernel is the same scheduled or loaded.
-#include "machine/provenance.hpp"
 #include "machine/schedule_cache.hpp"
 
 namespace {
 [[maybe_unused]] const bool kCacheOn = [] {
-    nesshi::machine::enable_schedule_cache(nesshi::machine::default_schedule_cache_dir(), nesshi::machine::build_identity());
+    nesshi::machine::enable_default_schedule_cache();
     return true;
 }();
 } // namespace

@@ -13,9 +13,6 @@
 using namespace nesshi;
 using namespace nesshi::machine::test;
 
-namespace {
-} // namespace
-
 TEST_CASE("Variants render what the native renderer renders, a second IU speeds the IC up, latencies slow it", "[unit][machine]") {
     const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 6);
     const rt::RenderOptions opt = small(16);

@@ -17,4 +17,8 @@ void enable_schedule_cache(const std::string& dir, const std::string& build);
 // $XDG_CACHE_HOME/nesshi/kernels, else $HOME/.cache/nesshi/kernels, else off.
 std::string default_schedule_cache_dir();
 
+// The cache the front ends turn on (the command line, the Python module, the machine tests):
+// enable_schedule_cache(default_schedule_cache_dir(), build_identity()).
+void enable_default_schedule_cache();
+
 } // namespace nesshi::machine
