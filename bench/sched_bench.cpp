@@ -5,7 +5,7 @@
 // schedule found (the rule without .trip) and of the one chosen by whole-run cycles.
 // `build/bench_sched [--loops N] [--trip T]`: N random loops per machine (default 200), 5 to 50 compute ops.
 // `build/bench_sched --corpus DIR`: instead, each loop of DIR/*.sa (bench/corpus: loops written the
-// way users write them) on each preset: its bounds, II, stages, copies, registers, and its whole
+// way users write them) on each preset: its bounds, II, stages, copies (register copies x kernel repeats), registers, and its whole
 // run per iteration at its `.trip` count (a while loop: its kernel per iteration) against the MII.
 #include "args.hpp"
 
@@ -93,15 +93,17 @@ void corpus(const std::string& dir) {
                 const double ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 const sched::LoopSummary& l = r.loops.at(0);
                 const double per = l.trip ? static_cast<double>(l.trip->chosen.cycles) / l.trip->expected
-                                          : static_cast<double>(l.unroll * l.ii + static_cast<int>(m.branch_penalty)) / l.unroll;
+                                          : static_cast<double>(l.unroll * l.groups * l.ii + static_cast<int>(m.branch_penalty)) /
+                                                (l.unroll * l.groups);
                 const bool good = per <= 1.10 * l.mii + (m.branch_penalty > 0 ? 0.25 : 0.0);
                 ++n;
                 ok += good;
                 at_mii += l.ii == l.mii;
                 const std::size_t ops = std::count(text.begin() + static_cast<std::ptrdiff_t>(text.find(".pipeline")),
                                                    text.begin() + static_cast<std::ptrdiff_t>(text.find(".endpipeline")), '\n');
+                const std::string copies = l.groups == 1 ? fmt::format("{}", l.unroll) : fmt::format("{}x{}", l.unroll, l.groups);
                 fmt::print("{:<14} {:<8} {:>4} {:>6} {:>6} {:>4} {:>6} {:>6} {:>5} {:>9.2f} {:>8.3f} {:>4} {:>8.1f}\n", loop, name, ops,
-                           l.res_mii, l.rec_mii, l.ii, l.stages, l.unroll, r.scratch.size(), per, per / l.mii, good ? "yes" : "no", ms);
+                           l.res_mii, l.rec_mii, l.ii, l.stages, copies, r.scratch.size(), per, per / l.mii, good ? "yes" : "no", ms);
             } catch (const std::exception& e) {
                 fmt::print("{:<14} {:<8} failed: {}\n", loop, name, std::string(e.what()).substr(0, 120));
             }

@@ -9,7 +9,8 @@ namespace nesshi::sched {
 std::string LoopSummary::json() const {
     nlohmann::ordered_json j = {{"line", line},       {"while", is_while},   {"ii", ii},
                                 {"mii", mii},         {"res_mii", res_mii},  {"rec_mii", rec_mii},
-                                {"stages", stages},   {"unroll", unroll},    {"iteration", iteration_cycles},
+                                {"stages", stages},   {"unroll", unroll},    {"groups", groups},
+                                {"iteration", iteration_cycles},
                                 {"longest_path", iteration_lower},              {"trip", nullptr}};
     if (trip) j["trip"] = nlohmann::ordered_json::parse(trip->json());
     return j.dump();

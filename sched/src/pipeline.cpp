@@ -484,15 +484,17 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         CountedShape shape; // a counted loop's
     };
     const TripDirective& trip = r.trip_count;
-    // `first_least`: at least this many kernel copies (more amortise a taken-branch bubble).
-    auto build = [&](const Schedule& s, int first_least = 1) -> std::optional<Built> {
+    // `first_least`: at least this many kernel copies (more amortise a taken-branch bubble);
+    // `groups`: a counted loop's kernel passes between two back branches (Allocation::groups).
+    auto build = [&](const Schedule& s, int first_least = 1, int groups = 1) -> std::optional<Built> {
         std::optional<Allocation> fitted;
         try {
             // More kernel copies where the taken-branch bubble makes writes meet on a port.
             for (int least = first_least; least <= kMaxPortUnroll; least *= 2) {
                 fitted = allocate(r, g, s, named, m, filename, least);
-                if (kernel_landings_ok(g, s, fitted->unroll, m, false)) break;
-                if (kernel_landings_ok(g, s, fitted->unroll, m, true)) {
+                fitted->groups = groups;
+                if (kernel_landings_ok(g, s, fitted->unroll, groups, m, false)) break;
+                if (kernel_landings_ok(g, s, fitted->unroll, groups, m, true)) {
                     fitted->entry_nops = static_cast<int>(m.branch_penalty);
                     break;
                 }
@@ -546,7 +548,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         }
         return true;
     };
+    CountedShape shape_found;
     auto keep = [&](Built&& b) {
+        shape_found = b.shape;
         sched = std::move(b.s);
         emitted = std::move(b.code);
         stages = b.stages;
@@ -676,7 +680,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     auto option = [&](const Built& b) {
         TripChoice::Option o;
         static_cast<RunParts&>(o) = whole_run_parts(b.shape, trip.expected);
-        o.ii = b.s.ii, o.stages = b.stages, o.unroll = b.alloc.unroll, o.cycles = o.total();
+        o.ii = b.s.ii, o.stages = b.stages, o.unroll = b.alloc.unroll, o.groups = b.alloc.groups, o.cycles = o.total();
         return o;
     };
     auto try_ii_trip = [&](int ii) {
@@ -696,11 +700,13 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                 if (!b) continue;
                 const int copies = b->alloc.unroll;
                 found.push_back(std::move(*b));
-                // With a taken-branch bubble, the same schedule with 2x and 4x the kernel copies (one
-                // bubble per pass, a longer remainder): the whole-run cost decides, within registers.
+                // With a taken-branch bubble, the kernel repeated 2, 4, 8 times (each copy tests for
+                // the last iteration, so no remainder and no register more, only code) while it stays
+                // within kMaxKernelBundles: one bubble per pass of the longer kernel. The whole-run
+                // cost decides.
                 if (m.branch_penalty > 0)
-                    for (int more = 2 * copies; more <= std::min(4 * copies, kMaxPortUnroll); more *= 2)
-                        if (std::optional<Built> c = build(k, more); c && c->alloc.unroll > copies)
+                    for (int groups = 2; groups <= kMaxGroups && groups * copies * ii <= kMaxKernelBundles; groups *= 2)
+                        if (std::optional<Built> c = build(k, copies, groups); c && c->alloc.unroll == copies)
                             found.push_back(std::move(*c));
             }
         }
@@ -719,7 +725,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         std::vector<std::size_t> order(found.size());
         std::iota(order.begin(), order.end(), std::size_t{0});
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { // the smaller code on a tie
-            return std::tie(cost[a].cycles, cost[a].stages, cost[a].unroll) < std::tie(cost[b].cycles, cost[b].stages, cost[b].unroll);
+            const int ka = cost[a].unroll * cost[a].groups, kb = cost[b].unroll * cost[b].groups;
+            return std::tie(cost[a].cycles, cost[a].stages, ka, cost[a].unroll) < std::tie(cost[b].cycles, cost[b].stages, kb, cost[b].unroll);
         });
         for (std::size_t k : order) {
             if (!first_ok && cost[k].cycles >= choice->chosen.cycles) break;
@@ -733,7 +740,6 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             }
             choice->chosen = option(found[k]);
             choice->short_path = found[k].shape.short_path;
-            choice->remainder = found[k].shape.remainder();
             keep(std::move(found[k]));
             return true;
         }
@@ -765,7 +771,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     }
     if (choice) {
         // Larger IIs while one could still be cheaper: the prologue and the kernel passes alone
-        // take EXPECTED x II cycles, a remainder iteration at least the sequential copy's length.
+        // take EXPECTED x II cycles.
         // No further than that length: a kernel pass as long gains nothing on the sequential loop.
         int sequential = 1 + std::max(1, static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]));
         for (const Node& nd : g.nodes) sequential += std::max(1, nd.latency);
@@ -848,13 +854,14 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     res.iteration_cycles = iteration_length(g, *sched);
     res.iteration_lower = bounds.length;
     res.unroll = alloc.unroll;
-    res.min_pipelined_trip = r.is_while ? 0 : res.stages - 1 + res.unroll;
+    res.groups = alloc.groups;
+    res.min_pipelined_trip = r.is_while ? 0 : shape_found.min_pipelined;
     res.trip_register = r.trip;
     if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
     res.min_trip = by_trip ? trip.min : 0;
-    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, choice,
-                  res.iteration_cycles, res.iteration_lower, {}}};
+    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, res.groups,
+                  choice, res.iteration_cycles, res.iteration_lower, {}}};
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
@@ -885,21 +892,23 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     }
     if (!exact_note.empty()) rep += "#   " + exact_note + "\n";
     rep += fmt::format("#   kernel unrolled {}x (modulo variable expansion)\n", res.unroll);
+    const int kernel_copies = res.unroll * alloc.groups;
+    if (alloc.groups > 1)
+        rep += fmt::format("#   kernel repeated {}x ({} copies, one back branch)\n", alloc.groups, kernel_copies);
     if (m.branch_penalty > 0)
         rep += fmt::format("#   taken-branch bubble {} cycle{} per kernel pass: {:.2f} cycles per iteration in the kernel\n",
                            m.branch_penalty, m.branch_penalty == 1 ? "" : "s",
-                           static_cast<double>(res.unroll * res.ii + static_cast<int>(m.branch_penalty)) / res.unroll);
+                           static_cast<double>(kernel_copies * res.ii + static_cast<int>(m.branch_penalty)) / kernel_copies);
     if (alloc.entry_nops > 0)
         rep += fmt::format("#   kernel entered after {} nop{} (as long as the bubble, so writes from the prologue and from the "
                            "back edge meet no others on a port)\n", alloc.entry_nops, alloc.entry_nops == 1 ? "" : "s");
     if (r.is_while)
         rep += while_report(g, r, *sched, res);
-    else if (choice && !choice->short_path)
-        rep += fmt::format("#   minimum pipelined trip count {} (.trip's minimum is at least that: no sequential copy for short "
-                           "trips{})\n", res.min_pipelined_trip, choice->remainder ? "; the unroll remainder runs it" : " and no remainder");
-    else
-        rep += fmt::format("#   minimum pipelined trip count {} (fewer, and the unroll remainder, run the sequential copy)\n",
+    else if (!shape_found.short_path)
+        rep += fmt::format("#   minimum pipelined trip count {} (.trip's minimum is at least that: no sequential copy)\n",
                            res.min_pipelined_trip);
+    else
+        rep += fmt::format("#   minimum pipelined trip count {} (fewer run the sequential copy)\n", res.min_pipelined_trip);
     if (choice) rep += choice->text();
     std::array<std::set<std::string>, 2> given; // the registers the kernel's copies take, per file
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {

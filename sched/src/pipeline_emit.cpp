@@ -102,9 +102,12 @@ class Emitter {
     }
 
     // `trip_min` (.trip, 0: none) drops the paths no run can take; `shape` receives the bundles
-    // of each part (whole_run_cycles).
+    // of each part (whole_run_cycles). Every kernel copy counts one iteration and tests for the
+    // last: a run of any length leaves the kernel after its last iteration's copy, into the
+    // epilogue whose registers that copy's rotation left, so no iteration runs outside the
+    // pipeline but those of trips too short for it.
     std::string code(const std::string& trip, const std::string& uid, int trip_min = 0, CountedShape* shape = nullptr) const {
-        const int ii = s_.ii, p = stages_ - 1, u = a_.unroll;
+        const int ii = s_.ii, p = stages_ - 1, u = a_.unroll, copies = u * a_.groups;
         const std::string rk = reg_name(isa::RegFile::Int, a_.counter);
         const int alu_lat = static_cast<int>(m_.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
         auto nops = [&](int n) {
@@ -112,29 +115,20 @@ class Emitter {
             for (int k = 0; k < n; ++k) s += "        nop\n";
             return s;
         };
-        const int min_trip = p + u;
+        const int lag = lag_passes(alu_lat);
         CountedShape sh;
         sh.alu_latency = std::max(1, alu_lat);
         sh.penalty = static_cast<int>(m_.branch_penalty);
+        sh.prologue_passes = p, sh.unroll = u, sh.groups = a_.groups, sh.ii = ii, sh.entry_nops = a_.entry_nops;
+        sh.min_pipelined = p + 1 + lag; // at least one kernel copy, and the counter's lag
         sh.guard = trip_min < 1;
-        sh.short_path = trip_min < min_trip;
-        sh.prologue_passes = p, sh.unroll = u, sh.ii = ii, sh.entry_nops = a_.entry_nops;
+        sh.short_path = trip_min < sh.min_pipelined;
         std::string o;
-        // Sequential copy: trip counts below the pipeline's minimum, and the unroll remainder.
+        // Sequential copy: trip counts below the pipeline's minimum.
         if (sh.guard) o += fmt::format("        beqz {}, {}_done\n", trip, uid);
-        if (sh.sequential_copy()) {
-            o += fmt::format("{}_check:\n", uid);
-            if (sh.short_path) {
-                o += fmt::format("        slti {}, {}, {}\n", rk, trip, min_trip) + nops(alu_lat - 1);
-                o += fmt::format("        bnez {}, {}_seq\n", rk, uid);
-            }
-            if (u > 1) {
-                o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
-                o += fmt::format("        andi {}, {}, {}\n", rk, rk, u - 1) + nops(alu_lat - 1);
-                o += fmt::format("        beqz {}, {}_pipe\n", rk, uid);
-            } else {
-                o += fmt::format("        jmp {}_pipe\n", uid);
-            }
+        if (sh.short_path) {
+            o += fmt::format("        slti {}, {}, {}\n", rk, trip, sh.min_pipelined) + nops(alu_lat - 1);
+            o += fmt::format("        beqz {}, {}_pipe\n", rk, uid);
             o += fmt::format("{}_seq:\n", uid);
             std::vector<std::string> vreg0;
             for (std::size_t v = 0; v < r_.virtuals.size(); ++v) vreg0.push_back(a_.regs[v][0]);
@@ -166,16 +160,13 @@ class Emitter {
                 sh.body = serial;
             }
             o += fmt::format("        addi {}, {}, -1\n", trip, trip) + nops(alu_lat - 1);
-            o += fmt::format("        bnez {}, {}_check\n", trip, uid);
-            if (sh.short_path) o += fmt::format("        jmp {}_done\n", uid); // else the count never reaches 0 here
+            o += fmt::format("        bnez {}, {}_seq\n", trip, uid);
+            o += fmt::format("        jmp {}_done\n", uid);
         }
-        // Pipelined: N >= P + U and (N - P) % U == 0; the counter holds the kernel passes.
+        // Pipelined: N >= min_pipelined; the counter holds the iterations the kernel starts.
         o += fmt::format("{}_pipe:\n", uid);
-        const int lag = lag_passes(alu_lat);
-        o += fmt::format("        addi {}, {}, {}\n", rk, trip, -p) + nops(alu_lat - 1);
-        if (u > 1) o += fmt::format("        srli {}, {}, {}\n", rk, rk, std::countr_zero(static_cast<unsigned>(u))) + nops(alu_lat - 1);
-        if (lag > 0) o += fmt::format("        addi {}, {}, {}\n", rk, rk, -lag) + nops(alu_lat - 1);
-        sh.setup = sh.alu_latency * (1 + (u > 1 ? 1 : 0) + (lag > 0 ? 1 : 0));
+        o += fmt::format("        addi {}, {}, {}\n", rk, trip, -(p + lag)) + nops(alu_lat - 1);
+        sh.setup = sh.alu_latency;
         o += fmt::format("# prologue: {} pass{} of {} cycles\n", p, p == 1 ? "" : "es", ii);
         for (int pass = 0; pass < p; ++pass)
             for (int row = 0; row < ii; ++row) {
@@ -186,52 +177,66 @@ class Emitter {
                 }
                 o += bundle(ops);
             }
-        o += fmt::format("# kernel: {} cop{} of II = {} cycles, {} stage{}\n", u, u == 1 ? "y" : "ies", ii, stages_,
-                         stages_ == 1 ? "" : "s");
+        // The epilogue after a kernel copy of rotation v (copy c leaves rotation c mod u): v = u - 1
+        // falls out of the kernel's last copy; the others are reached from their copies' exit tests.
+        const auto exit_label = [&](int v) { return fmt::format("{}_exit{}", uid, v); };
+        if (copies == 1)
+            o += fmt::format("# kernel: 1 copy of II = {} cycles, {} stage{}\n", ii, stages_, stages_ == 1 ? "" : "s");
+        else
+            o += fmt::format("# kernel: {} copies of II = {} cycles, {} stage{} (registers rotating every {}); each copy "
+                             "counts an iteration and leaves after the last\n",
+                             copies, ii, stages_, stages_ == 1 ? "" : "s", u);
         for (int k = 0; k < a_.entry_nops; ++k) o += "        nop\n";
         o += fmt::format("{}_kernel:\n", uid);
-        for (int c = 0; c < u; ++c)
+        for (int c = 0; c < copies; ++c)
             for (int row = 0; row < ii; ++row) {
                 std::vector<std::string> ops;
                 for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
                     const int t = s_.time[op], st = t / ii;
                     if (t % ii == row) ops.push_back(instance(static_cast<int>(op), p + c - st, std::nullopt));
                 }
-                if (c == u - 1 && row == s_.counter_row) ops.push_back(fmt::format("addi {}, {}, -1", rk, rk));
-                if (c == u - 1 && row == ii - 1) ops.push_back(fmt::format("bnez {}, {}_kernel", rk, uid));
+                if (row == s_.counter_row) ops.push_back(fmt::format("addi {}, {}, -1", rk, rk));
+                if (row == ii - 1)
+                    ops.push_back(c == copies - 1 ? fmt::format("bnez {}, {}_kernel", rk, uid)
+                                                  : fmt::format("beqz {}, {}", rk, exit_label(c % u)));
                 o += bundle(ops);
             }
-        o += fmt::format("# epilogue: {} pass{}\n", p, p == 1 ? "" : "es");
-        std::string epilogue;
-        for (int q = 0; q < p; ++q)
-            for (int row = 0; row < ii; ++row) {
-                std::vector<std::string> ops;
-                for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
-                    const int t = s_.time[op], st = t / ii;
-                    if (t % ii == row && st >= q + 1)
-                        ops.push_back(instance(static_cast<int>(op), p + q - st, Iter{true, q - st}));
-                }
-                epilogue += bundle(ops);
-            }
-        while (epilogue.size() >= 12 && epilogue.compare(epilogue.size() - 12, 12, "        nop\n") == 0)
-            epilogue.resize(epilogue.size() - 12); // trailing empty bundles: the drain below covers them
-        o += epilogue;
         // Results still in flight land before the code after the loop runs: nops until the last
         // write of the kernel's final pass and of the epilogue lands (cycles from the epilogue's
         // first bundle), not the longest latency. The trip register ends at 0 as in the
         // sequential meaning.
-        const int tail_bundles = static_cast<int>(std::count(epilogue.begin(), epilogue.end(), '\n')); // a bundle a line
         int last = (s_.counter_row - ii) + static_cast<int>(m_.latency_of(s_.counter.info()));
         for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
             const int t = s_.time[op], st = t / ii, row = t % ii, lat = g_.nodes[op].latency;
             last = std::max(last, row - ii + lat);                          // the kernel's final pass
             if (st > 0) last = std::max(last, (st - 1) * ii + row + lat); // its last epilogue pass
         }
-        const int drain = std::max(0, last - tail_bundles - 1);
-        o += nops(drain);
-        o += fmt::format("        li {}, 0\n", trip);
+        for (int k = 0; k < u; ++k) {
+            const int v = (u - 1 + k) % u; // the fall-through rotation first
+            if (copies > 1) o += exit_label(v) + ":\n";
+            o += fmt::format("# epilogue: {} pass{}\n", p, p == 1 ? "" : "es");
+            std::string epilogue;
+            for (int q = 0; q < p; ++q)
+                for (int row = 0; row < ii; ++row) {
+                    std::vector<std::string> ops;
+                    for (std::size_t op = 0; op < g_.nodes.size(); ++op) {
+                        const int t = s_.time[op], st = t / ii;
+                        if (t % ii == row && st >= q + 1)
+                            ops.push_back(instance(static_cast<int>(op), p + v + 1 + q - st, Iter{true, q - st}));
+                    }
+                    epilogue += bundle(ops);
+                }
+            while (epilogue.size() >= 12 && epilogue.compare(epilogue.size() - 12, 12, "        nop\n") == 0)
+                epilogue.resize(epilogue.size() - 12); // trailing empty bundles: the drain below covers them
+            o += epilogue;
+            const int tail_bundles = static_cast<int>(std::count(epilogue.begin(), epilogue.end(), '\n')); // a bundle a line
+            const int drain = std::max(0, last - tail_bundles - 1);
+            o += nops(drain);
+            o += fmt::format("        li {}, 0\n", trip);
+            sh.tail = tail_bundles + drain + 1;
+            if (k + 1 < u) o += fmt::format("        jmp {}_done\n", uid);
+        }
         o += fmt::format("{}_done:\n", uid);
-        sh.tail = tail_bundles + drain + 1;
         if (shape) *shape = sh;
         return o;
     }

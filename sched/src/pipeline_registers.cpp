@@ -162,9 +162,9 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     }
 }
 
-bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa::Machine& m, bool entry_nops) {
+bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, int groups, const isa::Machine& m, bool entry_nops) {
     if (m.branch_penalty == 0) return true;
-    const int pass = unroll * s.ii, bubble = static_cast<int>(m.branch_penalty);
+    const int copies = unroll * groups, pass = copies * s.ii, bubble = static_cast<int>(m.branch_penalty);
     int last_stage = 0, longest = 1;
     for (int t : s.time) last_stage = std::max(last_stage, t / s.ii);
     for (const Node& nd : g.nodes) longest = std::max(longest, nd.latency);
@@ -183,10 +183,11 @@ bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa
         if (lands - pass - bubble >= 0) add(in[static_cast<std::size_t>(lands - pass - bubble)], x); // around the back edge
         if (in_prologue && !entry_nops) add(in[static_cast<std::size_t>(lands - pass)], x);      // from the prologue
     };
-    for (int c = 0; c < unroll; ++c)
+    for (int c = 0; c < copies; ++c) {
         for (std::size_t i = 0; i < g.nodes.size(); ++i)
             issue(g.nodes[i].instr, c * s.ii + s.time[i] % s.ii, s.time[i] / s.ii < last_stage);
-    if (s.loop_control) issue(s.counter, (unroll - 1) * s.ii + s.counter_row, false);
+        if (s.loop_control) issue(s.counter, c * s.ii + s.counter_row, false); // each copy counts its iteration
+    }
     for (std::size_t y = 0; y < own.size(); ++y)
         for (int f = 0; f < isa::kNumRegFiles; ++f) {
             const std::size_t k = static_cast<std::size_t>(f);

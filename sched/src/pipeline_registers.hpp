@@ -17,6 +17,8 @@ namespace nesshi::sched::pipe {
 
 constexpr int kMaxBubbleUnroll = 8; // kernel copies a while loop may get for its branch bubble
 constexpr int kMaxPortUnroll = 16;  // kernel copies any loop may get to keep writes off one port
+constexpr int kMaxGroups = 8;        // kernel repeats a counted loop may get for its branch bubble (Allocation::groups)
+constexpr int kMaxKernelBundles = 128; // ... while its kernel stays this short
 
 struct Allocation {
     int unroll = 1;
@@ -26,12 +28,17 @@ struct Allocation {
     std::vector<std::string> scratch;
     std::vector<int> lifetime;                   // per virtual, cycles
     int entry_nops = 0;                          // between prologue and kernel (kernel_landings_ok)
+    // A counted loop's kernel holds `groups` x `unroll` copies (the registers rotate every
+    // `unroll`), each with its exit test: the taken-branch bubble is paid once per pass of them all,
+    // with no register more, only code.
+    int groups = 1;
 };
 
 Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
                     const isa::Machine& m, std::string_view file, int min_unroll = 1);
 
-// Whether the kernel, `unroll` copies of the II rows, passes the assembler's write-port check
+// Whether the kernel, `unroll` x `groups` copies of the II rows (a counted loop's each with its
+// counter decrement), passes the assembler's write-port check
 // when entered both ways: from the prologue (straight, or after `entry_nops` as long as the
 // taken-branch bubble) and around its back edge (after the bubble). The reservation table
 // counts landings modulo II, which is exact only without a bubble. The assembler checks each
@@ -39,6 +46,6 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
 // write of the kernel meets those of both ways in; with entry nops both bring the same writes
 // (the same registers: the kernel's copies rotate with the prologue's passes) at the same cycles.
 // Costs nothing beside assembling the file.
-bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, const isa::Machine& m, bool entry_nops);
+bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, int groups, const isa::Machine& m, bool entry_nops);
 
 } // namespace nesshi::sched::pipe

@@ -24,6 +24,11 @@ constexpr int kMaxTrip = std::numeric_limits<std::int32_t>::max(); // a trip reg
                       fmt::format("{}\n{}\n{}^", msg, text, std::string(col, ' ')));
 }
 
+// "2x", or "2x x 4" for a kernel of 2 register copies repeated 4 times (Allocation::groups).
+std::string kernel_copies(const TripChoice::Option& o) {
+    return o.groups == 1 ? fmt::format("{}x", o.unroll) : fmt::format("{}x x {}", o.unroll, o.groups);
+}
+
 } // namespace
 
 TripDirective parse_trip(const std::string& code, const std::string& text, std::string_view file, int line) {
@@ -56,7 +61,7 @@ RunParts whole_run_parts(const CountedShape& s, std::int64_t trips) {
     const std::int64_t a = s.alu_latency, b = s.penalty, p = s.prologue_passes, u = s.unroll;
     RunParts r;
     std::int64_t& c = r.outside;
-    std::int64_t n = trips;
+    const std::int64_t n = trips;
     c = s.lead;
     if (s.guard) {
         c += 1; // beqz TRIP, done
@@ -65,36 +70,24 @@ RunParts whole_run_parts(const CountedShape& s, std::int64_t trips) {
             return r;
         }
     }
-    // The check, and one iteration of the sequential copy, until the pipelined path is entered.
-    while (s.sequential_copy()) {
-        bool sequential = false;
-        if (s.short_path) {
-            c += a + 1; // slti, its nops, bnez
-            if (n < s.min_trip()) c += b, sequential = true;
-        }
-        if (!sequential) {
-            if (s.remainder()) {
-                c += 2 * a + 1; // addi, andi (each with its nops), beqz
-                if ((n - p) % u == 0) {
-                    c += b;
-                    break;
-                }
-            } else {
-                c += 1 + b; // jmp pipe
-                break;
-            }
-        }
-        c += s.body + a + 1; // the body, addi TRIP, its nops, bnez TRIP, check
-        ++r.sequential_iterations;
-        if (--n == 0) { // falls through to jmp done
-            c += 1 + b;
+    if (s.short_path) {
+        c += a + 1; // slti, its nops, beqz pipe
+        if (n < s.min_pipelined) { // the sequential copy: body, addi TRIP and its nops, bnez; jmp done
+            r.sequential_iterations = n;
+            c += n * (s.body + a + 1) + (n - 1) * b + 1 + b;
             return r;
         }
         c += b;
     }
-    const std::int64_t passes = (n - p) / u;
-    r.fill_drain = s.setup + p * s.ii + s.entry_nops + s.tail;
-    r.kernel = passes * u * s.ii + (passes - 1) * b;
+    // The kernel's copies each run an iteration; a bubble for each back branch taken, and for an
+    // exit taken from a copy before the last.
+    const std::int64_t kernel = n - p, copies = u * s.groups;
+    const std::int64_t bubbles = (kernel - 1) / copies + (kernel % copies != 0 ? 1 : 0);
+    r.kernel = kernel * s.ii + bubbles * b;
+    // The exit of the last copy's rotation; all but the last laid out (rotation u - 2) jump to done.
+    const std::int64_t rotation = (kernel - 1) % copies % u;
+    const bool jumps = u > 1 && rotation != u - 2;
+    r.fill_drain = s.setup + p * s.ii + s.entry_nops + s.tail + (jumps ? 1 + b : 0);
     return r;
 }
 
@@ -103,8 +96,8 @@ std::int64_t whole_run_cycles(const CountedShape& s, std::int64_t trips) { retur
 std::string TripChoice::text() const {
     const auto per = [&](const Option& o) { return static_cast<double>(o.cycles) / expected; };
     const auto what = [&](const Option& o) {
-        return fmt::format("II {}, {} stage{}, kernel {}x: {:.2f} cycles per iteration", o.ii, o.stages, o.stages == 1 ? "" : "s",
-                           o.unroll, per(o));
+        return fmt::format("II {}, {} stage{}, kernel {}: {:.2f} cycles per iteration", o.ii, o.stages, o.stages == 1 ? "" : "s",
+                           kernel_copies(o), per(o));
     };
     // Where the cycles go: what makes one schedule beat another.
     const auto parts = [&](const Option& o) {
@@ -120,7 +113,7 @@ std::string TripChoice::text() const {
                                 expected != min ? fmt::format(", expected {}", expected) : "", line);
     o += fmt::format("#   whole run at {} trips: {} ({})\n", expected, what(chosen), parts(chosen));
     const bool same = chosen.ii == first.ii && chosen.stages == first.stages && chosen.unroll == first.unroll &&
-                      chosen.cycles == first.cycles;
+                      chosen.groups == first.groups && chosen.cycles == first.cycles;
     const std::string iis = ii_first == ii_last ? fmt::format("II {}", ii_first) : fmt::format("IIs {}..{}", ii_first, ii_last);
     if (same)
         o += fmt::format("#   chosen among {} schedule{} at {}: the first found is the fastest\n", candidates,
@@ -128,7 +121,7 @@ std::string TripChoice::text() const {
     else
         o += fmt::format("#   chosen among {} schedule{} at {}; the first found, {} would take {:.2f} cycles per iteration ({})\n",
                          candidates, candidates == 1 ? "" : "s", iis,
-                         fmt::format("II {}, {} stage{}, kernel {}x,", first.ii, first.stages, first.stages == 1 ? "" : "s", first.unroll),
+                         fmt::format("II {}, {} stage{}, kernel {},", first.ii, first.stages, first.stages == 1 ? "" : "s", kernel_copies(first)),
                          per(first), parts(first));
     return o;
 }
@@ -138,6 +131,7 @@ std::string TripChoice::json() const {
         return nlohmann::ordered_json{{"ii", o.ii},
                                       {"stages", o.stages},
                                       {"unroll", o.unroll},
+                                      {"groups", o.groups},
                                       {"cycles", o.cycles},
                                       {"kernel", o.kernel},
                                       {"fill_drain", o.fill_drain},
@@ -149,7 +143,6 @@ std::string TripChoice::json() const {
                                       {"expected", expected},
                                       {"line", line},
                                       {"short_path", short_path},
-                                      {"remainder", remainder},
                                       {"candidates", candidates},
                                       {"ii_searched", {ii_first, ii_last}},
                                       {"chosen", option(chosen)},

@@ -26,24 +26,27 @@ TripDirective parse_trip(const std::string& code, const std::string& text, std::
 // The bundles of each part of a counted loop's code (Emitter::code), in program order:
 //   [nops]                                              lead (without the guard)
 //   [beqz TRIP, done]                                   guard
-//   check: [slti; bnez seq]  [addi; andi; beqz pipe | jmp pipe]   short path, remainder
-//   seq:   body; addi TRIP, -1; bnez TRIP, check; [jmp done]
-//   pipe:  setup; prologue passes; entry nops; kernel (unroll x II, bnez back); tail
+//   [slti; beqz pipe]                                   short path: N < min_pipelined ...
+//   seq:   body; addi TRIP, -1; bnez TRIP, seq; jmp done  ... runs the sequential copy
+//   pipe:  setup; prologue passes; entry nops;
+//          kernel: unroll x groups copies of the II rows, each counting an iteration; beqz to
+//          the exit of its rotation after each copy but the last, bnez back after the last;
+//   exit of rotation unroll - 1 (falls out of the kernel), then those of 0, 1, ..., unroll - 2:
+//          tail, and `jmp done` after each but the last laid out.
 // Each ALU result is followed by nops until it lands; a taken branch costs the penalty more.
 struct CountedShape {
     int alu_latency = 1;
     int penalty = 0;         // the machine's taken-branch bubble
     bool guard = true;       // the test for a trip count of 0
-    bool short_path = true;  // trip counts below prologue passes + unroll run the sequential copy
+    bool short_path = true;  // trip counts below min_pipelined run the sequential copy
     int prologue_passes = 0, unroll = 1, ii = 1;
+    int groups = 1;          // the kernel holds unroll x groups copies (Allocation::groups)
+    int min_pipelined = 1;   // the fewest iterations the pipelined code runs
     int body = 0;            // bundles of the sequential copy's ops (each with the nops to its latency)
     int setup = 0;           // bundles from `pipe` to the prologue (the counter's set-up)
     int entry_nops = 0;
-    int tail = 0;            // bundles after the kernel: epilogue, drain, `li TRIP, 0`
+    int tail = 0;            // bundles of an exit: epilogue, drain, `li TRIP, 0`
     int lead = 0;            // nops first, for results of the code before the region (no guard)
-    int min_trip() const { return prologue_passes + unroll; }
-    bool remainder() const { return unroll > 1; }
-    bool sequential_copy() const { return short_path || remainder(); }
 };
 
 // Cycles from the region's first bundle to its `done` label for `trips` iterations, without

@@ -30,10 +30,11 @@ std::vector<std::uint32_t> verification_trips(const PipelineResult& r) {
     std::set<std::uint32_t> t = {0, 1};
     const int min = r.min_pipelined_trip;
     if (min > 0) t.insert(static_cast<std::uint32_t>(min - 1));
-    for (int k = 0; k <= 2 * r.unroll + 1; ++k) t.insert(static_cast<std::uint32_t>(min + k));
+    const int span = std::max(2 * r.unroll + 1, r.unroll * (r.groups + 1));
+    for (int k = 0; k <= span; ++k) t.insert(static_cast<std::uint32_t>(min + k));
     if (r.min_trip > 0) { // a count below .trip's minimum is the user's error: never run, as TI's
         t.erase(t.begin(), t.lower_bound(static_cast<std::uint32_t>(r.min_trip)));
-        for (int k = 0; k <= 2 * r.unroll + 1; ++k) t.insert(static_cast<std::uint32_t>(r.min_trip + k));
+        for (int k = 0; k <= span; ++k) t.insert(static_cast<std::uint32_t>(r.min_trip + k));
     }
     return {t.begin(), t.end()};
 }

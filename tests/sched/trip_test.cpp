@@ -102,14 +102,16 @@ TEST_CASE(".trip: the whole-run cycles the choice is made by equal the ISS's", "
     }
 }
 
-TEST_CASE(".trip chooses fewer stages and copies where the whole run is shorter, and the code stays correct",
-          "[unit][sched][trip]") {
+TEST_CASE(".trip chooses fewer stages where the whole run is shorter, and the code stays correct", "[unit][sched][trip]") {
     for (const char* name : {"os-real", "ic", "ic-real"}) { // on os the MII's schedule is the fastest
         const isa::Machine m = isa::load_machine(name);
         INFO(name);
         const std::string plain = labelled(long_body(m, 12));
-        const std::string text = with_line(plain, ".trip 8");
         const sched::PipelineResult before = sched::pipeline_source(plain, "t.sa", m, {});
+        // A trip just too short for the first schedule's pipeline: it runs the sequential copy.
+        const int trips = before.min_pipelined_trip - 1;
+        REQUIRE(trips >= 2);
+        const std::string text = with_line(plain, fmt::format(".trip {}", trips));
         const sched::PipelineResult after = sched::pipeline_source(text, "t.sa", m, {});
         REQUIRE(after.loops[0].trip);
         const sched::TripChoice& c = *after.loops[0].trip;
@@ -117,19 +119,19 @@ TEST_CASE(".trip chooses fewer stages and copies where the whole run is shorter,
         CHECK(before.ii == before.mii);
         CHECK((c.first.ii == before.ii && c.first.stages == before.stages && c.first.unroll == before.unroll));
         CHECK(c.chosen.cycles < c.first.cycles);
-        // Why: the first schedule runs more of the loop through the sequential copy.
-        CHECK(c.first.outside > c.chosen.outside);
-        CHECK(c.first.sequential_iterations > c.chosen.sequential_iterations);
+        // Why: the first schedule runs the whole trip through the sequential copy.
+        CHECK(c.first.sequential_iterations == trips);
+        CHECK(c.chosen.sequential_iterations < trips);
         CHECK(c.chosen.kernel + c.chosen.fill_drain + c.chosen.outside == c.chosen.cycles);
-        CHECK(after.stages - 1 + after.unroll < before.stages - 1 + before.unroll);
-        // Measured: both files run 8 iterations; the one chosen by .trip takes fewer cycles.
+        CHECK(after.stages < before.stages);
+        // Measured: both files run the trip; the one chosen by .trip takes fewer cycles.
         const auto cycles_of = [&](const std::string& t) {
-            return region_cycles(sched::with_trip(sched::pipeline_source(t, "t.sa", m, {}), m, 8).pipelined, m);
+            return region_cycles(sched::with_trip(sched::pipeline_source(t, "t.sa", m, {}), m, static_cast<std::uint32_t>(trips)).pipelined, m);
         };
         CHECK(cycles_of(text) < cycles_of(plain));
         CHECK(static_cast<std::int64_t>(cycles_of(text)) == c.chosen.cycles);
         CHECK(verify(m, after) == std::nullopt);
-        CHECK(after.report.find("#   whole run at 8 trips: II ") != std::string::npos);
+        CHECK(after.report.find(fmt::format("#   whole run at {} trips: II ", trips)) != std::string::npos);
     }
 }
 
@@ -141,7 +143,7 @@ TEST_CASE(".trip drops the zero-trip test and the short-trip path, and verifies 
     CHECK(r.min_pipelined_trip <= 40);
     CHECK(r.code.find("beqz r9") == std::string::npos);
     CHECK(r.code.find("slti") == std::string::npos);
-    CHECK((r.unroll > 1) == (r.code.find("__sa_seq:") != std::string::npos)); // only the remainder is sequential
+    CHECK(r.code.find("__sa_seq:") == std::string::npos); // each kernel copy can leave: no remainder to run alone
     for (std::uint32_t t : sched::verification_trips(r)) CHECK(t >= 40);
     CHECK(verify(m, r) == std::nullopt);
     // Without .trip the same loop keeps both (the byte-identical default).
@@ -223,7 +225,7 @@ ys:     .space 256
         li    r9, 40
         fli   f0, 2.5
         .pipeline r9
-        .trip 40
+        .trip 1, 40
         flw   %x, xs(r1)
         flw   %y, ys(r1)
         fmul  %t, f0, %x
@@ -234,7 +236,7 @@ ys:     .space 256
         halt
 )";
     const sched::PipelineResult r = sched::pipeline_source(text, "t.sa", m, {});
-    REQUIRE(r.unroll > 1); // a remainder to run
+    REQUIRE(r.min_pipelined_trip > 1); // a short trip to run
     const std::size_t from = r.code.find("__sa_seq:\n"), to = r.code.find("        addi r9, r9, -1\n");
     REQUIRE((from != std::string::npos && to != std::string::npos && from < to));
     const std::string body = r.code.substr(from, to - from);
@@ -243,5 +245,60 @@ ys:     .space 256
     CHECK(std::count(body.begin(), body.end(), '\n') - 1 < 12);
     CHECK(body.find("{ ") != std::string::npos);
     CHECK(body.find("ys-4(r1)") != std::string::npos);
-    CHECK(verify(m, r) == std::nullopt); // every remainder of the unroll
+    CHECK(verify(m, r) == std::nullopt); // every short trip, every exit
+}
+
+TEST_CASE("with a branch bubble .trip repeats the kernel, each copy with its exit test, paying the bubble once per "
+          "pass of the whole kernel", "[unit][sched][trip]") {
+    const isa::Machine m = isa::load_machine("os-real");
+    REQUIRE(m.branch_penalty > 0);
+    // A reduction (bench/corpus/dot.sa): 2 register copies, the bubble paid every 6 cycles without repeats.
+    const std::string loop = R"(        .data 0x1000
+xs:     .space 1024
+ys:     .space 1024
+        .text
+        li    r1, 0
+        li    r9, 64
+        fli   f5, 0.0
+        nop
+        nop
+        .pipeline r9
+        .trip 64
+        flw   %x, xs(r1)
+        flw   %y, ys(r1)
+        fmul  %p, %x, %y
+        fadd  f5, f5, %p
+        addi  r1, r1, 4
+        .endpipeline
+        halt
+)";
+    const std::string text = labelled(loop);
+    const sched::PipelineResult r = sched::pipeline_source(text, "t.sa", m, {});
+    REQUIRE(r.loops[0].trip);
+    const sched::TripChoice& c = *r.loops[0].trip;
+    INFO(r.report);
+    CHECK(r.groups > 1);
+    CHECK(c.chosen.groups == r.groups);
+    CHECK(c.first.groups == 1);
+    CHECK(c.chosen.cycles < c.first.cycles);
+    CHECK(r.code.find("        beqz ") != std::string::npos); // an exit test inside the kernel
+    CHECK(r.report.find("#   kernel repeated ") != std::string::npos);
+    // Every exit (from each repeat, and after the last) at the whole-run cycles the choice is made
+    // by: the same code costed at each expected count (`.trip 64, N`) against the ISS's run of N.
+    const int copies = r.unroll * r.groups;
+    int same_code = 0;
+    for (int n = 64; n <= 64 + copies + r.unroll; ++n) {
+        INFO("trip " << n);
+        std::string at_n = text;
+        at_n.replace(at_n.find(".trip 64"), 8, fmt::format(".trip 64, {}", n));
+        const sched::PipelineResult at = sched::pipeline_source(at_n, "t.sa", m, {});
+        if (at.code != r.code) continue;
+        ++same_code;
+        const std::string run = sched::with_trip(r, m, static_cast<std::uint32_t>(n)).pipelined;
+        CHECK(static_cast<std::int64_t>(region_cycles(run, m)) == at.loops[0].trip->chosen.cycles);
+    }
+    CHECK(same_code > copies);
+    CHECK(verify(m, r) == std::nullopt);
+    const std::vector<std::uint32_t> trips = sched::verification_trips(r);
+    CHECK(trips.size() >= static_cast<std::size_t>(copies + r.unroll + 1)); // every exit, every remainder
 }

@@ -17,9 +17,10 @@
 // scheduling after Rau; bundles checked with isa::check_bundle, so any machine description is
 // scheduled exactly), adjusts the offsets of memory operations on induction registers across
 // stages, expands virtual registers over free physical ones as their lifetimes require (the
-// kernel unrolled by a power of two), and emits prologue, kernel and epilogue. Trip counts too
-// small for the pipeline, and the remainder of the unrolled kernel, run a sequential copy of the
-// body first, so every trip count >= 0 is correct.
+// kernel unrolled by a power of two), and emits prologue, kernel and epilogue. Each kernel copy
+// counts one iteration and leaves after the last, into the epilogue of its register rotation, so
+// any trip count runs pipelined; counts too small for the pipeline run a sequential copy of the
+// body, so every trip count >= 0 is correct.
 //
 // `.pipeline while` instead has no trip count and one exit test, a conditional branch to `exit`
 // (`beqz %go, exit`); iterations start before earlier tests are decided, with no side effect
@@ -76,14 +77,14 @@ struct PipelineOptions {
     std::optional<int> region;
 };
 
-// `.trip MIN[, EXPECTED]` in a counted region: the schedule is the one whose whole run (the
-// sequential copy for the remainder, prologue, kernel passes with their branch bubbles, epilogue)
+// `.trip MIN[, EXPECTED]` in a counted region: the schedule is the one whose whole run (prologue,
+// kernel passes with their branch bubbles, epilogue; the sequential copy below the pipeline's minimum)
 // takes the fewest cycles at EXPECTED trips (default MIN), among the schedules the search finds
 // at each II from the first that works up to where EXPECTED x II alone exceeds the best; and the
 // code omits what MIN makes dead (the zero-trip test, the short-trip path).
 // A whole run's cycles by where they go: the kernel passes (with their bubbles), the fill and
 // drain (counter set-up, prologue, entry nops, epilogue and drain), and the rest: the tests, the
-// sequential copy's iterations (the remainder, or every one of a short trip) and their branches.
+// sequential copy's iterations (every one of a trip too short for the pipeline) and their branches.
 struct RunParts {
     std::int64_t kernel = 0, fill_drain = 0, outside = 0;
     std::int64_t sequential_iterations = 0;
@@ -94,6 +95,7 @@ struct TripChoice {
     int min = 0, expected = 0, line = 0; // line: of the .trip
     struct Option : RunParts {
         int ii = 0, stages = 0, unroll = 1;
+        int groups = 1; // the kernel repeated, an exit test between repeats: unroll x groups copies
         std::int64_t cycles = 0; // whole run at `expected` trips, without memory stalls: total()
     };
     Option chosen;
@@ -101,7 +103,6 @@ struct TripChoice {
     int candidates = 0;           // schedules costed
     int ii_first = 0, ii_last = 0; // the IIs searched
     bool short_path = true;       // the chosen code still has the sequential path for short trips
-    bool remainder = true;        // ... and the sequential copy for the unroll remainder
     std::string text() const;     // report lines, "#   " each
     std::string json() const;     // one object
 };
@@ -111,6 +112,7 @@ struct LoopSummary {
     int line = 0; // of its .pipeline
     bool is_while = false;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0, stages = 0, unroll = 1;
+    int groups = 1;                 // the kernel repeated, an exit test between repeats (TripChoice::Option)
     std::optional<TripChoice> trip; // with `.trip`
     // One iteration from its first issue to its last landing, and its longest path (as in
     // PipelineResult): a run of N iterations takes at least (N - 1) x MII + the longest path.
@@ -132,6 +134,7 @@ struct PipelineResult {
     std::optional<std::size_t> linear_region_at, pipelined_region_at;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0;
     int stages = 0, unroll = 1;
+    int groups = 1; // a counted loop's kernel: unroll x groups copies, an exit test after each unroll
     // One iteration, from its first issue to its last landing, and the longest path through it
     // (no schedule is shorter): a run pays about the iteration to fill and drain.
     int iteration_cycles = 0, iteration_lower = 0;
@@ -183,9 +186,10 @@ using DifferentialRun = std::function<std::optional<std::string>(const isa::Obje
                                                                  const isa::ObjectFile& pipelined)>;
 std::optional<std::string> verify(const PipelineResult& r, std::string_view filename, const isa::Machine& m,
                                   const std::vector<std::uint32_t>& trip_counts, const DifferentialRun& run);
-// The trip counts that cover the sequential path, the shortest pipelined run and every unroll
-// remainder: 0, 1, min - 1, min, min + 1, ..., min + 2 * unroll; with `.trip MIN`, those of at
-// least MIN, and MIN, MIN + 1, ..., MIN + 2 * unroll + 1.
+// The trip counts that cover the sequential path, the shortest pipelined run and every kernel
+// copy's exit: 0, 1, min - 1, min, min + 1, ..., min + K with
+// K = max(2 x unroll + 1, unroll x (groups + 1)); with `.trip MIN`, those of at least MIN, and
+// MIN, MIN + 1, ..., MIN + K.
 std::vector<std::uint32_t> verification_trips(const PipelineResult& r);
 
 // Verification of a while loop: the data decide where it exits, so each run draws new random data
