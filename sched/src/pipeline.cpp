@@ -485,16 +485,25 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     };
     const TripDirective& trip = r.trip_count;
     // `first_least`: at least this many kernel copies (more amortise a taken-branch bubble);
-    // `groups`: a counted loop's kernel passes between two back branches (Allocation::groups).
-    auto build = [&](const Schedule& s, int first_least = 1, int groups = 1) -> std::optional<Built> {
+    // `groups`: a counted loop's kernel repeats (Allocation::groups); 0: without .trip, as many
+    // as bring the bubble to at most a twentieth of a pass (as a while loop's copies do), within
+    // kMaxGroups and kMaxKernelBundles. They never lengthen a run of two kernel iterations or
+    // more, and cost one bubble on a run of one.
+    const bool by_trip = trip.min > 0 && !r.is_while;
+    auto build = [&](const Schedule& s, int first_least = 1, int groups = 0) -> std::optional<Built> {
         std::optional<Allocation> fitted;
         try {
             // More kernel copies where the taken-branch bubble makes writes meet on a port.
             for (int least = first_least; least <= kMaxPortUnroll; least *= 2) {
                 fitted = allocate(r, g, s, named, m, filename, least);
-                fitted->groups = groups;
-                if (kernel_landings_ok(g, s, fitted->unroll, groups, m, false)) break;
-                if (kernel_landings_ok(g, s, fitted->unroll, groups, m, true)) {
+                fitted->groups = groups > 0 ? groups : 1;
+                if (groups == 0 && !r.is_while && !by_trip)
+                    while (fitted->groups < kMaxGroups && 20 * static_cast<int>(m.branch_penalty) > s.ii * fitted->unroll * fitted->groups &&
+                           2 * fitted->groups * fitted->unroll * s.ii <= kMaxKernelBundles)
+                        fitted->groups *= 2;
+                const int groups_used = fitted->groups;
+                if (kernel_landings_ok(g, s, fitted->unroll, groups_used, m, false)) break;
+                if (kernel_landings_ok(g, s, fitted->unroll, groups_used, m, true)) {
                     fitted->entry_nops = static_cast<int>(m.branch_penalty);
                     break;
                 }
@@ -676,7 +685,6 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // schedule the rule without .trip takes (the first found that assembles) is assembled first:
     // the report compares with it.
     std::optional<TripChoice> choice;
-    const bool by_trip = trip.min > 0 && !r.is_while;
     auto option = [&](const Built& b) {
         TripChoice::Option o;
         static_cast<RunParts&>(o) = whole_run_parts(b.shape, trip.expected);
@@ -696,7 +704,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             }
             for (const Schedule& k : tries) {
                 if (!seen.insert(k.time).second) continue;
-                std::optional<Built> b = build(k);
+                std::optional<Built> b = build(k, 1, 1);
                 if (!b) continue;
                 const int copies = b->alloc.unroll;
                 found.push_back(std::move(*b));
