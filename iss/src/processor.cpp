@@ -487,6 +487,8 @@ void Processor::reset() {
     uint32_t max_lat = 1;
     for (const DecodedOp& d : prog_->ops()) max_lat = std::max(max_lat, d.latency);
     core_ = std::make_unique<Core>(max_lat);
+    cycle_at_ = &core_->cycle;
+    pc_at_ = &core_->pc;
     auto old = std::move(mem_);
     mem_ = std::make_unique<MemorySystem>(m);
     for (const auto& sec : prog_->object().data) mem_->load_data(sec.address, sec.bytes);
@@ -596,8 +598,6 @@ Status Processor::step(uint64_t bundles, uint64_t max_cycles) {
 }
 
 std::string Processor::fault_report() const { return fault_ ? format_fault(*prog_, *fault_) : std::string(); }
-uint64_t Processor::cycle() const { return core_->cycle; }
-uint32_t Processor::pc() const { return core_->pc; }
 uint32_t Processor::reg(uint16_t flat) const { return flat < kNumRegs ? core_->r[flat] : 0; }
 void Processor::set_reg(uint16_t flat, uint32_t value) {
     if (flat < kNumRegs) core_->r[flat] = value;

@@ -393,7 +393,8 @@ class Pe {
         for (int i = 0; i < 3; ++i)
             if (i != w && others[i] != kNever) turn = std::min(turn, i < w ? others[i] - 1 : others[i]);
         turns_.horizon[w] = turn;
-        for (int i = 0; i < 3; ++i) turns_.wants_room[i] = i != w && wants_room(i);
+        if (mo_.fifo_capacity != 0) // only a bounded FIFO asks (Fifo::pop); unbounded ones always have room
+            for (int i = 0; i < 3; ++i) turns_.wants_room[i] = i != w && wants_room(i);
         const std::uint64_t horizon = turn == kNever ? e[w] + kSoloChunk : std::max(turn, e[w]) + mo_.quantum;
         check_limit(e[w]);
         if (w == 2) sc_.run(std::min(horizon, until));

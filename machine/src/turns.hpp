@@ -39,26 +39,26 @@ struct Bound {
     std::array<std::uint64_t, 3> via{kNever, kNever, kNever};
 };
 
-// Every stage's bound: the least over the chains of actions that could lead to its next one,
-// by Dijkstra's rule (each step adds at least one cycle, so the smallest tentative bound is
-// final). `without`: leave that stage out, for the stage about to run.
+// Every stage's bound: the least over the chains of actions that could lead to its next one, the
+// least fixed point of e[i] = min(own, max(floor, e[k] + via[k])). Each step adds at least one
+// cycle, so no chain visits a stage twice: two rounds over the six pairs reach it (Bellman-Ford
+// over three stages, the same answer as Dijkstra's rule, without its data-dependent picks).
+// `without`: leave that stage out, for the stage about to run.
 inline std::array<std::uint64_t, 3> settle(const std::array<Bound, 3>& b, int without) {
     constexpr std::uint64_t kNever = Bound::kNever;
     std::array<std::uint64_t, 3> e{b[0].own, b[1].own, b[2].own};
-    std::array<bool, 3> done{};
-    if (without >= 0) {
-        e[without] = kNever;
-        done[without] = true;
+    if (without >= 0) e[static_cast<std::size_t>(without)] = kNever;
+    auto relax = [&](int i, int k) {
+        const std::uint64_t via = b[static_cast<std::size_t>(i)].via[static_cast<std::size_t>(k)], from = e[static_cast<std::size_t>(k)];
+        if (i == without || via == kNever || from == kNever) return;
+        e[static_cast<std::size_t>(i)] = std::min(e[static_cast<std::size_t>(i)], std::max(b[static_cast<std::size_t>(i)].floor, from + via));
+    };
+    for (int round = 0; round < 2; ++round) {
+        relax(0, 1), relax(0, 2);
+        relax(1, 0), relax(1, 2);
+        relax(2, 0), relax(2, 1);
     }
-    for (;;) {
-        int k = -1;
-        for (int i = 0; i < 3; ++i)
-            if (!done[i] && e[i] != kNever && (k < 0 || e[i] < e[k])) k = i;
-        if (k < 0) return e;
-        done[k] = true;
-        for (int i = 0; i < 3; ++i)
-            if (!done[i] && b[i].via[k] != kNever) e[i] = std::min(e[i], std::max(b[i].floor, e[k] + b[i].via[k]));
-    }
+    return e;
 }
 
 } // namespace nesshi::machine

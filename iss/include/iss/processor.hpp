@@ -122,8 +122,9 @@ class Processor {
     Status status() const { return status_; }
     const std::optional<Fault>& fault() const { return fault_; }
     std::string fault_report() const; // empty when no fault
-    uint64_t cycle() const;
-    uint32_t pc() const;
+    // Inline: the machine's turn rule asks both at every switch of stage (they point into the core).
+    uint64_t cycle() const { return *cycle_at_; }
+    uint32_t pc() const { return *pc_at_; }
     // The channel a Blocked processor waits on.
     uint32_t blocked_channel() const { return blocked_channel_; }
 
@@ -151,6 +152,8 @@ class Processor {
     Engine engine_;
     Tracer* tracer_ = nullptr;
     std::unique_ptr<Core> core_;
+    const uint64_t* cycle_at_ = nullptr; // &core_->cycle, set with core_
+    const uint32_t* pc_at_ = nullptr;    // &core_->pc
     std::unique_ptr<MemorySystem> mem_;
     // Channels are sparse 32-bit ids: every attachment by id (sorted), and for the engines one
     // slot per id the program uses (Program::channel_ids(), DecodedOp::chan).
