@@ -12,16 +12,6 @@ namespace nesshi::paper {
 
 namespace {
 
-// Table 2 of seed-paper-ja.txt: the rows after each stage's processing time are its communication
-// and its wait; processing + communication + wait = the total in every column.
-constexpr PublishedComm kComm[] = {
-    {"balls", 20, 203, 186, 44},  {"balls", 50, 225, 207, 45},  {"balls", 100, 275, 257, 45},
-    {"mount", 20, 104, 97, 24},   {"mount", 50, 114, 106, 24},  {"mount", 100, 143, 136, 24},
-    {"rings", 20, 251, 236, 36},  {"rings", 50, 278, 264, 36},  {"rings", 100, 310, 296, 36},
-    {"tetra", 20, 41, 33, 10},    {"tetra", 50, 44, 37, 10},    {"tetra", 100, 43, 36, 10},
-    {"tree", 20, 237, 211, 33},   {"tree", 50, 237, 211, 33},   {"tree", 100, 237, 211, 33},
-};
-
 using VK = SceneVariant::Kind;
 constexpr SceneVariant kVariants[] = {
     {"tetra", VK::view_angle, 22.5},
@@ -53,14 +43,6 @@ std::optional<std::string> adopted(std::string_view scene, std::string_view stag
 }
 
 } // namespace
-
-std::span<const PublishedComm> published_comm() { return kComm; }
-
-const PublishedComm* find_published_comm(std::string_view scene, int grid) {
-    for (const PublishedComm& c : kComm)
-        if (c.scene == scene && c.grid == grid) return &c;
-    return nullptr;
-}
 
 std::span<const SceneVariant> scene_variants() { return kVariants; }
 

@@ -62,6 +62,16 @@ constexpr PublishedVliw kVliw[] = {
     vliw("tetra", {2.27, 2.31}), vliw("tree", {2.06, 2.11}),
 };
 
+// Table 2 of seed-paper-ja.txt: the rows after each stage's processing time are its communication
+// and its wait; processing + communication + wait = the total in every column.
+constexpr PublishedComm kComm[] = {
+    {"balls", 20, 203, 186, 44},  {"balls", 50, 225, 207, 45},  {"balls", 100, 275, 257, 45},
+    {"mount", 20, 104, 97, 24},   {"mount", 50, 114, 106, 24},  {"mount", 100, 143, 136, 24},
+    {"rings", 20, 251, 236, 36},  {"rings", 50, 278, 264, 36},  {"rings", 100, 310, 296, 36},
+    {"tetra", 20, 41, 33, 10},    {"tetra", 50, 44, 37, 10},    {"tetra", 100, 43, 36, 10},
+    {"tree", 20, 237, 211, 33},   {"tree", 50, 237, 211, 33},   {"tree", 100, 237, 211, 33},
+};
+
 template <class Row> const Row* find_row(std::span<const Row> rows, std::string_view scene, int grid) {
     auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) { return r.scene == scene && r.grid == grid; });
     return it == rows.end() ? nullptr : &*it;
@@ -72,12 +82,16 @@ template <class Row> const Row* find_row(std::span<const Row> rows, std::string_
 std::span<const PublishedTimes> published_times() { return kTimes; }
 std::span<const PublishedStages> published_stages() { return kStages; }
 std::span<const PublishedVliw> published_vliw() { return kVliw; }
+std::span<const PublishedComm> published_comm() { return kComm; }
 
 const PublishedTimes* find_published_times(std::string_view scene, int grid) {
     return find_row(published_times(), scene, grid);
 }
 const PublishedStages* find_published_stages(std::string_view scene, int grid) {
     return find_row(published_stages(), scene, grid);
+}
+const PublishedComm* find_published_comm(std::string_view scene, int grid) {
+    return find_row(published_comm(), scene, grid);
 }
 const PublishedVliw* find_published_vliw(std::string_view scene) {
     auto rows = published_vliw();

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "kernels/paper_figures.hpp"
+#include "paper/published.hpp"
 #include "rt/render.hpp"
 
 #include <functional>
@@ -24,16 +25,6 @@
 #include <vector>
 
 namespace nesshi::paper {
-
-// Table 2 of the original (seed-paper-ja.txt) also prints each stage's communication time, which
-// PAPER.md leaves out: millions of cycles, model V, 512 x 512.
-struct PublishedComm {
-    std::string_view scene;
-    int grid = 0;
-    double os = 0, ic = 0, sc = 0;
-};
-std::span<const PublishedComm> published_comm(); // 5 scenes x 3 grids
-const PublishedComm* find_published_comm(std::string_view scene, int grid);
 
 // The native renderer's counts for one render, summed over the ray kinds.
 struct WorkCounts {
