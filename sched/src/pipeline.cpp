@@ -485,10 +485,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     };
     const TripDirective& trip = r.trip_count;
     // `first_least`: at least this many kernel copies (more amortise a taken-branch bubble);
-    // `groups`: a counted loop's kernel repeats (Allocation::groups); 0: without .trip, as many
-    // as bring the bubble to at most a twentieth of a pass (as a while loop's copies do), within
-    // kMaxGroups and kMaxKernelBundles. They never lengthen a run of two kernel iterations or
-    // more, and cost one bubble on a run of one.
+    // `groups`: a counted loop's kernel repeats (Allocation::groups); 0: without .trip, those of
+    // bubble_repeats (the while loop's rule) within most_repeats. They never lengthen a run of two
+    // kernel iterations or more, and cost one bubble on a run of one.
     const bool by_trip = trip.min > 0 && !r.is_while;
     auto build = [&](const Schedule& s, int first_least = 1, int groups = 0) -> std::optional<Built> {
         std::optional<Allocation> fitted;
@@ -496,14 +495,12 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             // More kernel copies where the taken-branch bubble makes writes meet on a port.
             for (int least = first_least; least <= kMaxPortUnroll; least *= 2) {
                 fitted = allocate(r, g, s, named, m, filename, least);
-                fitted->groups = groups > 0 ? groups : 1;
-                if (groups == 0 && !r.is_while && !by_trip)
-                    while (fitted->groups < kMaxGroups && 20 * static_cast<int>(m.branch_penalty) > s.ii * fitted->unroll * fitted->groups &&
-                           2 * fitted->groups * fitted->unroll * s.ii <= kMaxKernelBundles)
-                        fitted->groups *= 2;
-                const int groups_used = fitted->groups;
-                if (kernel_landings_ok(g, s, fitted->unroll, groups_used, m, false)) break;
-                if (kernel_landings_ok(g, s, fitted->unroll, groups_used, m, true)) {
+                const int pass = s.ii * fitted->unroll;
+                fitted->groups = groups > 0                  ? groups
+                                 : !r.is_while && !by_trip ? bubble_repeats(static_cast<int>(m.branch_penalty), pass, most_repeats(pass))
+                                                            : 1;
+                if (kernel_landings_ok(g, s, fitted->unroll, fitted->groups, m, false)) break;
+                if (kernel_landings_ok(g, s, fitted->unroll, fitted->groups, m, true)) {
                     fitted->entry_nops = static_cast<int>(m.branch_penalty);
                     break;
                 }
@@ -709,11 +706,11 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                 const int copies = b->alloc.unroll;
                 found.push_back(std::move(*b));
                 // With a taken-branch bubble, the kernel repeated 2, 4, 8 times (each copy tests for
-                // the last iteration, so no remainder and no register more, only code) while it stays
-                // within kMaxKernelBundles: one bubble per pass of the longer kernel. The whole-run
-                // cost decides.
+                // the last iteration, so no remainder and no register more, only code) as far as
+                // most_repeats allows: one bubble per pass of the longer kernel. The whole-run cost
+                // decides.
                 if (m.branch_penalty > 0)
-                    for (int groups = 2; groups <= kMaxGroups && groups * copies * ii <= kMaxKernelBundles; groups *= 2)
+                    for (int groups = 2; groups <= most_repeats(copies * ii); groups *= 2)
                         if (std::optional<Built> c = build(k, copies, groups); c && c->alloc.unroll == copies)
                             found.push_back(std::move(*c));
             }

@@ -118,8 +118,7 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     // A while loop pays the taken-branch bubble once per kernel pass: more kernel copies (the same
     // registers rotating, a power of two) until it is at most a twentieth of the pass. No remainder
     // to run and no register more; only more code and exit paths.
-    if (r.is_while)
-        while (a.unroll < kMaxBubbleUnroll && 20 * static_cast<int>(m.branch_penalty) > s.ii * a.unroll) a.unroll *= 2;
+    if (r.is_while) a.unroll *= bubble_repeats(static_cast<int>(m.branch_penalty), s.ii * a.unroll, kMaxBubbleUnroll / a.unroll);
     // First a register set of its own for every virtual, while there are enough. Else virtuals
     // share registers where their lifetimes do not meet. In the kernel (unroll x II cycles, a
     // circle) copy c of v holds the instances of the iterations k = c mod copies, each from its
@@ -160,6 +159,18 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
             a.scratch = scratch0;
         }
     }
+}
+
+int most_repeats(int pass) {
+    int most = 1;
+    while (most < kMaxGroups && 2 * most * pass <= kMaxKernelBundles) most *= 2;
+    return most;
+}
+
+int bubble_repeats(int penalty, int pass, int most) {
+    int f = 1;
+    while (f < most && 20 * penalty > pass * f) f *= 2;
+    return f;
 }
 
 bool kernel_landings_ok(const Graph& g, const Schedule& s, int unroll, int groups, const isa::Machine& m, bool entry_nops) {

@@ -34,6 +34,14 @@ struct Allocation {
     int groups = 1;
 };
 
+// The most times a counted loop's kernel pass of `pass` bundles may be repeated: a power of two,
+// at most kMaxGroups, the kernel within kMaxKernelBundles (1 when even two passes are longer).
+int most_repeats(int pass);
+// How many times (a power of two, at most `most`) a kernel pass of `pass` cycles is repeated so
+// that a taken-branch bubble of `penalty` cycles is at most a twentieth of the whole: a while
+// loop's kernel copies and a counted loop's repeats without .trip follow this one rule.
+int bubble_repeats(int penalty, int pass, int most);
+
 Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const std::set<std::pair<int, int>>& named,
                     const isa::Machine& m, std::string_view file, int min_unroll = 1);
 
