@@ -4,7 +4,6 @@
 #include <fmt/core.h>
 
 #include <array>
-#include <functional>
 
 namespace nesshi::isa {
 
@@ -121,6 +120,36 @@ std::vector<Violation> check_bundle(const Machine& m, std::span<const Instr> ops
     return out;
 }
 
+bool bundle_fits(const Machine& m, std::span<const Instr> ops) {
+    std::array<bool, kMaxSlots> taken{};
+    std::array<uint32_t, kNumRegFiles> reads{};
+    struct Write { RegFile file; uint8_t reg; uint32_t lat; };
+    std::array<Write, 4 * kMaxSlots> writes; // each op passing the slot checks writes at most 4
+    std::size_t nwrites = 0;
+    for (const Instr& in : ops) {
+        if (in.slot >= m.slots.size() || !m.slots[in.slot].accepts(in.info().cls) || taken[in.slot]) return false;
+        taken[in.slot] = true;
+        const uint32_t lat = m.latency_of(in.info());
+        const RegOperands regs = register_operands(in);
+        for (const RegOperand& r : regs) {
+            const RegFileDesc& rf = m.regfile(r.file);
+            if (r.reg >= rf.count) return false;
+            if (!r.write) {
+                if (++reads[int(r.file)] > rf.read_ports) return false;
+                continue;
+            }
+            uint32_t same_cycle = 1;
+            for (std::size_t b = 0; b < nwrites; ++b) {
+                const Write& o = writes[b];
+                if (o.file != r.file || o.lat != lat) continue;
+                if (o.reg == r.reg || ++same_cycle > rf.write_ports) return false;
+            }
+            writes[nwrites++] = {r.file, r.reg, lat};
+        }
+    }
+    return true;
+}
+
 bool assign_slots(const Machine& m, std::span<Instr> ops, std::span<const int> pinned) {
     const int nslots = int(m.slots.size());
     std::array<int, kMaxSlots> owner;
@@ -133,7 +162,7 @@ bool assign_slots(const Machine& m, std::span<Instr> ops, std::span<const int> p
     }
     // Kuhn's augmenting paths; at most 8 x 8, so this is trivially cheap. A free slot that
     // accepts the op is taken first, so ops only move when they must (readable placements).
-    std::function<bool(int, std::array<bool, kMaxSlots>&)> place = [&](int i, auto& seen) {
+    auto place = [&](auto& self, int i, std::array<bool, kMaxSlots>& seen) -> bool {
         for (int s = 0; s < nslots; ++s)
             if (owner[s] < 0 && !seen[s] && m.slots[s].accepts(ops[i].info().cls)) {
                 owner[s] = i;
@@ -145,7 +174,7 @@ bool assign_slots(const Machine& m, std::span<Instr> ops, std::span<const int> p
             seen[s] = true;
             int cur = owner[s];
             if (cur >= 0 && pinned[cur] >= 0) continue;
-            if (cur < 0 || place(cur, seen)) {
+            if (cur < 0 || self(self, cur, seen)) {
                 owner[s] = i;
                 ops[i].slot = uint8_t(s);
                 return true;
@@ -156,7 +185,7 @@ bool assign_slots(const Machine& m, std::span<Instr> ops, std::span<const int> p
     for (size_t i = 0; i < ops.size(); ++i) {
         if (pinned[i] >= 0) continue;
         std::array<bool, kMaxSlots> seen{};
-        if (!place(int(i), seen)) return false;
+        if (!place(place, int(i), seen)) return false;
     }
     return true;
 }

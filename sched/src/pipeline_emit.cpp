@@ -304,7 +304,7 @@ class Emitter {
         return in;
     }
     // The moves packed into as few bundles as the machine takes (isa::assign_slots and
-    // isa::check_bundle decide), then nops until they have landed.
+    // isa::bundle_fits decide), then nops until they have landed.
     std::string moves_text(const std::vector<std::pair<std::string, int>>& ms) const {
         std::string o;
         int lat = 1;
@@ -318,7 +318,7 @@ class Emitter {
                 std::vector<isa::Instr> trial = ops[b];
                 trial.push_back(in);
                 std::vector<int> pinned(trial.size(), -1);
-                if (isa::assign_slots(m_, trial, pinned) && isa::check_bundle(m_, trial).empty()) break;
+                if (isa::assign_slots(m_, trial, pinned) && isa::bundle_fits(m_, trial)) break;
             }
             if (b == ops.size()) ops.emplace_back(), texts.emplace_back();
             ops[b].push_back(in);
@@ -440,7 +440,7 @@ class Emitter {
                 const std::size_t land = static_cast<std::size_t>(first) + b + static_cast<std::size_t>(l);
                 auto cycle = at[std::min(land, at.size() - 1)];
                 add_writes(cycle, in, 1);
-                if (isa::assign_slots(m_, trial, pinned) && isa::check_bundle(m_, trial).empty() && room(cycle)) {
+                if (isa::assign_slots(m_, trial, pinned) && isa::bundle_fits(m_, trial) && room(cycle)) {
                     move_ops[b].push_back(in);
                     move_texts[b].push_back(text);
                     if (land < at.size()) add_writes(at[land], in, 1);

@@ -105,7 +105,7 @@ bool back_edge_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, c
 bool bundle_legal(const isa::Machine& m, std::vector<isa::Instr> ops) {
     std::vector<int> pinned(ops.size(), -1);
     if (!isa::assign_slots(m, ops, pinned)) return false;
-    return isa::check_bundle(m, ops).empty();
+    return isa::bundle_fits(m, ops);
 }
 
 // The reservation table: its rows, and the writes landing in each cycle mod II per register file

@@ -3,6 +3,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
+#include <random>
+
 using namespace nesshi::isa;
 
 namespace {
@@ -92,4 +95,36 @@ TEST_CASE("slot assignment finds a matching when one exists") {
     std::vector<int> pin = {3};
     REQUIRE(assign_slots(os, pinned, pin));
     CHECK(pinned[0].slot == 3);
+}
+
+TEST_CASE("bundle_fits answers as check_bundle finds nothing, on random bundles") {
+    // Random ops, slots and registers (some out of range), on the presets and on files with
+    // fewer ports, so that every rule both passes and fails many times.
+    std::vector<Machine> machines;
+    for (const char* name : {"os", "ic", "os-real", "seq"}) machines.push_back(load_machine(name));
+    for (Machine m : {load_machine("os"), load_machine("ic")}) {
+        for (RegFileDesc& rf : m.regs) rf.read_ports = 2, rf.write_ports = 1;
+        machines.push_back(m);
+    }
+    std::mt19937 rng(7);
+    std::array<int, 2> outcomes{};
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Machine& m = machines[rng() % machines.size()];
+        std::vector<Instr> ops(1 + rng() % (m.slots.size() + 1));
+        for (Instr& in : ops) {
+            in.opcode = static_cast<Opcode>(rng() % kNumOps);
+            in.slot = static_cast<uint8_t>(rng() % (m.slots.size() + 1));
+            for (uint8_t* r : {&in.rd, &in.rs1, &in.rs2, &in.rs3}) *r = static_cast<uint8_t>(rng() % 8 == 0 ? rng() % 128 : rng() % 6);
+        }
+        if (rng() % 2) {
+            std::vector<int> pins(ops.size(), -1);
+            assign_slots(m, ops, pins);
+        }
+        const bool fits = bundle_fits(m, ops);
+        INFO("trial " << trial << " on " << m.name);
+        CHECK(fits == check_bundle(m, ops).empty());
+        ++outcomes[fits];
+    }
+    CHECK(outcomes[0] > 1000);
+    CHECK(outcomes[1] > 1000);
 }

@@ -36,6 +36,9 @@ struct Violation {
 };
 
 std::vector<Violation> check_bundle(const Machine& m, std::span<const Instr> ops);
+// check_bundle(m, ops).empty(), without building the messages: for schedulers, which ask it for
+// every place they try.
+bool bundle_fits(const Machine& m, std::span<const Instr> ops);
 
 // Assigns issue slots: ops with pinned[i] >= 0 keep that slot, the rest get the first slots
 // that accept them (a bipartite matching, so an assignment is found whenever one exists).
