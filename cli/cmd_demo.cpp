@@ -124,8 +124,7 @@ void run_machine_demo(const DemoArgs& a) {
     status("{}", machine::schedules_used(mo));
     const machine::Result mr = machine::render(prep, opt, mo);
     rt::write_png(a.out, mr.render.image);
-    const std::string rays = rt::format_rays(mr.render.stats);
-    fmt::print("{}{}", rays.substr(0, rays.find("traversal")), machine::format_stats(mr.machine));
+    fmt::print("{}{}", rt::format_rays(mr.render.stats, {.tracer = false}), machine::format_stats(mr.machine));
     fmt::print("SC is modelled (counted operations x seq latencies), OS and IC are simulated.\n");
 
     const auto t_native = std::chrono::steady_clock::now();

@@ -150,9 +150,9 @@ void run_render(const RenderArgs& a) {
     if (opt.id_buffer) rt::write_id_buffer(a.id_buffer, r.id_buffer);
     if (opt.t_buffer) rt::write_t_buffer(a.t_buffer, r.t_buffer);
     if (!a.stats_json.empty())
-        base::write_file(a.stats_json, native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model), prep.grid,
-                                                                            prep.shapes.shapes.size())
-                                              : machine::stats_json(prep, opt, mo, mr));
+        base::write_file(a.stats_json, rt::stats_text(native ? machine::with_memory_report(rt::stats_json(prep, opt, r, a.model),
+                                                                                           prep.grid, prep.shapes.shapes.size())
+                                                             : machine::stats_json(prep, opt, mo, mr)));
     if (!a.quiet) {
         fmt::print(report, "{} {}x{} model {} (SPD mode: depth {}, corner rays{})\n", prep.scene.name, opt.width, opt.height,
                    a.model, opt.max_depth, opt.cutoff > 0 ? fmt::format(", cut-off {:g}", opt.cutoff) : "");
@@ -162,7 +162,7 @@ void run_render(const RenderArgs& a) {
         if (native) {
             fmt::print(report, "{}", rt::format_rays(r.stats));
         } else {
-            fmt::print(report, "{}", rt::format_rays(r.stats).substr(0, rt::format_rays(r.stats).find("traversal")));
+            fmt::print(report, "{}", rt::format_rays(r.stats, {.tracer = false}));
             if (auto_slots)
                 fmt::print(report, "ray slots {}: at most {} rays in flight ({} words per FIFO / {}, a ray's longest message), "
                            "so no FIFO fills (--ray-slots or --window to choose)\n",

@@ -30,10 +30,9 @@ nlohmann::json stage_json(const StageCycles& c) {
 double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
 } // namespace
 
-std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
-                               const Result& r) {
-    nlohmann::json j = nlohmann::json::parse(
-        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size(), mo));
+nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo, const Result& r) {
+    nlohmann::json j =
+        with_memory_report(rt::stats_json(prep, opt, r.render, model_name(mo.model)), prep.grid, prep.shapes.shapes.size(), mo);
     // The kernels count no voxel steps or intersection tests, so of the native tracer's traversal
     // counters only `rays` (counted by SC) is known; the others are left out rather than given as 0.
     for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};
@@ -46,18 +45,20 @@ std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& o
     if (m.s_cycles) cycles["s_cycles"] = m.s_cycles; // model M, when exact (render.cpp)
     j["cycles"] = cycles;
     j["machine"] = {{"pes", mo.pes},
-                    {"balance", mo.dynamic_balance ? nlohmann::json{{"dynamic", {{"epoch", mo.epoch}}}} : "interleaved"},
+                    {"balance", mo.dynamic_balance ? nlohmann::json{{"mode", "dynamic"}, {"epoch", mo.epoch}}
+                                                   : nlohmann::json{{"mode", "interleaved"}}},
                     {"window", mo.window},
                     {"fifo_capacity", mo.fifo_capacity},
                     {"fifo_latency", mo.fifo_latency},
                     {"quantum", mo.quantum},
-                    {"cache", mo.cache.enabled ? nlohmann::json{{"bytes", mo.cache.bytes},
+                    {"cache", mo.cache.enabled ? nlohmann::json{{"enabled", true},
+                                                                {"bytes", mo.cache.bytes},
                                                                 {"line", mo.cache.line},
                                                                 {"ways", mo.cache.ways},
                                                                 {"miss_cycles", mo.cache.miss_cycles},
                                                                 {"accesses", m.cache_accesses},
                                                                 {"misses", m.cache_misses}}
-                                               : nlohmann::json("ideal (100% hits)")},
+                                               : nlohmann::json{{"enabled", false}}}, // ideal: every access hits
                     {"messages", {{"visit", m.visits}, {"return", m.returns}, {"miss", m.misses}, {"hit", m.hits}}},
                     {"max_fifo_words", m.max_fifo_words},
                     {"sc", "modelled: counted operations x seq latencies (rt-host/src/machine/sc_cost.hpp)"}};
@@ -89,7 +90,7 @@ std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& o
     j["host"]["simulated_bundles"] = m.simulated_bundles;
     j["host"]["bundles_per_second"] = m.bundles_per_second();
     j["host"]["threads"] = m.threads;
-    return j.dump(2) + "\n";
+    return j;
 }
 
 std::string format_stats(const Stats& m) {

@@ -81,17 +81,14 @@ std::string MemoryReport::text() const {
 
 std::string MemoryReport::json() const { return memory_json(*this).dump(2); }
 
-std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count) {
-    nlohmann::json j = nlohmann::json::parse(stats_json);
-    j["grid"]["memory"] = memory_json(memory_report(g, shape_count));
-    return j.dump(2) + "\n";
+nlohmann::json with_memory_report(nlohmann::json stats, const rt::Grid& g, std::size_t shape_count) {
+    stats["grid"]["memory"] = memory_json(memory_report(g, shape_count));
+    return stats;
 }
 
-std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count,
-                               const Options& mo) {
-    nlohmann::json j = nlohmann::json::parse(stats_json);
-    j["grid"]["memory"] = memory_json(memory_report(g, shape_count, mo));
-    return j.dump(2) + "\n";
+nlohmann::json with_memory_report(nlohmann::json stats, const rt::Grid& g, std::size_t shape_count, const Options& mo) {
+    stats["grid"]["memory"] = memory_json(memory_report(g, shape_count, mo));
+    return stats;
 }
 
 } // namespace nesshi::machine

@@ -30,7 +30,7 @@ std::string simulate_cell(const CellKey& k, const machine::Options& base, const 
     machine::Options mo = cell_machine_options(k, base);
     mo.progress = progress;
     const machine::Result r = machine::render(prep, ro, mo);
-    return machine::stats_json(prep, ro, mo, r);
+    return rt::stats_text(machine::stats_json(prep, ro, mo, r));
 }
 
 machine::Provenance cell_provenance(const CellKey& k, const machine::Options& base) {

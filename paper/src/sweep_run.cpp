@@ -31,7 +31,7 @@ machine::Provenance provenance_of(const SweepRunInputs& in) {
 std::string simulate(const SweepRunInputs& in) {
     const rt::PreparedScene prep = rt::prepare(rt::load_scene(in.scene), in.grid);
     const machine::Result r = machine::render(prep, in.render, in.machine);
-    return machine::stats_json(prep, in.render, in.machine, r);
+    return rt::stats_text(machine::stats_json(prep, in.render, in.machine, r));
 }
 
 } // namespace

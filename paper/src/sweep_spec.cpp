@@ -134,7 +134,7 @@ const nlohmann::json& sweep_metric_schema() {
         machine::Result r;
         r.machine.s_cycles = 1;
         r.machine.os_kernel.scheduled = true;
-        return nlohmann::json::parse(machine::stats_json(prep, ro, mo, r));
+        return machine::stats_json(prep, ro, mo, r);
     }();
     return schema;
 }

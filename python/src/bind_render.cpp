@@ -127,10 +127,11 @@ py::tuple render(const RenderArgs& a, const PyScene& scene_in) {
         rt::PreparedScene prep = rt::prepare(scene_in.s, grid);
         if (native) {
             mr.render = rt::render_native(prep, opt);
-            stats = machine::with_memory_report(rt::stats_json(prep, opt, mr.render, a.model), prep.grid, prep.shapes.shapes.size());
+            stats = rt::stats_text(machine::with_memory_report(rt::stats_json(prep, opt, mr.render, a.model), prep.grid,
+                                                               prep.shapes.shapes.size()));
         } else {
             mr = machine::render(prep, opt, mo);
-            stats = machine::stats_json(prep, opt, mo, mr);
+            stats = rt::stats_text(machine::stats_json(prep, opt, mo, mr));
         }
     }
     return py::make_tuple(image_array(mr.render.image), to_python_json_text(stats));

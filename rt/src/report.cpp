@@ -22,10 +22,11 @@ nlohmann::json grid_json(const Grid& g) {
 
 } // namespace
 
-std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, const RenderResult& r,
-                       const std::string& model) {
+nlohmann::json stats_json(const PreparedScene& prep, const RenderOptions& opt, const RenderResult& r,
+                          const std::string& model) {
     const RayStats& s = r.stats.rays;
     nlohmann::json j;
+    j["schema"] = kStatsSchema;
     j["scene"] = prep.scene.name;
     j["size"] = {opt.width, opt.height};
     j["grid"] = grid_json(prep.grid);
@@ -59,10 +60,12 @@ std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, cons
                  {"setup_seconds", r.stats.setup_seconds},
                  {"trace_seconds", r.stats.trace_seconds},
                  {"threads", r.stats.threads}};
-    return j.dump(2) + "\n";
+    return j;
 }
 
-std::string format_rays(const RenderStats& st) {
+std::string stats_text(const nlohmann::json& stats) { return stats.dump(2) + "\n"; }
+
+std::string format_rays(const RenderStats& st, RayTables what) {
     const RayStats& s = st.rays;
     std::string o;
     o += fmt::format("rays (SPD mode, epsilon {:g}):\n", st.epsilon);
@@ -72,6 +75,7 @@ std::string format_rays(const RenderStats& st) {
     o += fmt::format("  refraction rays     {:>12}   total internal reflections {}\n", s.refraction_rays,
                      s.total_internal_reflections);
     o += fmt::format("  secondary rays hit  {:>12}\n", s.secondary_rays_hit);
+    if (!what.tracer) return o;
     o += "traversal      rays      voxel steps   non-empty      tri tests   quadric tests   two roots\n";
     for (int k = 0; k < kRayKinds; ++k) {
         const TraceCounters& c = st.traversal[static_cast<std::size_t>(k)];

@@ -53,7 +53,7 @@ const Fixed& fixed() {
         x.other["grid"] = "3";
         const rt::PreparedScene prep = rt::prepare(rt::load_scene(in.scene), in.grid);
         machine::Result r; // never rendered: zero counts
-        x.cell = paper::stamp_cell(machine::stats_json(prep, in.render, in.machine, r), x.provenance);
+        x.cell = paper::stamp_cell(rt::stats_text(machine::stats_json(prep, in.render, in.machine, r)), x.provenance);
         return x;
     }();
     return f;

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 using namespace nesshi;
@@ -315,10 +316,53 @@ TEST_CASE("Two runs of one render have the same result digest (host times are le
     const PreparedScene a = prepare(load_scene("tetra:1"), 6), b = prepare(load_scene("tetra:1"), 6);
     const RenderOptions opt = small(8);
     const machine::Options mo = model(machine::Model::V);
-    const std::string ja = machine::stats_json(a, opt, mo, machine::render(a, opt, mo));
-    const std::string jb = machine::stats_json(b, opt, mo, machine::render(b, opt, mo));
+    const std::string ja = stats_text(machine::stats_json(a, opt, mo, machine::render(a, opt, mo)));
+    const std::string jb = stats_text(machine::stats_json(b, opt, mo, machine::render(b, opt, mo)));
     CHECK(ja != jb); // the host times differ...
     CHECK(machine::result_digest(ja) == machine::result_digest(jb)); // ...and nothing else
+}
+
+// Every key keeps one type whatever the run (docs/stats-json.md): a reader never has to ask
+// whether `machine.cache` is a string this time.
+TEST_CASE("A stats JSON key has one type in every kind of run", "[unit][machine]") {
+    const PreparedScene prep = prepare(load_scene("balls:1"), 4);
+    const RenderOptions opt = small(8);
+    std::vector<nlohmann::json> runs = {stats_json(prep, opt, render_native(prep, opt), "native")};
+    std::vector<machine::Options> configs;
+    configs.push_back(model(machine::Model::V));
+    configs.push_back(model(machine::Model::M));
+    configs.back().cache.enabled = true;
+    configs.push_back(model(machine::Model::V));
+    configs.back().pes = 2;
+    configs.back().dynamic_balance = true;
+    configs.push_back(model(machine::Model::V));
+    configs.back().fifo_capacity = 24;
+    configs.back().ray_slots = 2;
+    configs.push_back(model(machine::Model::V));
+    configs.back().os_machine = "os-real";
+    configs.back().ic_machine = "ic-real";
+    for (const machine::Options& mo : configs) runs.push_back(machine::stats_json(prep, opt, mo, machine::render(prep, opt, mo)));
+    std::map<std::string, std::pair<nlohmann::json::value_t, std::size_t>> seen; // path (array indices left out) -> type, run
+    auto walk = [&](auto& self, const nlohmann::json& v, const std::string& path, std::size_t run) -> void {
+        if (v.is_object()) {
+            for (const auto& [key, child] : v.items()) self(self, child, path + "." + key, run);
+        } else if (v.is_array()) {
+            for (const nlohmann::json& child : v) self(self, child, path + "[]", run);
+        }
+        // Integers are written unsigned or signed by their value: both are JSON integers.
+        const auto type = v.is_number_integer() ? nlohmann::json::value_t::number_integer : v.type();
+        const auto [at, added] = seen.emplace(path, std::pair{type, run});
+        INFO(path << " in run " << run << " and run " << at->second.second);
+        CHECK((added || at->second.first == type));
+    };
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+        CHECK(runs[k]["schema"] == kStatsSchema);
+        walk(walk, runs[k], "", k);
+    }
+    CHECK(runs[2]["machine"]["cache"]["enabled"] == true);
+    CHECK(runs[1]["machine"]["cache"]["enabled"] == false);
+    CHECK(runs[3]["machine"]["balance"]["mode"] == "dynamic");
+    CHECK(runs[5]["machine"].contains("kernels"));
 }
 
 TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machine]") {
@@ -328,14 +372,14 @@ TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machi
     const std::string trace_path = (std::filesystem::temp_directory_path() / "nesshi_machine_test_trace.json").string();
     mo.trace_json = trace_path; // not the working directory: a run by hand would litter the checkout
     const machine::Result r = machine::render(prep, opt, mo);
-    nlohmann::json j = nlohmann::json::parse(machine::stats_json(prep, opt, mo, r));
+    nlohmann::json j = machine::stats_json(prep, opt, mo, r);
     for (const char* stage : {"os", "ic", "sc"})
         for (const char* key : {"processing", "communication", "wait", "bundles", "ops", "ilp", "utilization"})
             CHECK(j["cycles"][stage].contains(key));
     CHECK(j["host"].contains("bundles_per_second"));
     CHECK(j["host"]["simulated_bundles"].get<std::uint64_t>() == r.machine.simulated_bundles);
     // Traversal: the machine counts rays per kind, not voxel steps or tests: only `rays`, no fake 0s.
-    const nlohmann::json native = nlohmann::json::parse(stats_json(prep, opt, render_native(prep, opt), "native"));
+    const nlohmann::json native = stats_json(prep, opt, render_native(prep, opt), "native");
     REQUIRE(j["traversal"].size() == 4);
     for (const auto& [kind, counters] : j["traversal"].items()) {
         INFO(kind);
@@ -360,7 +404,7 @@ TEST_CASE("Stats JSON and trace of a small scene (golden cycles)", "[unit][machi
     // The golden part: everything but host timings.
     j.erase("host");
     CHECK(!j["grid"].contains("build_seconds")); // host time lives under "host"
-    const std::string got = j.dump(2) + "\n";
+    const std::string got = stats_text(j);
     const std::string path = std::string(NESSHI_TEST_DATA) + "/machine-tetra1-V.json";
     if (std::getenv("NESSHI_UPDATE_GOLDEN")) std::ofstream(path) << got;
     std::ifstream f(path);

@@ -51,9 +51,8 @@ TEST_CASE("The memory report says the voxel map fits the OS SRAM exactly when th
             machine_takes_it = false;
         }
         CHECK(machine_takes_it == m.os_fits());
-        const nlohmann::json j = nlohmann::json::parse(
-            machine::with_memory_report(stats_json(prep, small(1), render_native(prep, small(1)), "native"), prep.grid,
-                                        prep.shapes.shapes.size()));
+        const nlohmann::json j = machine::with_memory_report(stats_json(prep, small(1), render_native(prep, small(1)), "native"),
+                                                             prep.grid, prep.shapes.shapes.size());
         CHECK(j["grid"]["memory"]["os_fits"].get<bool>() == m.os_fits());
         CHECK(j["grid"]["memory"]["os_total_bytes"].get<std::size_t>() == m.os_total());
     }
@@ -99,7 +98,7 @@ TEST_CASE("The memory report follows --cache-size and --no-resident", "[unit][ma
     // The machine's stats JSON carries the same report; with --no-resident every IC access goes to global memory.
     const RenderOptions opt = small(4);
     const machine::Result r = machine::render(prep, opt, mo);
-    const nlohmann::json s = nlohmann::json::parse(machine::stats_json(prep, opt, mo, r));
+    const nlohmann::json s = machine::stats_json(prep, opt, mo, r);
     CHECK(s["grid"]["memory"] == j);
     CHECK(r.machine.cache_accesses > 0);
 }

@@ -100,12 +100,12 @@ TEST_CASE("Stats JSON carries the required keys", "[render]") {
     RenderOptions o;
     o.width = o.height = 8;
     RenderResult r = render_native(p, o);
-    std::string j = stats_json(p, o, r, "native");
+    std::string j = stats_text(stats_json(p, o, r, "native"));
     for (const char* key : {"\"scene\"", "\"size\"", "\"grid\"", "\"model\"", "\"rays\"", "\"eye_rays\"",
                             "\"eye_rays_hit\"", "\"shadow_rays\"", "\"shadow_rays_blocked\"", "\"reflection_rays\"",
                             "\"refraction_rays\"", "\"secondary_rays_hit\"", "\"total_internal_reflections\"",
                             "\"traversal\"", "\"voxel_steps\"", "\"host\"", "\"setup_seconds\"", "\"trace_seconds\"",
-                            "\"epsilon\""})
+                            "\"epsilon\"", "\"schema\""})
         CHECK(j.find(key) != std::string::npos);
     CHECK(r.stats.rays.eye_rays == 81);
     CHECK(r.stats.rays.eye_rays_hit > 0);

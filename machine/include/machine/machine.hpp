@@ -141,9 +141,8 @@ int deadlock_free_ray_slots(std::size_t fifo_capacity);
 
 
 // Stats JSON: render's stats_json plus "cycles", "machine" and "host" for the machine; "traversal"
-// keeps only `rays` per kind (the machine counts no voxel steps or tests). See rt-host/README.md.
-std::string stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo,
-                               const Result& r);
+// keeps only `rays` per kind (the machine counts no voxel steps or tests). See docs/stats-json.md.
+nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo, const Result& r);
 // The Table 2 row of this run and the per-stage summary, for the terminal.
 std::string format_stats(const Stats& s);
 

@@ -10,6 +10,8 @@
 
 #include "rt/grid.hpp"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <cstddef>
 #include <string>
 
@@ -51,8 +53,7 @@ MemoryReport memory_report(const rt::Grid& g, std::size_t shape_count, const Opt
 
 // A render's stats JSON (rt::stats_json) with the machine's memory report as grid.memory.
 // ic_no_resident appears only when true (the default report's keys do not change).
-std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count);
-std::string with_memory_report(const std::string& stats_json, const rt::Grid& g, std::size_t shape_count,
-                               const Options& mo);
+nlohmann::json with_memory_report(nlohmann::json stats, const rt::Grid& g, std::size_t shape_count);
+nlohmann::json with_memory_report(nlohmann::json stats, const rt::Grid& g, std::size_t shape_count, const Options& mo);
 
 } // namespace nesshi::machine

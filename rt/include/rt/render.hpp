@@ -11,6 +11,8 @@
 #include "rt/shapes.hpp"
 #include "rt/trace.hpp"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <array>
 #include <functional>
 #include <string>
@@ -75,11 +77,18 @@ struct GridChoice {
 GridChoice choose_grid_resolution(const Scene& scene, const ShapeSet& shapes);
 RenderResult render_native(const PreparedScene& prep, const RenderOptions& opt);
 
-// Stats JSON (see the issue for the keys); `model` names the model that produced the result.
-std::string stats_json(const PreparedScene& prep, const RenderOptions& opt, const RenderResult& r,
-                       const std::string& model);
-// Readable tables.
-std::string format_rays(const RenderStats& s);
+// Stats JSON (the keys: docs/stats-json.md), as a value that the machine's report extends;
+// `model` names the model that produced the result. stats_text writes any of them.
+inline constexpr int kStatsSchema = 2; // "schema": raised when a key changes meaning or type
+nlohmann::json stats_json(const PreparedScene& prep, const RenderOptions& opt, const RenderResult& r,
+                          const std::string& model);
+std::string stats_text(const nlohmann::json& stats); // indented, with a final newline
+// Readable tables. `tracer`: the traversal counters and the trace time, the native tracer's own
+// figures (a machine's run counts no voxel steps or tests).
+struct RayTables {
+    bool tracer = true;
+};
+std::string format_rays(const RenderStats& s, RayTables what = {});
 std::string format_grid(const Grid& g);
 
 } // namespace nesshi::rt
