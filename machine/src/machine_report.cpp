@@ -14,19 +14,46 @@
 
 namespace nesshi::machine {
 
-namespace {
-nlohmann::json stage_json(const StageCycles& c) {
+nlohmann::json stage_cycles_json(const StageCycles& c) {
     return {{"processing", c.processing},
             {"communication", c.communication},
             {"wait", c.wait},
             {"bundles", c.bundles},
             {"ops", c.ops},
+            {"processing_ops", c.processing_ops},
+            {"units", c.units},
             {"ilp", c.ilp()},
             {"utilization", c.utilization()},
             {"words_received", c.words_received},
             {"words_sent", c.words_sent},
             {"modelled", c.modelled}};
 }
+
+StageCycles stage_cycles_from_json(const nlohmann::json& stage, const std::string& where) {
+    auto count = [&](const char* key) {
+        if (!stage.is_object() || !stage.contains(key)) throw std::runtime_error(fmt::format("missing \"{}{}\"", where, key));
+        const nlohmann::json& v = stage.at(key);
+        if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0))
+            throw std::runtime_error(fmt::format("\"{}{}\" is not a count", where, key));
+        return v.get<std::uint64_t>();
+    };
+    StageCycles c;
+    c.processing = count("processing");
+    c.communication = count("communication");
+    c.wait = count("wait");
+    c.bundles = count("bundles");
+    c.ops = count("ops");
+    c.processing_ops = count("processing_ops");
+    c.units = count("units");
+    c.words_received = count("words_received");
+    c.words_sent = count("words_sent");
+    if (!stage.contains("modelled") || !stage.at("modelled").is_boolean())
+        throw std::runtime_error(fmt::format("\"{}modelled\" is missing or not true or false", where));
+    c.modelled = stage.at("modelled").get<bool>();
+    return c;
+}
+
+namespace {
 double millions(std::uint64_t c) { return static_cast<double>(c) / 1e6; }
 } // namespace
 
@@ -38,9 +65,9 @@ nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions
     for (auto& [kind, counters] : j["traversal"].items()) counters = {{"rays", counters["rays"]}};
     const Stats& m = r.machine;
     nlohmann::json cycles = {{"total", m.total_cycles},
-                             {"os", stage_json(m.os)},
-                             {"ic", stage_json(m.ic)},
-                             {"sc", stage_json(m.sc)},
+                             {"os", stage_cycles_json(m.os)},
+                             {"ic", stage_cycles_json(m.ic)},
+                             {"sc", stage_cycles_json(m.sc)},
                              {"pe", m.pe_cycles}};
     if (m.s_cycles) cycles["s_cycles"] = m.s_cycles; // model M, when exact (render.cpp)
     j["cycles"] = cycles;

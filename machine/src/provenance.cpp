@@ -36,6 +36,7 @@ Provenance provenance(const std::string& scene, int grid, const rt::RenderOption
     Provenance p;
     p["tool"] = "nesshi " NESSHI_VERSION;
     p["build"] = NESSHI_BUILD_ID;
+    p["stats_schema"] = std::to_string(rt::kStatsSchema); // a cell of another layout is read again from a new run
     p["scene"] = scene;
     p["scene.hash"] = base::hex64(base::fnv1a64(scene_text(scene)));
     p["grid"] = std::to_string(grid);

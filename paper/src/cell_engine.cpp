@@ -67,14 +67,14 @@ struct EngineRun {
                 continue;
             }
             std::string text = base::read_file(c.file);
-            if (c.check) c.check(text); // a malformed file is an error, not a cell to run again
             bool other = false;
             if (const auto why = stale_reasons(text, c.provenance, c.file, options.keep_other_builds ? &other : nullptr);
-                !why.empty()) {
+                !why.empty()) { // run again, whatever it holds (an older nesshi's layout, say)
                 result.stale.push_back(fmt::format("{}: {}", c.name, fmt::join(why, "; ")));
                 if (mine) todo.push_back(i);
                 continue;
             }
+            if (c.check) c.check(text); // a current cell that is malformed is an error, not a cell to run again
             result.texts[i] = std::move(text);
             ++result.loaded;
             result.other_build += other;

@@ -40,16 +40,8 @@ double number_or_zero(const json& j, const char* key) {
     return j.is_object() && j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : 0.0;
 }
 
-StageRecord stage(const json& cycles, const char* name) {
-    const std::string where = fmt::format("cycles.{}.", name);
-    const json& s = member(cycles, name, "cycles.");
-    StageRecord r;
-    r.processing = count(s, "processing", where);
-    r.communication = count(s, "communication", where);
-    r.wait = count(s, "wait", where);
-    r.ilp = number_or_zero(s, "ilp");
-    r.utilization = number_or_zero(s, "utilization");
-    return r;
+machine::StageCycles stage(const json& cycles, const char* name) {
+    return machine::stage_cycles_from_json(member(cycles, name, "cycles."), fmt::format("cycles.{}.", name));
 }
 
 // A renamed or copied file must not pass for another cell.

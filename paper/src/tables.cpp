@@ -140,20 +140,20 @@ Table table3(const PaperData& d) {
 struct VliwMetric {
     const char* name;
     const char* csv;
-    const StageRecord CellRecord::*stage;
-    std::uint64_t StageRecord::*count; // M over V of this; nullptr: `value` of V
-    double StageRecord::*value;
+    const machine::StageCycles CellRecord::*stage;
+    std::uint64_t machine::StageCycles::*count; // M over V of this; nullptr: `value` of V
+    double (machine::StageCycles::*value)() const;
     PublishedRange PublishedVliw::*paper;
 };
 const VliwMetric kVliwMetrics[] = {
-    {"OS proc M/V", "os_processing_m_over_v", &CellRecord::os, &StageRecord::processing, nullptr, &PublishedVliw::os_processing},
-    {"OS comm M/V", "os_communication_m_over_v", &CellRecord::os, &StageRecord::communication, nullptr, &PublishedVliw::os_communication},
-    {"IC proc M/V", "ic_processing_m_over_v", &CellRecord::ic, &StageRecord::processing, nullptr, &PublishedVliw::ic_processing},
-    {"IC comm M/V", "ic_communication_m_over_v", &CellRecord::ic, &StageRecord::communication, nullptr, &PublishedVliw::ic_communication},
-    {"OS ILP", "os_ilp", &CellRecord::os, nullptr, &StageRecord::ilp, &PublishedVliw::os_ilp},
-    {"IC ILP", "ic_ilp", &CellRecord::ic, nullptr, &StageRecord::ilp, &PublishedVliw::ic_ilp},
-    {"OS util", "os_utilization", &CellRecord::os, nullptr, &StageRecord::utilization, &PublishedVliw::os_utilization},
-    {"IC util", "ic_utilization", &CellRecord::ic, nullptr, &StageRecord::utilization, &PublishedVliw::ic_utilization},
+    {"OS proc M/V", "os_processing_m_over_v", &CellRecord::os, &machine::StageCycles::processing, nullptr, &PublishedVliw::os_processing},
+    {"OS comm M/V", "os_communication_m_over_v", &CellRecord::os, &machine::StageCycles::communication, nullptr, &PublishedVliw::os_communication},
+    {"IC proc M/V", "ic_processing_m_over_v", &CellRecord::ic, &machine::StageCycles::processing, nullptr, &PublishedVliw::ic_processing},
+    {"IC comm M/V", "ic_communication_m_over_v", &CellRecord::ic, &machine::StageCycles::communication, nullptr, &PublishedVliw::ic_communication},
+    {"OS ILP", "os_ilp", &CellRecord::os, nullptr, &machine::StageCycles::ilp, &PublishedVliw::os_ilp},
+    {"IC ILP", "ic_ilp", &CellRecord::ic, nullptr, &machine::StageCycles::ilp, &PublishedVliw::ic_ilp},
+    {"OS util", "os_utilization", &CellRecord::os, nullptr, &machine::StageCycles::utilization, &PublishedVliw::os_utilization},
+    {"IC util", "ic_utilization", &CellRecord::ic, nullptr, &machine::StageCycles::utilization, &PublishedVliw::ic_utilization},
 };
 
 Table table4(const PaperData& d) {
@@ -179,7 +179,7 @@ Table table4(const PaperData& d) {
                     row.push_back(m && v ? format_quotient(num, den) : kMissing);
                     tidy.push_back(csv_field(num / den, m && v && den > 0));
                 } else {
-                    const double x = v ? (v->*k.stage).*k.value : 0;
+                    const double x = v ? ((v->*k.stage).*k.value)() : 0;
                     row.push_back(v ? fmt::format("{:.2f}", x) : kMissing);
                     tidy.push_back(csv_field(x, v != nullptr));
                 }

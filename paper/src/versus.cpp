@@ -54,7 +54,7 @@ Table versus_table(const VersusRun& a, const VersusRun& b) {
                 row.push_back(format_quotient(static_cast<double>(m->total), static_cast<double>(v->total)));
             }
             row.push_back(format_quotient(static_cast<double>(bv->total), static_cast<double>(av->total)));
-            for (double ilp : {av->os.ilp, bv->os.ilp, av->ic.ilp, bv->ic.ilp}) row.push_back(fmt::format("{:.2f}", ilp));
+            for (double ilp : {av->os.ilp(), bv->os.ilp(), av->ic.ilp(), bv->ic.ilp()}) row.push_back(fmt::format("{:.2f}", ilp));
             const PublishedTimes* p = find_published_times(paper_scene(scene), g);
             row.push_back(p ? format_published(p->m_over_v) : kMissing);
             t.rows.push_back(std::move(row));
@@ -62,7 +62,7 @@ Table versus_table(const VersusRun& a, const VersusRun& b) {
                 t.csv_rows.push_back({scene, std::to_string(g), std::to_string(a.data.size), r->name,
                                       std::to_string(m->total), std::to_string(v->total),
                                       csv_field(static_cast<double>(m->total) / static_cast<double>(v->total)),
-                                      csv_field(v->os.ilp), csv_field(v->ic.ilp)});
+                                      csv_field(v->os.ilp()), csv_field(v->ic.ilp())});
                 add_published_csv(t.csv_rows.back(), p ? &p->m_over_v : nullptr);
             }
         }

@@ -59,6 +59,11 @@ TEST_CASE("Provenance names the scene, kernels, the machines the model uses and 
     CHECK(machine::provenance_differences(older, p, false).empty());
     older.erase("build"); // a cell from before builds were told apart
     CHECK(machine::provenance_differences(older, p).size() == 1);
+    // A cell of an older stats layout is another result even when the build is kept.
+    machine::Provenance layout = p;
+    layout.erase("stats_schema");
+    CHECK(machine::provenance_differences(layout, p, false) ==
+          std::vector<std::string>{fmt::format("stats_schema: (none) -> {}", rt::kStatsSchema)});
 
     // Another size factor is another scene text; the same spec hashes alike.
     CHECK(machine::provenance("tetra:2", 8, size(16), v).at("scene.hash") != p.at("scene.hash"));

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -25,27 +26,27 @@ using nesshi::test::TempDir;
 
 namespace {
 
-struct Stage {
-    std::uint64_t processing = 0, communication = 0, wait = 0;
-    double ilp = 0, utilization = 0;
-};
+using machine::StageCycles;
+
+// A stage of `units` issue slots with `ilp` operations per processing cycle.
+StageCycles stage_of(std::uint64_t processing, std::uint64_t communication, double ilp, std::uint64_t units) {
+    StageCycles s{processing, communication};
+    s.processing_ops = static_cast<std::uint64_t>(std::llround(ilp * static_cast<double>(processing)));
+    s.units = units;
+    return s;
+}
 
 // The shape of machine::stats_json's output that the paper module reads.
-std::string cell_json(machine::Model m, int size, std::uint64_t total, Stage os, Stage ic, Stage sc,
-                      std::uint64_t s_cycles = 0) {
-    auto stage = [](const Stage& s) {
-        return nlohmann::json{{"processing", s.processing},
-                              {"communication", s.communication},
-                              {"wait", s.wait},
-                              {"bundles", 0},
-                              {"ops", 0},
-                              {"ilp", s.ilp},
-                              {"utilization", s.utilization}};
-    };
+std::string cell_json(machine::Model m, int size, std::uint64_t total, const StageCycles& os, const StageCycles& ic,
+                      const StageCycles& sc, std::uint64_t s_cycles = 0) {
     nlohmann::json j;
+    j["schema"] = rt::kStatsSchema;
     j["model"] = machine::model_name(m);
     j["size"] = {size, size};
-    j["cycles"] = {{"total", total}, {"os", stage(os)}, {"ic", stage(ic)}, {"sc", stage(sc)}};
+    j["cycles"] = {{"total", total},
+                   {"os", machine::stage_cycles_json(os)},
+                   {"ic", machine::stage_cycles_json(ic)},
+                   {"sc", machine::stage_cycles_json(sc)}};
     if (m == machine::Model::M) j["cycles"]["s_cycles"] = s_cycles;
     j["host"] = {{"wall_seconds", 1.5}};
     return j.dump(2);
@@ -60,9 +61,9 @@ CellRecord synthetic(const std::string& scene, int grid, machine::Model m, int s
     const std::uint64_t sc = 5 * mega, factor = m == machine::Model::M ? 2 : 1;
     CellRecord r;
     r.key = {scene, grid, m, size};
-    r.os = {os * factor, os / 10 * factor, 0, 2.28, 0.57};
-    r.ic = {ic * factor, ic / 10 * factor, 0, 2.05, 0.51};
-    r.sc = {sc, sc / 5, 0, 1, 1};
+    r.os = stage_of(os * factor, os / 10 * factor, 2.28, 4);
+    r.ic = stage_of(ic * factor, ic / 10 * factor, 2.05, 4);
+    r.sc = stage_of(sc, sc / 5, 1, 1);
     r.total = std::max(r.os.load(), r.ic.load()) + r.sc.load();
     if (m == machine::Model::M) r.s_cycles = r.os.load() + r.ic.load() + r.sc.load();
     return r;
@@ -115,10 +116,7 @@ struct FakeRunner {
             if (progress) progress(1, 2);
             if (k.scene == fail_scene) throw std::runtime_error("kernel fault");
             CellRecord r = synthetic(k.scene, k.grid, k.model, k.size, 50);
-            auto st = [](const StageRecord& s) {
-                return Stage{s.processing, s.communication, s.wait, s.ilp, s.utilization};
-            };
-            return cell_json(k.model, k.size, r.total, st(r.os), st(r.ic), st(r.sc), r.s_cycles);
+            return cell_json(k.model, k.size, r.total, r.os, r.ic, r.sc, r.s_cycles);
         };
     }
 };
@@ -317,6 +315,31 @@ TEST_CASE("Cell provenance: stamped with a digest, a changed run or a hand edit 
     CHECK_THROWS_WITH(stale_reasons(j.dump(2), a, "out/c.json"),
                       Catch::StartsWith("out/c.json: error: its results do not match its digest"));
     CHECK(parse_cell({"tetra", 20, machine::Model::V, 64}, stamped, "c.json").total == 900);
+}
+
+// A cell an older nesshi wrote in another stats layout (schema 1: no processing_ops) is not read:
+// its provenance has no stats_schema, so it runs again instead of failing as malformed.
+TEST_CASE("Runner: a cell of an older stats layout runs again, unread", "[paper]") {
+    TempDir dir;
+    PaperOptions o = small_options(dir.str());
+    const CellProvenanceFn prov = [](const CellKey& k) {
+        return machine::Provenance{{"scene", k.scene}, {"stats_schema", std::to_string(rt::kStatsSchema)}};
+    };
+    FakeRunner first;
+    CHECK(run_matrix(o, first.fn(), prov).run == 8);
+    const fs::path cell = dir.path / "cells" / cell_file_name({"tetra:1", 4, machine::Model::V, 8});
+    nlohmann::json old = nlohmann::json::parse(read(cell));
+    old.erase("schema");
+    old.erase("digest");
+    old["provenance"].erase("stats_schema");
+    old["cycles"]["os"].erase("processing_ops");
+    std::ofstream(cell) << stamp_cell(old.dump(), old["provenance"].get<machine::Provenance>());
+    o.keep_other_builds = true; // even then
+    FakeRunner second;
+    const MatrixResult r = run_matrix(o, second.fn(), prov);
+    CHECK(second.calls == 1);
+    REQUIRE(r.stale.size() == 1);
+    CHECK_THAT(r.stale[0], Catch::EndsWith(fmt::format("stats_schema: (none) -> {}", rt::kStatsSchema)));
 }
 
 TEST_CASE("Runner: a stored cell whose provenance differs runs again, and says why", "[paper]") {

@@ -143,6 +143,11 @@ int deadlock_free_ray_slots(std::size_t fifo_capacity);
 // Stats JSON: render's stats_json plus "cycles", "machine" and "host" for the machine; "traversal"
 // keeps only `rays` per kind (the machine counts no voxel steps or tests). See docs/stats-json.md.
 nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo, const Result& r);
+// A stage's figures as the stats JSON holds them ("cycles.os", ...), and read back (a paper cell,
+// a sweep): the one place that names their keys. The reader throws std::runtime_error naming
+// `where` + the key ("cycles.os.wait") that is missing or not a count.
+nlohmann::json stage_cycles_json(const StageCycles& c);
+StageCycles stage_cycles_from_json(const nlohmann::json& stage, const std::string& where);
 // The Table 2 row of this run and the per-stage summary, for the terminal.
 std::string format_stats(const Stats& s);
 

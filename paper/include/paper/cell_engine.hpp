@@ -29,7 +29,7 @@ struct Cell {
     double work = 0; // expected cost, to run the longest first and weigh the progress (0: unknown)
     // The run: returns the stats JSON text (throws on failure). `progress` may be empty.
     std::function<std::string(const CellProgressFn& progress)> run;
-    // Checks a stored or new text before it is kept (throws on a malformed one); may be empty.
+    // Checks a current stored text or a new one before it is kept (throws on a malformed one); may be empty.
     std::function<void(const std::string& text)> check;
 };
 
@@ -76,8 +76,10 @@ struct CellEngineResult {
 };
 
 // Loads, runs and stores every cell (each file written whole as soon as its cell finishes, so an
-// interrupted run loses only the cells in flight). A stored file that `check` refuses, or whose
-// results do not match its digest, is an error naming it; a failing cell does not stop the others.
+// interrupted run loses only the cells in flight). A stored file of another provenance runs again
+// unread (an older nesshi may have written another layout); a current one that `check` refuses, or
+// a file whose results do not match its digest, is an error naming it; a failing cell does not stop
+// the others.
 CellEngineResult run_cells(const std::vector<Cell>& cells, const CellEngineOptions& o);
 
 } // namespace nesshi::paper

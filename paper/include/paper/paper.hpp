@@ -45,16 +45,11 @@ struct CellKey {
 std::string cell_file_name(const CellKey& k); // "balls-g20-V-512.json", "tetra_1-g4-M-8.json"
 
 // The numbers the reports need from a cell's machine::stats_json ("cycles" object).
-struct StageRecord {
-    std::uint64_t processing = 0, communication = 0, wait = 0;
-    double ilp = 0, utilization = 0;
-    std::uint64_t load() const { return processing + communication; }
-};
 struct CellRecord {
     CellKey key;
     std::uint64_t total = 0;
     std::uint64_t s_cycles = 0; // model M only: model S's time
-    StageRecord os, ic, sc;
+    machine::StageCycles os, ic, sc;
     double wall_seconds = 0; // host time of the simulation (0 if the file does not say)
 };
 // Parses a cell file's text; throws PaperError "FILE: error: ..." when a key is missing or wrong.
