@@ -88,11 +88,10 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
 
 std::string build_identity() { return NESSHI_BUILD_ID; }
 
-std::string result_digest(const std::string& json_text) {
-    nlohmann::json j = nlohmann::json::parse(json_text);
-    j.erase("host");
-    j.erase("digest");
-    return base::hex64(base::fnv1a64(j.dump()));
+std::string result_digest(nlohmann::json stats) {
+    stats.erase("host");
+    stats.erase("digest");
+    return base::hex64(base::fnv1a64(stats.dump()));
 }
 
 } // namespace nesshi::machine

@@ -83,7 +83,7 @@ CellRecord parse_cell(const CellKey& key, const std::string& text, const std::st
 std::string stamp_cell(const std::string& json_text, const machine::Provenance& p) {
     json j = json::parse(json_text);
     j["provenance"] = p;
-    j["digest"] = machine::result_digest(j.dump());
+    j["digest"] = machine::result_digest(j);
     return j.dump(2) + "\n";
 }
 
@@ -96,7 +96,7 @@ std::vector<std::string> stale_reasons(const std::string& json_text, const machi
         throw PaperError(base::SourceLoc(file), fmt::format("malformed cell file: {} (delete it to run the cell again)", e.what()));
     }
     if (!j.is_object() || !j.contains("digest") || !j.contains("provenance")) return {"no provenance recorded"};
-    if (!j["digest"].is_string() || j["digest"].get<std::string>() != machine::result_digest(json_text))
+    if (!j["digest"].is_string() || j["digest"].get<std::string>() != machine::result_digest(j))
         throw PaperError(base::SourceLoc(file), "its results do not match its digest (edited by hand?); delete it to "
                                                 "run the cell again");
     machine::Provenance stored;

@@ -78,7 +78,7 @@ void load_cell(const std::string& text, std::vector<std::string>& current) {
     const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return;
     nlohmann::json redigested = j; // its provenance as tampered, its digest as the tool writes it
-    redigested["digest"] = machine::result_digest(j.dump());
+    redigested["digest"] = machine::result_digest(j);
     const std::string again = redigested.dump(2) + "\n";
     try {
         if (paper::stale_reasons(again, f.provenance, "fuzz.json").empty()) loaded(again, current);

@@ -316,8 +316,8 @@ TEST_CASE("Two runs of one render have the same result digest (host times are le
     const PreparedScene a = prepare(load_scene("tetra:1"), 6), b = prepare(load_scene("tetra:1"), 6);
     const RenderOptions opt = small(8);
     const machine::Options mo = model(machine::Model::V);
-    const std::string ja = stats_text(machine::stats_json(a, opt, mo, machine::render(a, opt, mo)));
-    const std::string jb = stats_text(machine::stats_json(b, opt, mo, machine::render(b, opt, mo)));
+    const nlohmann::json ja = machine::stats_json(a, opt, mo, machine::render(a, opt, mo));
+    const nlohmann::json jb = machine::stats_json(b, opt, mo, machine::render(b, opt, mo));
     CHECK(ja != jb); // the host times differ...
     CHECK(machine::result_digest(ja) == machine::result_digest(jb)); // ...and nothing else
 }

@@ -4,6 +4,7 @@
 #include "support.hpp"
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <string>
@@ -78,9 +79,9 @@ TEST_CASE("Provenance names the scene, kernels, the machines the model uses and 
 }
 
 TEST_CASE("The result digest ignores host times, not results", "[unit][machine]") {
-    const std::string a = R"({"cycles": {"total": 5}, "host": {"wall_seconds": 1.0}})";
-    const std::string b = R"({"host": {"wall_seconds": 7.5}, "cycles": {"total": 5}, "digest": "x"})";
-    const std::string c = R"({"cycles": {"total": 6}, "host": {"wall_seconds": 1.0}})";
+    const auto a = nlohmann::json::parse(R"({"cycles": {"total": 5}, "host": {"wall_seconds": 1.0}})");
+    const auto b = nlohmann::json::parse(R"({"host": {"wall_seconds": 7.5}, "cycles": {"total": 5}, "digest": "x"})");
+    const auto c = nlohmann::json::parse(R"({"cycles": {"total": 6}, "host": {"wall_seconds": 1.0}})");
     CHECK(machine::result_digest(a) == machine::result_digest(b));
     CHECK(machine::result_digest(a) != machine::result_digest(c));
 }

@@ -35,7 +35,7 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
 std::string build_identity();
 
 // The digest of a stored result: FNV-1a of the JSON document without its "host" (wall times) and
-// "digest" members, so a hand-edited number is caught. `json_text` is a JSON object.
-std::string result_digest(const std::string& json_text);
+// "digest" members, so a hand-edited number is caught. `stats` is a JSON object.
+std::string result_digest(nlohmann::json stats);
 
 } // namespace nesshi::machine
