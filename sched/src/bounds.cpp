@@ -93,6 +93,12 @@ ResBound res_mii(const isa::Machine& m, std::span<const isa::Instr> ops, std::sp
         for (int f = 0; f < isa::kNumRegFiles; ++f)
             if (mine[static_cast<std::size_t>(f)] > 0) op_reads[static_cast<std::size_t>(f)].push_back(mine[static_cast<std::size_t>(f)]);
     }
+    for (const ExtraOps& e : extra)
+        for (std::size_t f = 0; f < isa::kNumRegFiles; ++f) {
+            reads[f] += e.count * e.reads[f];
+            writes[f] += e.count * e.writes[f];
+            if (e.reads[f] > 0) op_reads[f].insert(op_reads[f].end(), static_cast<std::size_t>(e.count), e.reads[f]);
+        }
     for (int f = 0; f < isa::kNumRegFiles; ++f) {
         const isa::RegFileDesc& rf = m.regs[static_cast<std::size_t>(f)];
         const std::string_view file = isa::kRegFileNames[static_cast<std::size_t>(f)];

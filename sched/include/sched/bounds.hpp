@@ -31,14 +31,18 @@
 
 namespace nesshi::sched {
 
-// Operations a scheduler adds to the listed ones (e.g. loop control): they take issue slots of
-// their class; their registers are not counted against the ports.
+// Operations a scheduler adds to the listed ones (e.g. loop control): `count` ops of class `cls`,
+// each reading and writing that many registers of each file (the modulo table counts them against
+// the ports as it does the listed ops').
 struct ExtraOps {
     isa::OpClass cls = isa::OpClass::Alu;
     int count = 1;
+    std::array<int, isa::kNumRegFiles> reads{}, writes{};
 };
-// The kernel's loop control: `addi counter, counter, -1` and `bnez counter, kernel`.
-inline constexpr std::array<ExtraOps, 2> kLoopControl = {ExtraOps{isa::OpClass::Branch, 1}, ExtraOps{isa::OpClass::Alu, 1}};
+// The kernel's loop control: `bnez counter, kernel` (reads the counter) and
+// `addi counter, counter, -1` (reads and writes it).
+inline constexpr std::array<ExtraOps, 2> kLoopControl = {ExtraOps{isa::OpClass::Branch, 1, {1, 0}, {0, 0}},
+                                                         ExtraOps{isa::OpClass::Alu, 1, {1, 0}, {1, 0}}};
 
 struct ResBound {
     double cycles = 0; // the largest of ops / slots over slot subsets, accesses / ports and packed reads per file
