@@ -88,7 +88,7 @@ nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions
                                                : nlohmann::json{{"enabled", false}}}, // ideal: every access hits
                     {"messages", {{"visit", m.visits}, {"return", m.returns}, {"miss", m.misses}, {"hit", m.hits}}},
                     {"max_fifo_words", m.max_fifo_words},
-                    {"sc", "modelled: counted operations x seq latencies (rt-host/src/machine/sc_cost.hpp)"}};
+                    {"sc", "modelled: counted operations x seq latencies (machine/src/sc_cost.hpp)"}};
     if (mo.ray_slots) j["machine"]["ray_slots"] = mo.ray_slots; // limited rays in flight (0: all 4096)
     // Kernels scheduled for a machine other than their preset (absent when both are the committed ones).
     if (m.os_kernel.scheduled || m.ic_kernel.scheduled || !m.os_kernel.choice.empty() || !m.ic_kernel.choice.empty()) {
