@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <set>
 #include <tuple>
 
 namespace nesshi::sched::pipe {
@@ -185,6 +186,18 @@ class TableSpace : public Space {
             IntVarArgs load(ii_);
             for (int q = 0; q < ii_; ++q) load[q] = IntVar(*this, full ? cap[static_cast<std::size_t>(q)] : 0, cap[static_cast<std::size_t>(q)]);
             binpacking(*this, load, at, IntArgs(uses));
+            // Implied, and binpacking does not see it: a row of cap c holds at most c / w uses of
+            // w or more (13 two-register reads never fit 6 rows of 5 read ports: at most 12).
+            for (const int w : std::set<int>(uses.begin(), uses.end())) {
+                if (w < 2) continue;
+                IntVarArgs heavy;
+                for (std::size_t k = 0; k < uses.size(); ++k)
+                    if (uses[k] >= w) heavy << at[static_cast<int>(k)];
+                IntSetArgs most(ii_);
+                IntArgs values(ii_);
+                for (int q = 0; q < ii_; ++q) most[q] = IntSet(0, cap[static_cast<std::size_t>(q)] / w), values[q] = q;
+                count(*this, heavy, most, values, IPL_DOM);
+            }
         }
     }
 
