@@ -8,7 +8,11 @@
 #include <set>
 #include <vector>
 
-using namespace nesshi::sched::pipe;
+// No using-directive: the unity build puts this file in one batch with the other tests.
+using nesshi::sched::pipe::ModelOp;
+using nesshi::sched::pipe::ModelProblem;
+using nesshi::sched::pipe::ModelSearch;
+using nesshi::sched::pipe::search_tables;
 
 namespace {
 
