@@ -82,7 +82,7 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("--svg", a->svg, "Also draw the schedule as SVG: the modulo reservation table, ops coloured by "
                                      "iteration stage, register ports per row, lifetimes (FILE; a second region FILE-2, ...)");
     cmd->add_option("--ii", a->ii, "Schedule at this initiation interval only")->check(between(1, 4096));
-    cmd->add_option("--exact", a->exact, "When the II is above the MII, branch and bound over the smaller IIs for up to SECONDS; "
+    cmd->add_option("--exact", a->exact, "When the II is above the MII, search every table at the smaller IIs for up to SECONDS; "
                                          "the report says whether the II is proven optimal")
         ->check(between(0.0, 86400.0));
     cmd->add_flag("--no-verify", a->no_verify, "Skip the verification: by default the sequential and pipelined code run on "

@@ -2,7 +2,7 @@
 # Installs the Debian packages Nesshisen builds with, only those missing.
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libfmt-dev libcli11-dev catch2
-      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev libz3-dev python3
+      libtomlplusplus-dev nlohmann-json3-dev libpng-dev libedit-dev libz3-dev libgecode-dev python3
       libopenmpi-dev openmpi-bin) # OpenMPI: `mpirun -n K nesshi sweep|paper` (the build runs without it)
 # `install-deps.sh test` (make test, and the whole build): man pages (help2man, from each command's
 # --help), the Python module (headers, pybind11), its tests and example (numpy, pytest, matplotlib).

@@ -89,7 +89,7 @@ void bind_pipeline(py::module_& m) {
     m.def("pipeline", &pipeline, py::arg("source"), py::arg("machine") = py::none(), py::arg("ii") = 0,
           py::arg("exact") = 0.0, py::arg("verify") = true,
           "Software-pipeline the .pipeline region(s) of linear assembly (text or a file) for a machine (default: the "
-          "file's '# machine:' line, else os). ii: this II only; exact: seconds of branch and bound below the II found. "
+          "file's '# machine:' line, else os). ii: this II only; exact: seconds of exact search (Gecode) below the II found. "
           "verify (default): the code runs against its sequential meaning on random data, or nesshi.Error is raised.");
 }
 

@@ -6,6 +6,7 @@
 #include "sched/pipeline.hpp"
 
 #include "pipeline_emit.hpp"
+#include "pipeline_exact.hpp"
 #include "pipeline_solver.hpp"
 #include "text.hpp"
 #include "trip.hpp"
@@ -786,9 +787,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             if (feasible_ii(g, ii)) try_ii_trip(ii);
         }
     }
-    // --exact: branch and bound at each II from the bound up to the one found; the first II with
-    // a schedule that assembles is the answer, and it is proven optimal when every II below it
-    // was exhausted with no modulo schedule at all.
+    // --exact: every modulo table at each II from the bound up to the one found (a constraint
+    // model, pipeline_exact.hpp); the first II with a schedule that assembles is the answer, and
+    // it is proven optimal when every II below it was exhausted with no table the build accepts.
     std::string exact_note;
     if (sched && opts.exact_seconds > 0) {
         if (choice) {
@@ -809,19 +810,10 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                     if (open.empty()) proven_below = ii + 1;
                     continue;
                 }
-                // With a branch bubble: first a search with the bubble's rules (its tables mostly
-                // assemble), then the proof, without them (they are exact only for a kernel that
-                // is not unrolled).
-                ExactOutcome o = ExactOutcome::Exhausted;
-                std::uint64_t tables = 0;
-                for (const bool bubble : {true, false}) {
-                    if (bubble && m.branch_penalty == 0) continue;
-                    const ExactRun ex = exact_schedule(g, m, ii, branch, counter, deadline, bubble, accept);
-                    o = ex.outcome;
-                    nodes += ex.nodes;
-                    tables = ex.tables;
-                    if (o != ExactOutcome::Exhausted) break;
-                }
+                const ExactRun ex = exact_schedule(g, m, ii, branch, counter, deadline, accept);
+                const ExactOutcome o = ex.outcome;
+                const std::uint64_t tables = ex.tables;
+                nodes += ex.nodes;
                 if (o == ExactOutcome::Accepted) break;
                 if (o == ExactOutcome::Timeout) {
                     open = fmt::format("II {} undecided after {} s{}", ii, opts.exact_seconds,
@@ -836,12 +828,15 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                 if (open.empty()) proven_below = ii + 1;
             }
             const double secs = std::chrono::duration<double>(Clock::now() - start).count();
-            const std::string searched = fmt::format("branch and bound, {} nodes in {:.2f} s", nodes, secs);
+            const std::string searched = fmt::format("Gecode, {} nodes in {:.2f} s", nodes, secs);
+            // With a taken-branch bubble the search covers only tables the build's port check
+            // across the kernel's back edge passes (pipeline_exact.cpp).
+            const std::string back_edge = m.branch_penalty > 0 ? " keeps the write ports across the kernel's back edge" : "";
             const std::string improved = sched->ii < found ? fmt::format(" (the heuristic found II {})", found) : "";
             if (open.empty() && proven_below >= sched->ii)
                 exact_note = sched->ii > res.mii
-                                 ? fmt::format("II proven optimal{}: no modulo schedule at II {}..{} ({})", improved, res.mii,
-                                               sched->ii - 1, searched)
+                                 ? fmt::format("II proven optimal{}: no modulo schedule at II {}..{}{} ({})", improved, res.mii,
+                                               sched->ii - 1, back_edge, searched)
                                  : fmt::format("II proven optimal{}: it equals the lower bound ({})", improved, searched);
             else
                 exact_note = fmt::format("best found{}, bound not proven: {}{} ({})", improved, open,

@@ -1,6 +1,6 @@
 // Internal to the pipeliner: modulo schedules of a dependence graph at one II, by the iterative
-// modulo scheduler (op orders by height, critical first or perturbed, an optional stage limit)
-// and by branch and bound over reservation tables (--exact).
+// modulo scheduler (op orders by height, critical first or perturbed, an optional stage limit);
+// --exact's search of every table is pipeline_exact.hpp.
 #pragma once
 
 #include "pipeline_graph.hpp"
@@ -54,18 +54,5 @@ std::optional<Schedule> modulo_schedule(const Graph& g, const isa::Machine& m, i
 // ports, landings and the back edge, induction flights, a while loop's exit in the last row)
 // and every dependence.
 bool table_admits(const Graph& g, const isa::Machine& m, const Schedule& s, int exit_node);
-
-// Branch and bound over the modulo reservation tables at `ii` (see pipeline_search.cpp), calling
-// `accept` on each complete schedule until it returns true (Accepted), the tree is exhausted, or
-// the deadline passes. `bubble`: also the rules of a stage that lasts II + the taken-branch bubble.
-enum class ExactOutcome { Accepted, Exhausted, Timeout };
-struct ExactRun {
-    ExactOutcome outcome = ExactOutcome::Exhausted;
-    std::uint64_t nodes = 0;  // search nodes visited
-    std::uint64_t tables = 0; // complete modulo schedules handed to accept
-};
-ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
-                        std::chrono::steady_clock::time_point deadline, bool bubble,
-                        const std::function<bool(const Schedule&)>& accept);
 
 } // namespace nesshi::sched::pipe

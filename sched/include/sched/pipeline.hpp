@@ -65,7 +65,7 @@ struct PipelineOptions {
     // all (not one whose code failed to assemble): a larger II rarely helps such a loop, and a
     // caller with another candidate (machine::assemble_kernel) need not pay the whole search.
     int max_unscheduled_iis = 0;
-    // > 0: when the II found is above the MII, branch and bound over modulo reservation tables at
+    // > 0: when the II found is above the MII, every modulo reservation table (a Gecode model) at
     // each II from the MII up, for this long in all; the first whose code assembles is kept. The
     // report says "II proven optimal" (every smaller II has no table) or "best found, bound not
     // proven" with the reason (time, or tables the assembler rejected).
