@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <span>
 #include <bit>
 #include <chrono>
 #include <cctype>
@@ -103,8 +104,11 @@ bool back_edge_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, c
 }
 
 bool bundle_legal(const isa::Machine& m, std::vector<isa::Instr> ops) {
-    std::vector<int> pinned(ops.size(), -1);
-    if (!isa::assign_slots(m, ops, pinned)) return false;
+    // Asked for every place the search tries: no allocation. More ops than slots never fit.
+    if (ops.size() > m.slots.size()) return false;
+    std::array<int, isa::kMaxSlots> pinned;
+    pinned.fill(-1);
+    if (!isa::assign_slots(m, ops, std::span<const int>(pinned).first(ops.size()))) return false;
     return isa::bundle_fits(m, ops);
 }
 
