@@ -38,7 +38,9 @@ void add_schedule(CLI::App& app) {
         const sched::PackResult r = sched::pack_source(text, a->input, m, opts);
         if (a->report)
             for (const sched::BlockStats& b : r.blocks)
-                status("{}:{}: {} ops in {} bundles on {}\n", a->input, b.line, b.ops, b.bundles, m.name);
+                status("{}:{}: {} ops in {} bundles on {}, {}{}\n", a->input, b.line, b.ops, b.bundles, m.name,
+                       b.shortest ? "proven shortest" : fmt::format("none has fewer than {}", b.fewest),
+                       b.bundles < b.list_bundles ? fmt::format(" (list scheduling: {})", b.list_bundles) : "");
         if (a->output.empty()) fmt::print("{}", r.text);
         else base::replace_file(a->output, r.text); // a failed run leaves the old file whole
     });

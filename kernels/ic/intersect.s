@@ -95,15 +95,18 @@ start:
 
 # ---- receive a VISIT: tag, voxel, t_in, t_out, o, d, tmin, tmax ----
 next_ray:
-        { iu0: recv r2, CH_IN ; fpu0: recv r3, CH_IN ; fpu1: fmov f16, f21 ; fpu2: fmov f12, f23 }
-        { iu0: slli r5, r3, 2 ; fpu0: frecv f25, CH_IN ; fpu1: frecv f9, CH_IN ; fpu2: frecv f1, CH_IN }
-        { iu0: add r5, r5, r20 ; fpu0: frecv f2, CH_IN ; fpu1: frecv f3, CH_IN ; fpu2: movfi r7, f9 }
-        { iu0: lw r1, 0(r5) ; fpu0: frecv f4, CH_IN ; fpu1: frecv f5, CH_IN ; fpu2: frecv f6, CH_IN }
-        { iu0: lw r10, 0(r1) ; fpu0: frecv f7, CH_IN ; fpu1: frecv f8, CH_IN }
-        { lw r11, 4(r1) ; movfi r8, f7 }
+        { iu0: recv r2, CH_IN ; fpu0: recv r3, CH_IN ; fpu1: frecv f25, CH_IN ; fpu2: frecv f9, CH_IN }
+        { iu0: slli r5, r3, 2 ; fpu0: frecv f1, CH_IN ; fpu1: frecv f2, CH_IN ; fpu2: movfi r7, f9 }
+        { iu0: andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT ; fpu0: frecv f3, CH_IN ; fpu1: frecv f4, CH_IN ; fpu2: frecv f5, CH_IN }
+        { iu0: add r5, r5, r20 ; fpu0: frecv f6, CH_IN ; fpu1: frecv f7, CH_IN ; fpu2: frecv f8, CH_IN }
+        { addi r7, r7, 1 ; movfi r8, f7 ; fmov f16, f21 ; fmov f12, f23 }
+        { lw r1, 0(r5) ; movif f26, r7 }
+        { addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT) ; fmin f27, f26, f8 }
+        { lw r10, 0(r1) ; fsel f10, r6, f27, f8 }
+        { addi r8, r8, 1 }
+        { lw r14, REC_CODE(r10) ; movif f28, r8 }
+        { lw r11, 4(r1) }
         { addi r1, r1, 8 }
-        { lw r14, REC_CODE(r10) }
-        { lw r13, IC_JUMPS_A(r14) }
         { flw f30, REC_W+0(r10) }
         { flw f31, REC_W+4(r10) }
         { flw f32, REC_W+8(r10) }
@@ -116,12 +119,8 @@ next_ray:
         { flw f39, REC_W+36(r10) }
         { flw f40, REC_W+40(r10) }
         { flw f41, REC_W+44(r10) }
-        { andi r6, r2, TAG_KIND_MASK << TAG_KIND_SHIFT }
-        { addi r6, r6, -(KIND_SHADOW << TAG_KIND_SHIFT) }
-        { addi r7, r7, 1 }
-        { movif f26, r7 ; addi r8, r8, 1 }
-        { fmin f27, f26, f8 ; movif f28, r8 }
-        { fsel f10, r6, f27, f8 ; jr r13 }
+        { lw r13, IC_JUMPS_A(r14) }
+        { jr r13 }
 
 
 tri1_A:
@@ -171,94 +170,91 @@ tri2_A:
 quad1_A:
         { lw r14, REC_CODE(r11) ; fsub f71, f1, f30 ; fsub f72, f2, f31 ; fsub f73, f3, f32 }
         { lw r13, IC_JUMPS_B(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
-        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fadd f77, f74, f75 ; fmul f86, f33, f4 }
-        { fadd f78, f77, f76 ; fmul f87, f36, f5 ; fmul f91, f36, f4 }
-        { fle r33, f48, f49 ; flw f51, REC_W+4(r11) ; fneg f79, f78 ; fmul f92, f34, f5 }
+        { fadd f77, f74, f75 ; fmul f86, f33, f4 ; fmul f87, f36, f5 }
+        { fadd f78, f77, f76 ; fmul f91, f36, f4 ; fmul f92, f34, f5 }
+        { fmul f88, f38, f6 ; fmul f93, f37, f6 ; fmul f96, f38, f4 }
+        { fneg f79, f78 ; fadd f89, f86, f87 ; fmul f97, f37, f5 }
         { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
         { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
         { fmul f101, f33, f81 ; fmul f102, f36, f83 ; fmul f107, f36, f81 }
-        { fmul f103, f38, f85 ; fadd f104, f101, f102 ; fmul f108, f34, f83 }
-        { fmul f109, f37, f85 ; fadd f110, f107, f108 ; fmul f113, f38, f81 }
+        { fmul f103, f38, f85 ; fmul f108, f34, f83 ; fmul f109, f37, f85 }
+        { fadd f104, f101, f102 ; fadd f110, f107, f108 ; fmul f113, f38, f81 }
         { fadd f105, f104, f103 ; fadd f111, f110, f109 ; fmul f114, f37, f83 }
-        { fadd f106, f105, f39 ; fmul f115, f35, f85 ; fadd f116, f113, f114 }
-        { fmul f88, f38, f6 ; fadd f112, f111, f40 ; fadd f117, f116, f115 }
-        { fadd f89, f86, f87 ; fmul f93, f37, f6 ; fadd f94, f91, f92 }
-        { fmul f96, f38, f4 ; fmul f97, f37, f5 ; fadd f118, f117, f41 }
-        { fmul f75, f81, f106 ; fmul f77, f83, f112 ; fmul f80, f39, f81 }
-        { flw f52, REC_W+8(r11) ; fadd f90, f89, f88 ; fmul f72, f40, f83 }
-        { fadd f95, f94, f93 ; fmul f98, f35, f6 ; fadd f99, f96, f97 }
-        { fmul f76, f85, f118 ; fadd f78, f75, f77 ; fmul f82, f41, f85 }
-        { flw f53, REC_W+12(r11) ; fadd f100, f99, f98 ; fadd f73, f80, f72 }
-        { fmul f119, f4, f90 ; fmul f120, f5, f95 ; fmul f124, f4, f106 }
-        { fmul f125, f5, f112 ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
-        { flw f54, REC_W+16(r11) ; fmul f121, f6, f100 ; fadd f122, f119, f120 }
-        { flw f42, REC_W+48(r10) ; fmul f126, f6, f118 ; fadd f127, f124, f125 }
-        { flw f55, REC_W+20(r11) ; fadd f123, f122, f121 ; fadd f86, f71, f84 }
-        { flw f56, REC_W+24(r11) ; fadd f74, f127, f126 ; fadd f87, f86, f42 }
-        { flw f57, REC_W+28(r11) ; fmul f89, f74, f74 ; fmul f88, f123, f87 }
-        { flw f58, REC_W+32(r11) ; fsub f91, f89, f88 ; fneg f94, f74 }
-        { fsel f67, r32, f16, f21 ; flw f59, REC_W+36(r11) ; fsqrt f92, f91 }
-        { fsel f67, r33, f67, f21 ; flw f60, REC_W+40(r11) }
-        { flt r34, f67, f10 ; flw f61, REC_W+44(r11) }
-        { fsel f12, r34, f20, f12 ; flw f43, REC_W+52(r10) }
-        { flw f44, REC_W+56(r10) ; fsub f93, f94, f92 ; fmul f103, f43, f4 }
-        { flw f45, REC_W+60(r10) ; fdiv f96, f93, f123 ; fmul f99, f43, f81 ; fmul f105, f44, f5 }
-        { fmul f98, f44, f83 ; fmul f107, f45, f6 ; fadd f108, f103, f105 }
-        { flw f49, REC_W+64(r10) ; fmul f101, f45, f85 ; fadd f102, f99, f98 }
-        { movif f20, r10 ; fadd f110, f108, f107 ; lw r10, 0(r1) }
-        { fadd f97, f79, f96 ; fadd f104, f102, f101 ; fmul f109, f96, f110 ; addi r1, r1, 4 }
-        { fsel f10, r34, f67, f10 ; fadd f47, f104, f109 ; flt r30, f7, f97 }
-        { fsel f13, r34, f17, f13 ; fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 }
-        { fsel f16, r30, f97, f21 ; fmov f48, f47 ; fmov f19, f24 ; jr r13 }
+        { fadd f106, f105, f39 ; fadd f112, f111, f40 ; fmul f115, f35, f85 }
+        { fadd f116, f113, f114 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
+        { fadd f117, f116, f115 ; fadd f78, f75, f77 ; fmul f80, f39, f81 }
+        { fadd f118, f117, f41 ; fmul f72, f40, f83 ; fmul f82, f41, f85 }
+        { fadd f94, f91, f92 ; fmul f76, f85, f118 ; fadd f73, f80, f72 }
+        { fmul f98, f35, f6 ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
+        { fadd f90, f89, f88 ; fadd f99, f96, f97 ; fadd f86, f71, f84 }
+        { fadd f95, f94, f93 ; fadd f100, f99, f98 ; fmul f119, f4, f90 }
+        { fle r32, f23, f47 ; flw f42, REC_W+48(r10) ; fmul f120, f5, f95 ; fmul f121, f6, f100 }
+        { fle r33, f48, f49 ; flw f43, REC_W+52(r10) ; fadd f122, f119, f120 ; fmul f124, f4, f106 }
+        { flw f44, REC_W+56(r10) ; fadd f123, f122, f121 ; fmul f125, f5, f112 }
+        { flw f45, REC_W+60(r10) ; fadd f127, f124, f125 ; fadd f87, f86, f42 }
+        { flw f49, REC_W+64(r10) ; fmul f126, f6, f118 ; fmul f88, f123, f87 }
+        { flw f50, REC_W+0(r11) ; fadd f74, f127, f126 ; fmul f103, f43, f4 }
+        { flw f51, REC_W+4(r11) ; fmul f89, f74, f74 ; fmul f105, f44, f5 }
+        { flw f52, REC_W+8(r11) ; fsub f91, f89, f88 ; fmul f107, f45, f6 }
+        { fsel f67, r32, f16, f21 ; flw f53, REC_W+12(r11) ; fsqrt f92, f91 ; fneg f94, f74 }
+        { flw f54, REC_W+16(r11) ; fmul f99, f43, f81 ; fadd f108, f103, f105 }
+        { flw f55, REC_W+20(r11) ; fmul f98, f44, f83 ; fadd f110, f108, f107 }
+        { flw f56, REC_W+24(r11) ; fmul f101, f45, f85 }
+        { fsel f67, r33, f67, f21 ; flw f57, REC_W+28(r11) ; fsub f93, f94, f92 }
+        { flt r34, f67, f10 ; flw f58, REC_W+32(r11) ; fdiv f96, f93, f123 ; fadd f102, f99, f98 }
+        { fsel f12, r34, f20, f12 ; movif f20, r10 ; fadd f104, f102, f101 ; lw r10, 0(r1) }
+        { fsel f10, r34, f67, f10 ; fsel f13, r34, f17, f13 ; fsel f14, r34, f18, f14 ; addi r1, r1, 4 }
+        { fsel f15, r34, f19, f15 ; flw f59, REC_W+36(r11) }
+        { flw f60, REC_W+40(r11) ; fadd f97, f79, f96 ; fmul f109, f96, f110 }
+        { flw f61, REC_W+44(r11) ; fadd f47, f104, f109 ; flt r30, f7, f97 ; fmov f19, f24 }
+        { fsel f16, r30, f97, f21 ; fmov f48, f47 ; jr r13 }
 
 quad2_A:
         { lw r14, REC_CODE(r11) ; fsub f71, f1, f30 ; fsub f72, f2, f31 ; fsub f73, f3, f32 }
         { lw r13, IC_JUMPS_B(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
         { fadd f77, f74, f75 ; fmul f86, f33, f4 ; fmul f87, f36, f5 }
         { fadd f78, f77, f76 ; fmul f91, f36, f4 ; fmul f92, f34, f5 }
-        { fneg f79, f78 ; fmul f88, f38, f6 ; fadd f89, f86, f87 }
+        { fmul f88, f38, f6 ; fmul f93, f37, f6 ; fmul f96, f38, f4 }
+        { fneg f79, f78 ; fadd f89, f86, f87 ; fmul f97, f37, f5 }
         { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
         { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
         { fmul f101, f33, f81 ; fmul f102, f36, f83 ; fmul f107, f36, f81 }
-        { fmul f103, f38, f85 ; fadd f104, f101, f102 ; fmul f108, f34, f83 }
-        { fmul f109, f37, f85 ; fadd f110, f107, f108 ; fmul f113, f38, f81 }
+        { fmul f103, f38, f85 ; fmul f108, f34, f83 ; fmul f109, f37, f85 }
+        { fadd f104, f101, f102 ; fadd f110, f107, f108 ; fmul f113, f38, f81 }
         { fadd f105, f104, f103 ; fadd f111, f110, f109 ; fmul f114, f37, f83 }
-        { fadd f106, f105, f39 ; fmul f115, f35, f85 ; fadd f116, f113, f114 }
-        { fmul f93, f37, f6 ; fadd f112, f111, f40 ; fadd f117, f116, f115 }
-        { fadd f94, f91, f92 ; fmul f96, f38, f4 ; fmul f97, f37, f5 }
-        { fadd f118, f117, f41 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
-        { fadd f90, f89, f88 ; fmul f80, f39, f81 ; fmul f72, f40, f83 }
-        { fadd f95, f94, f93 ; fmul f98, f35, f6 ; fadd f99, f96, f97 }
-        { fmul f76, f85, f118 ; fadd f78, f75, f77 ; fmul f82, f41, f85 }
-        { fadd f100, f99, f98 ; fmul f119, f4, f90 ; fadd f73, f80, f72 }
-        { fmul f120, f5, f95 ; fmul f124, f4, f106 ; fmul f125, f5, f112 }
-        { fle r32, f23, f47 ; flw f50, REC_W+0(r11) ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
-        { fle r33, f48, f49 ; flw f42, REC_W+48(r10) ; fmul f121, f6, f100 ; fadd f122, f119, f120 }
-        { fmul f126, f6, f118 ; fadd f127, f124, f125 ; fadd f86, f71, f84 }
-        { flw f51, REC_W+4(r11) ; fadd f123, f122, f121 ; fadd f74, f127, f126 }
-        { flw f52, REC_W+8(r11) ; fadd f87, f86, f42 ; fmul f89, f74, f74 }
-        { flw f53, REC_W+12(r11) ; fmul f88, f123, f87 ; fneg f94, f74 }
-        { fsel f67, r32, f16, f21 ; flw f54, REC_W+16(r11) ; fsub f91, f89, f88 }
-        { fsel f67, r33, f67, f21 ; flw f55, REC_W+20(r11) ; fsqrt f92, f91 ; fmov f47, f23 }
-        { flt r34, f67, f10 ; flw f56, REC_W+24(r11) ; fmov f48, f23 ; fmov f49, f24 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f57, REC_W+28(r11) }
-        { flw f58, REC_W+32(r11) ; movif f20, r10 }
-        { flw f59, REC_W+36(r11) ; fsub f93, f94, f92 ; fadd f99, f94, f92 }
-        { fsel f13, r34, f17, f13 ; flw f43, REC_W+52(r10) ; fdiv f96, f93, f123 ; fdiv f98, f99, f123 }
-        { flw f44, REC_W+56(r10) ; fmul f102, f43, f81 ; fmul f108, f43, f4 }
-        { flw f60, REC_W+40(r11) ; fmul f104, f44, f83 ; fmul f110, f44, f5 }
-        { flw f45, REC_W+60(r10) }
-        { flw f61, REC_W+44(r11) ; fmul f109, f45, f6 ; fadd f111, f108, f110 }
-        { fmul f103, f45, f85 ; fadd f105, f102, f104 ; fadd f113, f111, f109 }
-        { fadd f97, f79, f96 ; fadd f101, f79, f98 ; fadd f107, f105, f103 }
-        { flw f46, REC_W+64(r10) ; fmul f114, f96, f113 ; fmul f115, f98, f113 ; flt r30, f7, f97 }
-        { fadd f116, f107, f114 ; fadd f117, f107, f115 ; flt r37, f7, f101 ; lw r10, 0(r1) }
-        { fsel f90, r30, f97, f21 ; fle r31, f23, f116 ; fsel f119, r37, f101, f21 ; addi r1, r1, 4 }
-        { fsel f95, r31, f90, f21 ; fle r36, f116, f46 ; fle r38, f23, f117 }
-        { fsel f100, r36, f95, f21 ; fsel f120, r38, f119, f21 ; fle r39, f117, f46 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; fsel f122, r39, f120, f21 }
-        { fle r40, f100, f122 ; fmin f16, f122, f100 }
-        { fsel f19, r40, f24, f23 ; jr r13 }
+        { fadd f106, f105, f39 ; fadd f112, f111, f40 ; fmul f115, f35, f85 }
+        { fadd f116, f113, f114 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
+        { fadd f117, f116, f115 ; fadd f78, f75, f77 ; fmul f80, f39, f81 }
+        { fadd f118, f117, f41 ; fmul f72, f40, f83 ; fmul f82, f41, f85 }
+        { fadd f94, f91, f92 ; fmul f76, f85, f118 ; fadd f73, f80, f72 }
+        { fmul f98, f35, f6 ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
+        { fadd f90, f89, f88 ; fadd f99, f96, f97 ; fadd f86, f71, f84 }
+        { fadd f95, f94, f93 ; fadd f100, f99, f98 ; fmul f119, f4, f90 }
+        { fmul f120, f5, f95 ; fmul f121, f6, f100 ; fmul f124, f4, f106 }
+        { fadd f122, f119, f120 ; fmul f125, f5, f112 ; fmul f126, f6, f118 }
+        { fle r32, f23, f47 ; flw f42, REC_W+48(r10) ; fadd f123, f122, f121 ; fadd f127, f124, f125 }
+        { fle r33, f48, f49 ; flw f43, REC_W+52(r10) ; fadd f74, f127, f126 ; fadd f87, f86, f42 }
+        { fmul f89, f74, f74 ; fmul f88, f123, f87 ; fneg f94, f74 }
+        { flw f44, REC_W+56(r10) ; fsub f91, f89, f88 ; fmul f102, f43, f81 }
+        { flw f45, REC_W+60(r10) ; fsqrt f92, f91 ; fmul f104, f44, f83 ; fmul f108, f43, f4 }
+        { fmul f103, f45, f85 ; fadd f105, f102, f104 ; fmul f110, f44, f5 }
+        { fadd f107, f105, f103 ; fmul f109, f45, f6 ; fadd f111, f108, f110 }
+        { fsel f67, r32, f16, f21 ; flw f46, REC_W+64(r10) }
+        { flw f50, REC_W+0(r11) ; fsub f93, f94, f92 ; fadd f99, f94, f92 }
+        { fsel f67, r33, f67, f21 ; flw f51, REC_W+4(r11) ; fdiv f96, f93, f123 ; fdiv f98, f99, f123 }
+        { flt r34, f67, f10 ; flw f52, REC_W+8(r11) ; fadd f113, f111, f109 ; fmov f47, f23 }
+        { fsel f12, r34, f20, f12 ; flw f53, REC_W+12(r11) ; movif f20, r10 }
+        { flw f54, REC_W+16(r11) }
+        { fadd f97, f79, f96 ; fadd f101, f79, f98 ; fmul f114, f96, f113 ; lw r10, 0(r1) }
+        { flw f55, REC_W+20(r11) ; fmul f115, f98, f113 ; flt r30, f7, f97 ; flt r37, f7, f101 }
+        { fadd f116, f107, f114 ; fadd f117, f107, f115 ; fsel f119, r37, f101, f21 ; addi r1, r1, 4 }
+        { flw f56, REC_W+24(r11) ; fsel f90, r30, f97, f21 ; fle r38, f23, f117 ; fle r39, f117, f46 }
+        { flw f57, REC_W+28(r11) ; fle r31, f23, f116 ; fle r36, f116, f46 ; fsel f120, r38, f119, f21 }
+        { flw f58, REC_W+32(r11) ; fsel f95, r31, f90, f21 ; fsel f122, r39, f120, f21 }
+        { fsel f15, r34, f19, f15 ; flw f59, REC_W+36(r11) ; fsel f100, r36, f95, f21 }
+        { fsel f10, r34, f67, f10 ; flw f60, REC_W+40(r11) ; fle r40, f100, f122 ; fmin f16, f122, f100 }
+        { fsel f13, r34, f17, f13 ; flw f61, REC_W+44(r11) ; fsel f19, r40, f24, f23 }
+        { fsel f14, r34, f18, f14 ; fmov f48, f23 ; fmov f49, f24 ; jr r13 }
 
 sph1_A:
         { lw r14, REC_CODE(r11) ; fsub f71, f1, f30 ; fsub f72, f2, f31 ; fsub f73, f3, f32 }
@@ -441,94 +437,91 @@ tri2_B:
 quad1_B:
         { lw r14, REC_CODE(r10) ; fsub f71, f1, f50 ; fsub f72, f2, f51 ; fsub f73, f3, f52 }
         { lw r13, IC_JUMPS_A(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
-        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fadd f77, f74, f75 ; fmul f86, f53, f4 }
-        { fadd f78, f77, f76 ; fmul f87, f56, f5 ; fmul f91, f56, f4 }
-        { fle r33, f48, f49 ; flw f31, REC_W+4(r10) ; fneg f79, f78 ; fmul f92, f54, f5 }
+        { fadd f77, f74, f75 ; fmul f86, f53, f4 ; fmul f87, f56, f5 }
+        { fadd f78, f77, f76 ; fmul f91, f56, f4 ; fmul f92, f54, f5 }
+        { fmul f88, f58, f6 ; fmul f93, f57, f6 ; fmul f96, f58, f4 }
+        { fneg f79, f78 ; fadd f89, f86, f87 ; fmul f97, f57, f5 }
         { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
         { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
         { fmul f101, f53, f81 ; fmul f102, f56, f83 ; fmul f107, f56, f81 }
-        { fmul f103, f58, f85 ; fadd f104, f101, f102 ; fmul f108, f54, f83 }
-        { fmul f109, f57, f85 ; fadd f110, f107, f108 ; fmul f113, f58, f81 }
+        { fmul f103, f58, f85 ; fmul f108, f54, f83 ; fmul f109, f57, f85 }
+        { fadd f104, f101, f102 ; fadd f110, f107, f108 ; fmul f113, f58, f81 }
         { fadd f105, f104, f103 ; fadd f111, f110, f109 ; fmul f114, f57, f83 }
-        { fadd f106, f105, f59 ; fmul f115, f55, f85 ; fadd f116, f113, f114 }
-        { fmul f88, f58, f6 ; fadd f112, f111, f60 ; fadd f117, f116, f115 }
-        { fadd f89, f86, f87 ; fmul f93, f57, f6 ; fadd f94, f91, f92 }
-        { fmul f96, f58, f4 ; fmul f97, f57, f5 ; fadd f118, f117, f61 }
-        { fmul f75, f81, f106 ; fmul f77, f83, f112 ; fmul f80, f59, f81 }
-        { flw f32, REC_W+8(r10) ; fadd f90, f89, f88 ; fmul f72, f60, f83 }
-        { fadd f95, f94, f93 ; fmul f98, f55, f6 ; fadd f99, f96, f97 }
-        { fmul f76, f85, f118 ; fadd f78, f75, f77 ; fmul f82, f61, f85 }
-        { flw f33, REC_W+12(r10) ; fadd f100, f99, f98 ; fadd f73, f80, f72 }
-        { fmul f119, f4, f90 ; fmul f120, f5, f95 ; fmul f124, f4, f106 }
-        { fmul f125, f5, f112 ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
-        { flw f34, REC_W+16(r10) ; fmul f121, f6, f100 ; fadd f122, f119, f120 }
-        { flw f62, REC_W+48(r11) ; fmul f126, f6, f118 ; fadd f127, f124, f125 }
-        { flw f35, REC_W+20(r10) ; fadd f123, f122, f121 ; fadd f86, f71, f84 }
-        { flw f36, REC_W+24(r10) ; fadd f74, f127, f126 ; fadd f87, f86, f62 }
-        { flw f37, REC_W+28(r10) ; fmul f89, f74, f74 ; fmul f88, f123, f87 }
-        { flw f38, REC_W+32(r10) ; fsub f91, f89, f88 ; fneg f94, f74 }
-        { fsel f67, r32, f16, f21 ; flw f39, REC_W+36(r10) ; fsqrt f92, f91 }
-        { fsel f67, r33, f67, f21 ; flw f40, REC_W+40(r10) }
-        { flt r34, f67, f10 ; flw f41, REC_W+44(r10) }
-        { fsel f12, r34, f20, f12 ; flw f63, REC_W+52(r11) }
-        { flw f64, REC_W+56(r11) ; fsub f93, f94, f92 ; fmul f103, f63, f4 }
-        { flw f65, REC_W+60(r11) ; fdiv f96, f93, f123 ; fmul f99, f63, f81 ; fmul f105, f64, f5 }
-        { fmul f98, f64, f83 ; fmul f107, f65, f6 ; fadd f108, f103, f105 }
-        { flw f49, REC_W+64(r11) ; fmul f101, f65, f85 ; fadd f102, f99, f98 }
-        { movif f20, r11 ; fadd f110, f108, f107 ; lw r11, 0(r1) }
-        { fadd f97, f79, f96 ; fadd f104, f102, f101 ; fmul f109, f96, f110 ; addi r1, r1, 4 }
-        { fsel f10, r34, f67, f10 ; fadd f47, f104, f109 ; flt r30, f7, f97 }
-        { fsel f13, r34, f17, f13 ; fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 }
-        { fsel f16, r30, f97, f21 ; fmov f48, f47 ; fmov f19, f24 ; jr r13 }
+        { fadd f106, f105, f59 ; fadd f112, f111, f60 ; fmul f115, f55, f85 }
+        { fadd f116, f113, f114 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
+        { fadd f117, f116, f115 ; fadd f78, f75, f77 ; fmul f80, f59, f81 }
+        { fadd f118, f117, f61 ; fmul f72, f60, f83 ; fmul f82, f61, f85 }
+        { fadd f94, f91, f92 ; fmul f76, f85, f118 ; fadd f73, f80, f72 }
+        { fmul f98, f55, f6 ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
+        { fadd f90, f89, f88 ; fadd f99, f96, f97 ; fadd f86, f71, f84 }
+        { fadd f95, f94, f93 ; fadd f100, f99, f98 ; fmul f119, f4, f90 }
+        { fle r32, f23, f47 ; flw f62, REC_W+48(r11) ; fmul f120, f5, f95 ; fmul f121, f6, f100 }
+        { fle r33, f48, f49 ; flw f63, REC_W+52(r11) ; fadd f122, f119, f120 ; fmul f124, f4, f106 }
+        { flw f64, REC_W+56(r11) ; fadd f123, f122, f121 ; fmul f125, f5, f112 }
+        { flw f65, REC_W+60(r11) ; fadd f127, f124, f125 ; fadd f87, f86, f62 }
+        { flw f49, REC_W+64(r11) ; fmul f126, f6, f118 ; fmul f88, f123, f87 }
+        { flw f30, REC_W+0(r10) ; fadd f74, f127, f126 ; fmul f103, f63, f4 }
+        { flw f31, REC_W+4(r10) ; fmul f89, f74, f74 ; fmul f105, f64, f5 }
+        { flw f32, REC_W+8(r10) ; fsub f91, f89, f88 ; fmul f107, f65, f6 }
+        { fsel f67, r32, f16, f21 ; flw f33, REC_W+12(r10) ; fsqrt f92, f91 ; fneg f94, f74 }
+        { flw f34, REC_W+16(r10) ; fmul f99, f63, f81 ; fadd f108, f103, f105 }
+        { flw f35, REC_W+20(r10) ; fmul f98, f64, f83 ; fadd f110, f108, f107 }
+        { flw f36, REC_W+24(r10) ; fmul f101, f65, f85 }
+        { fsel f67, r33, f67, f21 ; flw f37, REC_W+28(r10) ; fsub f93, f94, f92 }
+        { flt r34, f67, f10 ; flw f38, REC_W+32(r10) ; fdiv f96, f93, f123 ; fadd f102, f99, f98 }
+        { fsel f12, r34, f20, f12 ; movif f20, r11 ; fadd f104, f102, f101 ; lw r11, 0(r1) }
+        { fsel f10, r34, f67, f10 ; fsel f13, r34, f17, f13 ; fsel f14, r34, f18, f14 ; addi r1, r1, 4 }
+        { fsel f15, r34, f19, f15 ; flw f39, REC_W+36(r10) }
+        { flw f40, REC_W+40(r10) ; fadd f97, f79, f96 ; fmul f109, f96, f110 }
+        { flw f41, REC_W+44(r10) ; fadd f47, f104, f109 ; flt r30, f7, f97 ; fmov f19, f24 }
+        { fsel f16, r30, f97, f21 ; fmov f48, f47 ; jr r13 }
 
 quad2_B:
         { lw r14, REC_CODE(r10) ; fsub f71, f1, f50 ; fsub f72, f2, f51 ; fsub f73, f3, f52 }
         { lw r13, IC_JUMPS_A(r14) ; fmul f74, f71, f4 ; fmul f75, f72, f5 ; fmul f76, f73, f6 }
         { fadd f77, f74, f75 ; fmul f86, f53, f4 ; fmul f87, f56, f5 }
         { fadd f78, f77, f76 ; fmul f91, f56, f4 ; fmul f92, f54, f5 }
-        { fneg f79, f78 ; fmul f88, f58, f6 ; fadd f89, f86, f87 }
+        { fmul f88, f58, f6 ; fmul f93, f57, f6 ; fmul f96, f58, f4 }
+        { fneg f79, f78 ; fadd f89, f86, f87 ; fmul f97, f57, f5 }
         { fmul f80, f79, f4 ; fmul f82, f79, f5 ; fmul f84, f79, f6 }
         { fadd f81, f71, f80 ; fadd f83, f72, f82 ; fadd f85, f73, f84 }
         { fmul f101, f53, f81 ; fmul f102, f56, f83 ; fmul f107, f56, f81 }
-        { fmul f103, f58, f85 ; fadd f104, f101, f102 ; fmul f108, f54, f83 }
-        { fmul f109, f57, f85 ; fadd f110, f107, f108 ; fmul f113, f58, f81 }
+        { fmul f103, f58, f85 ; fmul f108, f54, f83 ; fmul f109, f57, f85 }
+        { fadd f104, f101, f102 ; fadd f110, f107, f108 ; fmul f113, f58, f81 }
         { fadd f105, f104, f103 ; fadd f111, f110, f109 ; fmul f114, f57, f83 }
-        { fadd f106, f105, f59 ; fmul f115, f55, f85 ; fadd f116, f113, f114 }
-        { fmul f93, f57, f6 ; fadd f112, f111, f60 ; fadd f117, f116, f115 }
-        { fadd f94, f91, f92 ; fmul f96, f58, f4 ; fmul f97, f57, f5 }
-        { fadd f118, f117, f61 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
-        { fadd f90, f89, f88 ; fmul f80, f59, f81 ; fmul f72, f60, f83 }
-        { fadd f95, f94, f93 ; fmul f98, f55, f6 ; fadd f99, f96, f97 }
-        { fmul f76, f85, f118 ; fadd f78, f75, f77 ; fmul f82, f61, f85 }
-        { fadd f100, f99, f98 ; fmul f119, f4, f90 ; fadd f73, f80, f72 }
-        { fmul f120, f5, f95 ; fmul f124, f4, f106 ; fmul f125, f5, f112 }
-        { fle r32, f23, f47 ; flw f30, REC_W+0(r10) ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
-        { fle r33, f48, f49 ; flw f62, REC_W+48(r11) ; fmul f121, f6, f100 ; fadd f122, f119, f120 }
-        { fmul f126, f6, f118 ; fadd f127, f124, f125 ; fadd f86, f71, f84 }
-        { flw f31, REC_W+4(r10) ; fadd f123, f122, f121 ; fadd f74, f127, f126 }
-        { flw f32, REC_W+8(r10) ; fadd f87, f86, f62 ; fmul f89, f74, f74 }
-        { flw f33, REC_W+12(r10) ; fmul f88, f123, f87 ; fneg f94, f74 }
-        { fsel f67, r32, f16, f21 ; flw f34, REC_W+16(r10) ; fsub f91, f89, f88 }
-        { fsel f67, r33, f67, f21 ; flw f35, REC_W+20(r10) ; fsqrt f92, f91 ; fmov f47, f23 }
-        { flt r34, f67, f10 ; flw f36, REC_W+24(r10) ; fmov f48, f23 ; fmov f49, f24 }
-        { fsel f10, r34, f67, f10 ; fsel f12, r34, f20, f12 ; flw f37, REC_W+28(r10) }
-        { flw f38, REC_W+32(r10) ; movif f20, r11 }
-        { flw f39, REC_W+36(r10) ; fsub f93, f94, f92 ; fadd f99, f94, f92 }
-        { fsel f13, r34, f17, f13 ; flw f63, REC_W+52(r11) ; fdiv f96, f93, f123 ; fdiv f98, f99, f123 }
-        { flw f64, REC_W+56(r11) ; fmul f102, f63, f81 ; fmul f108, f63, f4 }
-        { flw f40, REC_W+40(r10) ; fmul f104, f64, f83 ; fmul f110, f64, f5 }
-        { flw f65, REC_W+60(r11) }
-        { flw f41, REC_W+44(r10) ; fmul f109, f65, f6 ; fadd f111, f108, f110 }
-        { fmul f103, f65, f85 ; fadd f105, f102, f104 ; fadd f113, f111, f109 }
-        { fadd f97, f79, f96 ; fadd f101, f79, f98 ; fadd f107, f105, f103 }
-        { flw f66, REC_W+64(r11) ; fmul f114, f96, f113 ; fmul f115, f98, f113 ; flt r30, f7, f97 }
-        { fadd f116, f107, f114 ; fadd f117, f107, f115 ; flt r37, f7, f101 ; lw r11, 0(r1) }
-        { fsel f90, r30, f97, f21 ; fle r31, f23, f116 ; fsel f119, r37, f101, f21 ; addi r1, r1, 4 }
-        { fsel f95, r31, f90, f21 ; fle r36, f116, f66 ; fle r38, f23, f117 }
-        { fsel f100, r36, f95, f21 ; fsel f120, r38, f119, f21 ; fle r39, f117, f66 }
-        { fsel f14, r34, f18, f14 ; fsel f15, r34, f19, f15 ; fsel f122, r39, f120, f21 }
-        { fle r40, f100, f122 ; fmin f16, f122, f100 }
-        { fsel f19, r40, f24, f23 ; jr r13 }
+        { fadd f106, f105, f59 ; fadd f112, f111, f60 ; fmul f115, f55, f85 }
+        { fadd f116, f113, f114 ; fmul f75, f81, f106 ; fmul f77, f83, f112 }
+        { fadd f117, f116, f115 ; fadd f78, f75, f77 ; fmul f80, f59, f81 }
+        { fadd f118, f117, f61 ; fmul f72, f60, f83 ; fmul f82, f61, f85 }
+        { fadd f94, f91, f92 ; fmul f76, f85, f118 ; fadd f73, f80, f72 }
+        { fmul f98, f55, f6 ; fadd f71, f78, f76 ; fadd f84, f73, f82 }
+        { fadd f90, f89, f88 ; fadd f99, f96, f97 ; fadd f86, f71, f84 }
+        { fadd f95, f94, f93 ; fadd f100, f99, f98 ; fmul f119, f4, f90 }
+        { fmul f120, f5, f95 ; fmul f121, f6, f100 ; fmul f124, f4, f106 }
+        { fadd f122, f119, f120 ; fmul f125, f5, f112 ; fmul f126, f6, f118 }
+        { fle r32, f23, f47 ; flw f62, REC_W+48(r11) ; fadd f123, f122, f121 ; fadd f127, f124, f125 }
+        { fle r33, f48, f49 ; flw f63, REC_W+52(r11) ; fadd f74, f127, f126 ; fadd f87, f86, f62 }
+        { fmul f89, f74, f74 ; fmul f88, f123, f87 ; fneg f94, f74 }
+        { flw f64, REC_W+56(r11) ; fsub f91, f89, f88 ; fmul f102, f63, f81 }
+        { flw f65, REC_W+60(r11) ; fsqrt f92, f91 ; fmul f104, f64, f83 ; fmul f108, f63, f4 }
+        { fmul f103, f65, f85 ; fadd f105, f102, f104 ; fmul f110, f64, f5 }
+        { fadd f107, f105, f103 ; fmul f109, f65, f6 ; fadd f111, f108, f110 }
+        { fsel f67, r32, f16, f21 ; flw f66, REC_W+64(r11) }
+        { flw f30, REC_W+0(r10) ; fsub f93, f94, f92 ; fadd f99, f94, f92 }
+        { fsel f67, r33, f67, f21 ; flw f31, REC_W+4(r10) ; fdiv f96, f93, f123 ; fdiv f98, f99, f123 }
+        { flt r34, f67, f10 ; flw f32, REC_W+8(r10) ; fadd f113, f111, f109 ; fmov f47, f23 }
+        { fsel f12, r34, f20, f12 ; flw f33, REC_W+12(r10) ; movif f20, r11 }
+        { flw f34, REC_W+16(r10) }
+        { fadd f97, f79, f96 ; fadd f101, f79, f98 ; fmul f114, f96, f113 ; lw r11, 0(r1) }
+        { flw f35, REC_W+20(r10) ; fmul f115, f98, f113 ; flt r30, f7, f97 ; flt r37, f7, f101 }
+        { fadd f116, f107, f114 ; fadd f117, f107, f115 ; fsel f119, r37, f101, f21 ; addi r1, r1, 4 }
+        { flw f36, REC_W+24(r10) ; fsel f90, r30, f97, f21 ; fle r38, f23, f117 ; fle r39, f117, f66 }
+        { flw f37, REC_W+28(r10) ; fle r31, f23, f116 ; fle r36, f116, f66 ; fsel f120, r38, f119, f21 }
+        { flw f38, REC_W+32(r10) ; fsel f95, r31, f90, f21 ; fsel f122, r39, f120, f21 }
+        { fsel f15, r34, f19, f15 ; flw f39, REC_W+36(r10) ; fsel f100, r36, f95, f21 }
+        { fsel f10, r34, f67, f10 ; flw f40, REC_W+40(r10) ; fle r40, f100, f122 ; fmin f16, f122, f100 }
+        { fsel f13, r34, f17, f13 ; flw f41, REC_W+44(r10) ; fsel f19, r40, f24, f23 }
+        { fsel f14, r34, f18, f14 ; fmov f48, f23 ; fmov f49, f24 ; jr r13 }
 
 sph1_B:
         { lw r14, REC_CODE(r10) ; fsub f71, f1, f50 ; fsub f72, f2, f51 ; fsub f73, f3, f52 }

@@ -141,37 +141,32 @@ new_ray:
 
 # ---- dda_setup, part 2: entry voxel, per-axis next/delta/step, state table --------------------
 setup2:
-        { fmul f87, f40, f4 ; fmul f88, f40, f5 }
-        { fmul f89, f40, f6 ; fadd f90, f1, f87 }
-        { fadd f91, f2, f88 ; fsub f93, f90, f20 }
-        { fadd f92, f3, f89 ; fsub f94, f91, f21 }
+        { fmul f88, f40, f5 ; fmul f89, f40, f6 }
+        { fmul f87, f40, f4 ; fadd f91, f2, f88 }
+        { fadd f90, f1, f87 ; fadd f92, f3, f89 }
+        { fsub f93, f90, f20 ; fsub f94, f91, f21 }
         { fsub f95, f92, f22 ; fmul f96, f93, f29 }
         { fmul f97, f94, f30 ; fmin f96, f32, f96 }
-        { fmul f98, f95, f31 ; fmin f97, f33, f97 }
-        { fmin f98, f34, f98 ; fmax f96, f35, f96 }
-        { fmax f97, f35, f97 ; ftoi r39, f96 }
-        { fmax f98, f35, f98 ; flt r36, f35, f4 }
-        { ftoi r40, f97 ; flt r37, f35, f5 }
-        { ftoi r41, f98 ; add r42, r39, r36 ; fabs f120, f60 }
-        { flt r38, f35, f6 ; add r43, r40, r37 ; fabs f121, f61 }
-        { add r44, r41, r38 ; fabs f122, f62 ; fmul f123, f26, f120 ; sel r5, r36, r20, r24 }
-        { fmul f124, f27, f121 ; fmul f125, f28, f122 ; sel r6, r37, r21, r25 ; mul r46, r40, r21 }
-        { sel r7, r38, r22, r26 ; mul r47, r41, r22 }
-        { fsel f16, r33, f36, f123 ; fsel f17, r34, f36, f124 ; add r48, r46, r47 }
-        { itof f105, r42 ; itof f106, r43 ; add r48, r48, r39 }
-        { itof f107, r44 ; fsel f18, r35, f36, f125 ; add r4, r48, r23 }
-        { fmul f108, f105, f26 ; fmul f109, f106, f27 ; lbu r8, 0(r4) ; fsw f1, ST_O(r1) }
-        { fmul f110, f107, f28 ; fadd f111, f20, f108 ; fsw f2, ST_O+4(r1) }
-        { fadd f112, f21, f109 ; fadd f113, f22, f110 ; fsw f3, ST_O+8(r1) }
-        { fsub f114, f111, f1 ; fsub f115, f112, f2 ; fsw f4, ST_D(r1) }
-        { fsub f116, f113, f3 ; fmul f117, f114, f60 ; fsw f5, ST_D+4(r1) }
-        { fmul f118, f115, f61 ; fmul f119, f116, f62 ; fsw f6, ST_D+8(r1) }
-        { fsel f10, r33, f36, f117 ; fsel f11, r34, f36, f118 ; fsw f7, ST_TMIN(r1) }
-        { fsel f12, r35, f36, f119 ; fsw f8, ST_TMAX(r1) }
-        { fsw f9, ST_TEXIT(r1) }
-        { fsw f16, ST_DELTA(r1) }
-        { fsw f17, ST_DELTA+4(r1) }
-        { fsw f18, ST_DELTA+8(r1) }
+        { fmul f98, f95, f31 ; fmax f96, f35, f96 }
+        { fmin f97, f33, f97 ; fmin f98, f34, f98 }
+        { fmax f97, f35, f97 ; fmax f98, f35, f98 }
+        { ftoi r40, f97 ; ftoi r41, f98 }
+        { fabs f120, f60 ; fabs f121, f61 ; mul r46, r40, r21 ; mul r47, r41, r22 }
+        { ftoi r39, f96 ; fmul f123, f26, f120 ; add r48, r46, r47 }
+        { flt r36, f35, f4 ; fabs f122, f62 ; add r48, r48, r39 }
+        { add r42, r39, r36 ; fmul f124, f27, f121 ; fsel f16, r33, f36, f123 ; add r4, r48, r23 }
+        { flt r37, f35, f5 ; itof f105, r42 ; lbu r8, 0(r4) ; fsw f1, ST_O(r1) }
+        { flt r38, f35, f6 ; add r43, r40, r37 ; fsel f17, r34, f36, f124 ; fsw f2, ST_O+4(r1) }
+        { add r44, r41, r38 ; itof f106, r43 ; fmul f125, f28, f122 ; fsw f3, ST_O+8(r1) }
+        { itof f107, r44 ; fmul f109, f106, f27 ; sel r5, r36, r20, r24 ; fsw f4, ST_D(r1) }
+        { fmul f110, f107, f28 ; fadd f112, f21, f109 ; sel r6, r37, r21, r25 ; fsw f5, ST_D+4(r1) }
+        { fadd f113, f22, f110 ; fsel f18, r35, f36, f125 ; sel r7, r38, r22, r26 ; fsw f6, ST_D+8(r1) }
+        { fmul f108, f105, f26 ; fsub f116, f113, f3 ; fsw f7, ST_TMIN(r1) }
+        { fadd f111, f20, f108 ; fmul f119, f116, f62 ; fsw f8, ST_TMAX(r1) }
+        { fsub f114, f111, f1 ; fsel f12, r35, f36, f119 ; fsw f9, ST_TEXIT(r1) }
+        { fsub f115, f112, f2 ; fmul f117, f114, f60 ; fsw f16, ST_DELTA(r1) }
+        { fmul f118, f115, f61 ; fsel f10, r33, f36, f117 ; fsw f17, ST_DELTA+4(r1) }
+        { fsel f11, r34, f36, f118 ; fsw f18, ST_DELTA+8(r1) }
         { sw r5, ST_ASTEP(r1) }
         { sw r6, ST_ASTEP+4(r1) }
         { sw r7, ST_ASTEP+8(r1) ; bnez r8, visit_setup }

@@ -84,12 +84,11 @@ new_ray:
 fast_setup:
         { fdiv f60, f38, f4 }
         { fdiv f61, f38, f5 }
+        { fsub f63, f20, f1 }
         { fdiv f62, f38, f6 }
         nop
-        nop
-        nop
-        { fsub f63, f20, f1 }
         { fsub f66, f23, f1 }
+        nop
         { fsub f64, f21, f2 }
         { fsub f67, f24, f2 }
         { fmul f69, f63, f60 }

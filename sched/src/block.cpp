@@ -1,6 +1,7 @@
 // Critical-path list scheduling of straight-line blocks (see block.hpp).
 #include "sched/block.hpp"
 
+#include "exact_model.hpp"
 #include "text.hpp"
 
 #include "assembler/assembler.hpp"
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cctype>
 #include <deque>
 #include <map>
@@ -268,6 +270,105 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
 
 namespace {
 
+// Block op i of the model: its issue cycle at most latest[i] in a block of `length` bundles. Its
+// result lands by the end, and the block's final control op (the model's pinned branch) waits
+// for its dependences.
+std::vector<int> latest_issue(std::span<const BlockOp> ops, const std::vector<std::vector<Pred>>& preds, int length) {
+    const bool barrier = !ops.empty() && ops.back().barrier;
+    const std::size_t n = ops.size() - (barrier ? 1 : 0);
+    std::vector<int> latest(n);
+    for (std::size_t i = 0; i < n; ++i) latest[i] = length - ops[i].latency;
+    if (barrier)
+        for (const Pred& p : preds.back()) {
+            int& l = latest[static_cast<std::size_t>(p.op)];
+            l = std::min(l, length - 1 - p.distance);
+        }
+    return latest;
+}
+
+} // namespace
+
+BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> instrs, std::uint64_t node_budget) {
+    BlockSchedule out;
+    out.bundles = list_schedule(m, instrs);
+    out.list_bundles = static_cast<int>(out.bundles.size());
+    if (node_budget == 0 || instrs.size() < 2) return out;
+    std::vector<std::vector<int>>& best = out.bundles;
+    std::vector<BlockOp> ops;
+    for (const isa::Instr& in : instrs) ops.push_back(describe(m, in));
+    const auto preds = dependences(ops);
+    const bool barrier = ops.back().barrier;
+    const int n = static_cast<int>(ops.size()) - (barrier ? 1 : 0); // the model's ops
+    // Nothing is shorter than the longest dependence path to the last landing.
+    std::vector<int> asap(ops.size(), 0);
+    int shortest = 1;
+    for (std::size_t j = 0; j < ops.size(); ++j) {
+        for (const Pred& p : preds[j]) asap[j] = std::max(asap[j], asap[static_cast<std::size_t>(p.op)] + std::max(p.distance, 0));
+        shortest = std::max(shortest, asap[j] + (ops[j].barrier ? 1 : ops[j].latency));
+    }
+    pipe::ModelProblem p;
+    p.slot_count = static_cast<int>(m.slots.size());
+    for (std::size_t f = 0; f < m.regs.size(); ++f)
+        p.read_ports[f] = static_cast<int>(m.regs[f].read_ports), p.write_ports[f] = static_cast<int>(m.regs[f].write_ports);
+    for (int i = 0; i < n; ++i) p.ops.push_back(pipe::model_op(m, instrs[static_cast<std::size_t>(i)]));
+    p.has_branch = barrier;
+    if (barrier) p.branch = pipe::model_op(m, instrs.back());
+    p.straight = true;
+    // As list_schedule places them: never before an op they depend on (the assembler refuses a
+    // read of a register while a write of it is in flight, even one landing after the read).
+    for (int j = 0; j < n; ++j)
+        for (const Pred& d : preds[static_cast<std::size_t>(j)]) p.edges.push_back({d.op, j, std::max(d.distance, 0), 0});
+    auto at_length = [&](int length) {
+        p.ii = length;
+        p.latest = latest_issue(ops, preds, length);
+        return p;
+    };
+    // The fewest bundles the model's propagation alone does not refute: no block is shorter (a
+    // block of L bundles is one of L + 1 too, so refutations are monotone).
+    int lo = shortest, hi = static_cast<int>(best.size());
+    while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (pipe::tables_may_exist(at_length(mid), {})) hi = mid;
+        else lo = mid + 1;
+    }
+    // Then shorter blocks than the best so far, from one bundle fewer, while the search finds one.
+    int length = static_cast<int>(best.size()) - 1;
+    while (length >= lo) {
+        std::vector<std::vector<int>> found;
+        int found_length = 0;
+        const pipe::ModelSearch s = pipe::search_tables(
+            at_length(length), {}, std::chrono::steady_clock::time_point::max(),
+            [&](const std::vector<int>& rows, const std::vector<int>&) {
+                std::vector<std::vector<int>> bundles(static_cast<std::size_t>(length));
+                for (int i = 0; i < n; ++i) bundles[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])].push_back(i);
+                if (barrier) bundles.back().push_back(n);
+                // The model's slot rule does not see FIFO words' or one register's writes' slot order.
+                for (const auto& b : bundles) {
+                    if (b.size() < 2) continue;
+                    std::vector<isa::Instr> in;
+                    for (int i : b) in.push_back(instrs[static_cast<std::size_t>(i)]);
+                    if (ordered_slots(m, in).empty()) return false;
+                }
+                // A block without a branch ends at its last landing, which may come sooner.
+                found_length = barrier ? length : 0;
+                for (int i = 0; i < n && !barrier; ++i)
+                    found_length = std::max(found_length, rows[static_cast<std::size_t>(i)] + ops[static_cast<std::size_t>(i)].latency);
+                bundles.resize(static_cast<std::size_t>(found_length));
+                found = std::move(bundles);
+                return true;
+            },
+            node_budget);
+        if (s.outcome == pipe::ModelSearch::Exhausted) out.fewest = length + 1;
+        if (s.outcome != pipe::ModelSearch::Accepted) break;
+        best = std::move(found);
+        length = found_length - 1;
+    }
+    out.fewest = std::max(out.fewest, lo);
+    return out;
+}
+
+namespace {
+
 struct Block {
     int begin_line = 0; // 1-based, of `#pack begin`
     std::vector<std::string> texts;
@@ -519,7 +620,8 @@ PackResult pack_expanded(std::string_view text, std::string_view filename, const
                                       fmt::format("'{}' before the end of a '#pack' block: a block is straight-line code, "
                                                   "its one control operation (a branch or halt) is its last",
                                                   instrs[k].info().mnemonic));
-            const auto bundles = list_schedule(m, instrs);
+            const BlockSchedule scheduled = block_schedule(m, instrs, kBlockSearchNodes);
+            const auto& bundles = scheduled.bundles;
             for (const auto& bundle : bundles) {
                 if (bundle.empty()) {
                     result.push_back("        nop");
@@ -549,7 +651,8 @@ PackResult pack_expanded(std::string_view text, std::string_view filename, const
                 for (std::size_t k = 0; k < texts.size(); ++k) line += (k ? " ; " : "") + texts[k];
                 result.push_back(line + " }");
             }
-            out.blocks.push_back({b.begin_line, static_cast<int>(instrs.size()), static_cast<int>(bundles.size())});
+            out.blocks.push_back({b.begin_line, static_cast<int>(instrs.size()), static_cast<int>(bundles.size()),
+                                  scheduled.list_bundles, scheduled.fewest, scheduled.shortest()});
             continue;
         }
         if (!in_block) result.push_back(s);

@@ -47,10 +47,14 @@ class TableSpace : public Space {
         // No schedule needs more stages than n times the most any one edge asks for.
         int per_edge = 1;
         for (const ModelEdge& e : p.edges) per_edge = std::max(per_edge, (2 * ii_ - 2 + e.latency) / ii_ - e.distance);
-        const int most_stages = n * per_edge + 1;
+        const int most_stages = p.straight ? 0 : n * per_edge + 1;
         stage = IntVarArray(*this, n, 0, most_stages);
         time = IntVarArray(*this, n, 0, most_stages * ii_ + last);
         for (int i = 0; i < n; ++i) linear(*this, IntArgs({1, -ii_, -1}), IntVarArgs({time[i], stage[i], row[i]}), IRT_EQ, 0);
+        // A block's results land by its end (so the landings never wrap onto its rows but at 0,
+        // where nothing else lands).
+        if (p.straight)
+            for (int i = 0; i < n; ++i) rel(*this, time[i], IRT_LQ, p.latest[static_cast<std::size_t>(i)]);
         // Edge latencies are never negative, so a stage of II + bubble around the back edge asks
         // no more of a dependence than one of II: the edges hold in II alone.
         for (const ModelEdge& e : p.edges) {
@@ -128,7 +132,7 @@ class TableSpace : public Space {
             for (int i = 0; i < n; ++i)
                 if ((p.ops[static_cast<std::size_t>(i)].slots & ~t) == 0) within.push_back(i);
             if (within.empty()) continue;
-            const Bound b{std::popcount(t), (p.branch.slots & ~t) == 0 ? 1 : 0};
+            const Bound b{std::popcount(t), p.has_branch && (p.branch.slots & ~t) == 0 ? 1 : 0};
             auto [it, fresh] = tightest.try_emplace(within, b);
             if (!fresh && (b.size < it->second.size || (b.size == it->second.size && b.branch > it->second.branch))) it->second = b;
         }
@@ -154,7 +158,7 @@ class TableSpace : public Space {
                 if (p.ops[i].writes[f] > 0)
                     ops.push_back(static_cast<int>(i)), uses.push_back(p.ops[i].writes[f]), shifts.push_back(p.ops[i].latency);
             cap.assign(static_cast<std::size_t>(ii_), p.write_ports[f]);
-            cap[static_cast<std::size_t>((ii_ - 1 + p.branch.latency) % ii_)] -= p.branch.writes[f];
+            if (!p.straight) cap[static_cast<std::size_t>((ii_ - 1 + p.branch.latency) % ii_)] -= p.branch.writes[f];
             if (!ops.empty()) per_row(ops, uses, shifts, cap);
         }
     }
@@ -285,10 +289,42 @@ class TableSpace : public Space {
     }
 };
 
+// The deadline, and the node budget when there is one (the restart engine hands a stop its
+// statistics summed over restarts).
+class Budget : public Search::Stop {
+  public:
+    Budget(std::chrono::steady_clock::time_point deadline, std::uint64_t nodes) : deadline_(deadline), nodes_(nodes) {}
+    bool stop(const Search::Statistics& s, const Search::Options&) override {
+        return (nodes_ > 0 && s.node >= nodes_) || std::chrono::steady_clock::now() >= deadline_;
+    }
+
+  private:
+    std::chrono::steady_clock::time_point deadline_;
+    std::uint64_t nodes_;
+};
+
 } // namespace
 
+ModelOp model_op(const isa::Machine& m, const isa::Instr& in) {
+    ModelOp op;
+    op.latency = static_cast<int>(m.latency_of(in.info()));
+    for (const isa::RegOperand& o : isa::register_operands(in)) {
+        const std::size_t f = static_cast<std::size_t>(o.file);
+        if (o.write) ++op.writes[f], op.written.emplace_back(static_cast<int>(f), o.reg);
+        else ++op.reads[f];
+    }
+    for (std::size_t s = 0; s < m.slots.size(); ++s)
+        if (m.slots[s].accepts(in.info().cls)) op.slots |= 1u << s;
+    return op;
+}
+
+bool tables_may_exist(const ModelProblem& p, BackEdgeRule rule) {
+    TableSpace root(p, rule);
+    return root.status() != SS_FAILED;
+}
+
 ModelSearch search_tables(const ModelProblem& p, BackEdgeRule rule, std::chrono::steady_clock::time_point deadline,
-                          const TableAccept& accept) {
+                          const TableAccept& accept, std::uint64_t node_limit) {
     using Clock = std::chrono::steady_clock;
     ModelSearch out;
     const auto left = [&] { return std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count(); };
@@ -298,7 +334,7 @@ ModelSearch search_tables(const ModelProblem& p, BackEdgeRule rule, std::chrono:
     }
     auto root = std::make_unique<TableSpace>(p, rule);
     if (root->status() == SS_FAILED) return out; // Exhausted: the rules alone leave no table
-    Search::TimeStop stop(static_cast<unsigned long>(left()));
+    Budget stop(deadline, node_limit);
     Search::Options o;
     o.threads = 1;
     o.stop = &stop;

@@ -1,9 +1,12 @@
-// Internal to the pipeliner: a counted loop's modulo reservation tables at one II as a
+// Internal to the schedulers: a counted loop's modulo reservation tables at one II as a
 // constraint model (Gecode), searched to the end: every table that keeps the model's rules is
 // found, or none exists. Plain data in, rows and stages out; pipeline_exact.cpp builds the
-// problem from a dependence graph and a machine.
+// problem from a dependence graph and a machine. A straight-line block is the same model with one
+// pass: its length is the II, every op in stage 0 (block.cpp shortens list schedules with it).
 #pragma once
 
+#include "isa/encoding.hpp"
+#include "isa/machine.hpp"
 #include "isa/ops.hpp"
 
 #include <array>
@@ -24,6 +27,9 @@ struct ModelOp {
     std::vector<std::pair<int, int>> written; // (file, register)
 };
 
+// An op's slots, ports and latency on `m` (repeated reads counted, as the ports count them).
+ModelOp model_op(const isa::Machine& m, const isa::Instr& in);
+
 struct ModelEdge {
     int from, to, latency, distance; // t_to >= t_from + latency - distance * II
 };
@@ -43,6 +49,12 @@ struct ModelProblem {
     int bubble = 0;                 // the taken-branch bubble, cycles
     std::vector<ModelOp> ops;       // the loop's ops, then the counter decrement (last)
     ModelOp branch;                 // fixed in row II - 1
+    bool has_branch = true;         // false: no op is fixed in the last row
+    // A straight-line block of II cycles: every op in stage 0, op i issued by cycle latest[i] (so
+    // that it lands by the block's end, and before the block's branch as far as that needs); the
+    // edges have distance 0.
+    bool straight = false;
+    std::vector<int> latest;
     std::vector<ModelEdge> edges;
     std::vector<ModelFlight> flights;
 };
@@ -63,7 +75,12 @@ struct ModelSearch {
 // Row and least stage of each op (the counter last), per table found, until `accept` says true.
 using TableAccept = std::function<bool(const std::vector<int>& rows, const std::vector<int>& stages)>;
 
+// Whether propagation at the root alone leaves any table (false: none exists; true: maybe).
+bool tables_may_exist(const ModelProblem& p, BackEdgeRule rule);
+
+// Stops with Timeout at the deadline or, when `node_limit` > 0, after that many search nodes (a
+// budget that gives the same answer on any host, for what the build makes).
 ModelSearch search_tables(const ModelProblem& p, BackEdgeRule rule, std::chrono::steady_clock::time_point deadline,
-                          const TableAccept& accept);
+                          const TableAccept& accept, std::uint64_t node_limit = 0);
 
 } // namespace nesshi::sched::pipe

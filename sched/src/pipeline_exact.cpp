@@ -23,19 +23,6 @@
 namespace nesshi::sched::pipe {
 namespace {
 
-ModelOp model_op(const isa::Machine& m, const isa::Instr& in) {
-    ModelOp op;
-    op.latency = static_cast<int>(m.latency_of(in.info()));
-    for (const isa::RegOperand& o : isa::register_operands(in)) {
-        const std::size_t f = static_cast<std::size_t>(o.file);
-        if (o.write) ++op.writes[f], op.written.emplace_back(static_cast<int>(f), o.reg);
-        else ++op.reads[f];
-    }
-    for (std::size_t s = 0; s < m.slots.size(); ++s)
-        if (m.slots[s].accepts(in.info().cls)) op.slots |= 1u << s;
-    return op;
-}
-
 ModelProblem problem_of(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter) {
     ModelProblem p;
     p.ii = ii;

@@ -81,3 +81,36 @@ TEST_CASE("exact model: slots by Hall sets, edges as stages, a full port, no tim
               return true;
           }).outcome == ModelSearch::Timeout);
 }
+
+TEST_CASE("exact model: a straight block, its length the II, results landed by its end", "[unit][sched][exact]") {
+    // Three ops on one slot, the second needing the first's 3-cycle result: 0 at 0, 2 at 1 or
+    // 2, 1 at 3, landing by 4. No branch.
+    ModelProblem p;
+    p.slot_count = 1;
+    p.read_ports = {4, 4};
+    p.write_ports = {4, 4};
+    ModelOp op;
+    op.slots = 0b1;
+    p.ops.assign(3, op);
+    p.ops[0].latency = 3;
+    p.edges.push_back({0, 1, 3, 0});
+    p.has_branch = false;
+    p.straight = true;
+    auto at = [&](int length) {
+        p.ii = length;
+        p.latest = {length - 3, length - 1, length - 1};
+        return p;
+    };
+    CHECK_FALSE(nesshi::sched::pipe::tables_may_exist(at(3), {}));
+    std::set<std::vector<int>> seen;
+    const ModelSearch s = search_tables(at(4), {}, soon(), [&](const std::vector<int>& rows, const std::vector<int>& stages) {
+        seen.insert(rows);
+        CHECK(stages == std::vector<int>{0, 0, 0});
+        return false;
+    });
+    CHECK(s.outcome == ModelSearch::Exhausted);
+    CHECK(seen == std::set<std::vector<int>>{{0, 3, 1}, {0, 3, 2}});
+    // A node budget stops the search the same way on every host.
+    CHECK(search_tables(at(40), {}, soon(), [](const std::vector<int>&, const std::vector<int>&) { return false; }, 5).outcome ==
+          ModelSearch::Timeout);
+}

@@ -31,6 +31,7 @@
 #include "isa/encoding.hpp"
 #include "isa/machine.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -42,6 +43,20 @@ namespace nesshi::sched {
 // The bundles of one block: op indices, each bundle in program order; an empty bundle is a nop.
 std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> ops);
 
+// The list schedule shortened by a constraint model (Gecode, the pipeliner's --exact model with
+// one pass): a block one bundle shorter than the best so far, while the search finds one within
+// `node_budget` nodes (a budget, not a time, so every host builds the same code; 0 keeps the list
+// schedule). The model's propagation alone refutes lengths below `fewest`: a block of that many
+// bundles is proven shortest. pack_source uses it with kBlockSearchNodes.
+struct BlockSchedule {
+    std::vector<std::vector<int>> bundles;
+    int list_bundles = 0; // the list schedule's length
+    int fewest = 0;       // no schedule is shorter (the dependences, then the model's refutations)
+    bool shortest() const { return static_cast<int>(bundles.size()) <= fewest; }
+};
+BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> ops, std::uint64_t node_budget);
+inline constexpr std::uint64_t kBlockSearchNodes = 300;
+
 // Slots for one bundle's ops (in program order) with FIFO words, and writes of one register, in
 // ascending slot order: the first such assignment in lexicographic order, or empty when none exists.
 std::vector<int> ordered_slots(const isa::Machine& m, std::span<const isa::Instr> ops);
@@ -50,6 +65,9 @@ struct BlockStats {
     int line = 0;    // of its `#pack begin`
     int ops = 0;
     int bundles = 0; // nops included
+    int list_bundles = 0;  // before the constraint model shortened it
+    int fewest = 0;        // no schedule of the block's ops is shorter
+    bool shortest = false; // bundles == fewest
 };
 
 struct PackResult {
