@@ -18,7 +18,7 @@ nlohmann::json build_json(const KernelBuild& b) {
     nlohmann::json loops = nlohmann::json::array();
     for (const KernelLoop& l : b.loops) loops.push_back(loop_json(l));
     return {{"source", b.source}, {"machine", b.machine}, {"scheduled", b.scheduled},   {"blocks", b.blocks},
-            {"nops", b.nops},     {"choice", b.choice},   {"candidates", b.candidates}, {"loops", loops},
+            {"blocks_shortest", b.blocks_shortest}, {"nops", b.nops},     {"choice", b.choice},   {"candidates", b.candidates}, {"loops", loops},
             {"loop_report", b.loop_report}};
 }
 
@@ -28,6 +28,7 @@ KernelBuild build_from_json(const nlohmann::json& j) {
     b.machine = j.at("machine");
     b.scheduled = j.at("scheduled");
     b.blocks = j.at("blocks");
+    b.blocks_shortest = j.at("blocks_shortest");
     b.nops = j.at("nops");
     b.choice = j.at("choice");
     b.candidates = j.at("candidates");

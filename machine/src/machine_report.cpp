@@ -94,7 +94,7 @@ nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions
     if (m.os_kernel.scheduled || m.ic_kernel.scheduled || !m.os_kernel.choice.empty() || !m.ic_kernel.choice.empty()) {
         auto build = [](const KernelBuild& b) {
             nlohmann::json j{{"source", b.source}, {"machine", b.machine}, {"scheduled", b.scheduled},
-                             {"blocks", b.blocks}, {"nops_inserted", b.nops}};
+                             {"blocks", b.blocks}, {"blocks_shortest", b.blocks_shortest}, {"nops_inserted", b.nops}};
             if (!b.choice.empty()) j["choice"] = b.choice;
             if (!b.loops.empty()) {
                 j["loops"] = nlohmann::json::array();
@@ -153,8 +153,9 @@ std::string format_stats(const Stats& m) {
                                      "(longest path {})",
                                      l.is_while ? "while" : "counted", l.line, l.ii, l.mii, l.stages, l.stages == 1 ? "" : "s",
                                      l.unroll, l.iteration, l.longest_path);
-            o += fmt::format("{} kernel: {} scheduled for {} ({} blocks; {} nop bundle{} in its hand-scheduled code for the latencies{})\n",
-                             stage, b->source, b->machine, b->blocks, b->nops, b->nops == 1 ? "" : "s", loops);
+            o += fmt::format("{} kernel: {} scheduled for {} ({} blocks, {} proven shortest; {} nop bundle{} in its hand-scheduled "
+                             "code for the latencies{})\n",
+                             stage, b->source, b->machine, b->blocks, b->blocks_shortest, b->nops, b->nops == 1 ? "" : "s", loops);
         }
         if (!b->choice.empty()) o += fmt::format("{} kernel for {}: {}\n", stage, b->machine, b->choice);
     }

@@ -179,6 +179,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
         out.text = packed.text;
         b.scheduled = true;
         b.blocks = static_cast<int>(pr.blocks.size());
+        b.blocks_shortest = static_cast<int>(std::count_if(pr.blocks.begin(), pr.blocks.end(), [](const sched::BlockStats& s) { return s.shortest; }));
         b.nops = hand.nops + region_nops + packed.nops;
     } catch (const base::Error& e) {
         throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name + "' (" +

@@ -169,6 +169,9 @@ TEST_CASE("A kernel scheduled once for a machine is the same program when asked 
     CHECK(again.scheduled);
     CHECK(again.source == first.source);
     CHECK(again.blocks == first.blocks);
+    CHECK(again.blocks_shortest == first.blocks_shortest);
+    CHECK(first.blocks_shortest > 0); // the constraint model proves most blocks shortest
+    CHECK(first.blocks_shortest <= first.blocks);
     CHECK(again.nops == first.nops);
     REQUIRE(a->size() == b->size());
     for (std::size_t i = 0; i < a->size(); ++i) CHECK(a->format_bundle(i) == b->format_bundle(i));

@@ -22,6 +22,7 @@ struct KernelBuild {
     std::string machine;  // the machine's name
     bool scheduled = false; // its straight-line blocks were scheduled for the machine
     int blocks = 0;         // how many
+    int blocks_shortest = 0; // of them, proven shortest (sched::block_schedule)
     int nops = 0;           // nop bundles inserted into its hand-scheduled code for the machine's latencies
     std::string choice;     // when the committed kernel was also a candidate: which was kept, and the cycles of both
     int candidates = 1;     // kernels measured against each other for the choice (1: none)
