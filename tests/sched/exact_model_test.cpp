@@ -16,18 +16,24 @@ using nesshi::sched::pipe::search_tables;
 
 namespace {
 
-// `n` ops at II 2 on two slots that take anything, the branch in row 1: row 0 holds two ops and
-// row 1 one, so with three ops (the counter among them) each table is which op goes to row 1.
-ModelProblem three_in_two_rows() {
+// `n` ops on `slots` slots that take anything, ports never short.
+ModelProblem ops_on_slots(int n, int slots) {
     ModelProblem p;
-    p.ii = 2;
-    p.slot_count = 2;
+    p.slot_count = slots;
     p.read_ports = {4, 4};
     p.write_ports = {4, 4};
     ModelOp any;
-    any.slots = 0b11;
-    p.ops.assign(3, any);
+    any.slots = (1u << slots) - 1;
+    p.ops.assign(static_cast<std::size_t>(n), any);
     p.branch = any;
+    return p;
+}
+
+// Three ops at II 2 on two slots, the branch in row 1: row 0 holds two ops and row 1 one, so
+// (the counter among them) each table is which op goes to row 1.
+ModelProblem three_in_two_rows() {
+    ModelProblem p = ops_on_slots(3, 2);
+    p.ii = 2;
     return p;
 }
 
@@ -85,13 +91,7 @@ TEST_CASE("exact model: slots by Hall sets, edges as stages, a full port, no tim
 TEST_CASE("exact model: a straight block, its length the II, results landed by its end", "[unit][sched][exact]") {
     // Three ops on one slot, the second needing the first's 3-cycle result: 0 at 0, 2 at 1 or
     // 2, 1 at 3, landing by 4. No branch.
-    ModelProblem p;
-    p.slot_count = 1;
-    p.read_ports = {4, 4};
-    p.write_ports = {4, 4};
-    ModelOp op;
-    op.slots = 0b1;
-    p.ops.assign(3, op);
+    ModelProblem p = ops_on_slots(3, 1);
     p.ops[0].latency = 3;
     p.edges.push_back({0, 1, 3, 0});
     p.has_branch = false;
