@@ -44,7 +44,10 @@ function(nesshi_install_package)
       string(APPEND libs " -l${t}")
     endif()
   endforeach()
-  set(NESSHI_PC_LIBS "${libs}")
+  # Then what those static libraries link from the system without a pkg-config module of its
+  # own here (the scheduler's z3 and Gecode: sched/CMakeLists.txt).
+  get_property(dependency_libs GLOBAL PROPERTY NESSHI_PC_DEPENDENCY_LIBS)
+  set(NESSHI_PC_LIBS "${libs}${dependency_libs}")
   set(NESSHI_PC_REQUIRES "fmt nlohmann_json tomlplusplus libpng libedit")
   if(NESSHI_HAVE_MPI)
     string(APPEND NESSHI_PC_REQUIRES " ompi-cxx")

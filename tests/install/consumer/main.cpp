@@ -1,9 +1,11 @@
 // An outside program built against an installed Nesshisen (find_package or pkg-config): assembles
-// a bundle for the os preset, runs it on the simulator and reads the statistics.
+// a bundle for the os preset, runs it on the simulator and reads the statistics, and bundles a
+// straight-line block with the scheduler.
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
+#include "sched/block.hpp"
 
 #include <cstdio>
 
@@ -20,5 +22,8 @@ int main() {
     const iss::Stats s = iss::compute_stats(p);
     std::printf("r3 = %u after %llu cycles, %llu ops\n", p.reg(3), static_cast<unsigned long long>(s.cycles),
                 static_cast<unsigned long long>(s.ops));
+    // The scheduler too (it links z3 and Gecode): two independent ops packed into one bundle.
+    const sched::PackResult packed = sched::pack_source("#pack begin\n        li r1, 6\n        li r2, 7\n#pack end\n        halt\n", "t.pk", m);
+    if (packed.blocks.size() != 1 || packed.blocks[0].bundles != 1) return 1;
     return p.reg(3) == 42 ? 0 : 1;
 }
