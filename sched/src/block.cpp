@@ -185,15 +185,29 @@ std::vector<int> ordered_slots(const isa::Machine& m, std::span<const isa::Instr
     return {};
 }
 
-std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> instrs) {
-    const int n = static_cast<int>(instrs.size());
+namespace {
+
+// The block's ops as the schedulers see them, and their dependences.
+struct Described {
     std::vector<BlockOp> ops;
-    for (const isa::Instr& in : instrs) ops.push_back(describe(m, in));
+    std::vector<std::vector<Pred>> preds;
+};
+
+Described describe_block(const isa::Machine& m, std::span<const isa::Instr> instrs) {
+    Described d;
+    for (const isa::Instr& in : instrs) d.ops.push_back(describe(m, in));
+    d.preds = dependences(d.ops);
+    return d;
+}
+
+std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> instrs, const Described& d) {
+    const int n = static_cast<int>(instrs.size());
+    const std::vector<BlockOp>& ops = d.ops;
+    const auto& preds = d.preds;
     for (int j = 0; j + 1 < n; ++j)
         if (ops[static_cast<std::size_t>(j)].barrier)
             throw std::invalid_argument(fmt::format("list_schedule: '{}' is op {} of {}; a block's control operation comes last",
                                                     instrs[static_cast<std::size_t>(j)].info().mnemonic, j + 1, n));
-    const auto preds = dependences(ops);
     const std::vector<int> prio = priorities(m, ops, preds);
     // Every op is ready by the sum of all latencies plus one cycle each; a cycle past that means
     // an op no bundle can take (an op no slot accepts on this machine), not a slow schedule.
@@ -268,6 +282,12 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
     return bundles;
 }
 
+} // namespace
+
+std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<const isa::Instr> instrs) {
+    return list_schedule(m, instrs, describe_block(m, instrs));
+}
+
 namespace {
 
 // Block op i of the model: its issue cycle at most latest[i] in a block of `length` bundles. Its
@@ -289,14 +309,14 @@ std::vector<int> latest_issue(std::span<const BlockOp> ops, const std::vector<st
 } // namespace
 
 BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> instrs, std::uint64_t node_budget) {
+    const Described d = describe_block(m, instrs);
     BlockSchedule out;
-    out.bundles = list_schedule(m, instrs);
+    out.bundles = list_schedule(m, instrs, d);
     out.list_bundles = static_cast<int>(out.bundles.size());
     if (node_budget == 0 || instrs.size() < 2) return out;
     std::vector<std::vector<int>>& best = out.bundles;
-    std::vector<BlockOp> ops;
-    for (const isa::Instr& in : instrs) ops.push_back(describe(m, in));
-    const auto preds = dependences(ops);
+    const std::vector<BlockOp>& ops = d.ops;
+    const auto& preds = d.preds;
     const bool barrier = ops.back().barrier;
     const int n = static_cast<int>(ops.size()) - (barrier ? 1 : 0); // the model's ops
     // Nothing is shorter than the longest dependence path to the last landing.
@@ -306,10 +326,7 @@ BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> 
         for (const Pred& p : preds[j]) asap[j] = std::max(asap[j], asap[static_cast<std::size_t>(p.op)] + std::max(p.distance, 0));
         shortest = std::max(shortest, asap[j] + (ops[j].barrier ? 1 : ops[j].latency));
     }
-    pipe::ModelProblem p;
-    p.slot_count = static_cast<int>(m.slots.size());
-    for (std::size_t f = 0; f < m.regs.size(); ++f)
-        p.read_ports[f] = static_cast<int>(m.regs[f].read_ports), p.write_ports[f] = static_cast<int>(m.regs[f].write_ports);
+    pipe::ModelProblem p = pipe::machine_problem(m); // its bubble is unused: a block has no back edge
     for (int i = 0; i < n; ++i) p.ops.push_back(pipe::model_op(m, instrs[static_cast<std::size_t>(i)]));
     p.has_branch = barrier;
     if (barrier) p.branch = pipe::model_op(m, instrs.back());

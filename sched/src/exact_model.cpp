@@ -305,6 +305,15 @@ class Budget : public Search::Stop {
 
 } // namespace
 
+ModelProblem machine_problem(const isa::Machine& m) {
+    ModelProblem p;
+    p.slot_count = static_cast<int>(m.slots.size());
+    for (std::size_t f = 0; f < m.regs.size(); ++f)
+        p.read_ports[f] = static_cast<int>(m.regs[f].read_ports), p.write_ports[f] = static_cast<int>(m.regs[f].write_ports);
+    p.bubble = static_cast<int>(m.branch_penalty);
+    return p;
+}
+
 ModelOp model_op(const isa::Machine& m, const isa::Instr& in) {
     ModelOp op;
     op.latency = static_cast<int>(m.latency_of(in.info()));

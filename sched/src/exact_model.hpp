@@ -59,6 +59,9 @@ struct ModelProblem {
     std::vector<ModelFlight> flights;
 };
 
+// A problem with `m`'s slots, register ports and taken-branch bubble, and nothing else yet.
+ModelProblem machine_problem(const isa::Machine& m);
+
 // Which back-edge rule the tables keep on a machine with a bubble: none, the rule of a kernel of
 // `copies` copies (kernel_landings_ok with its entry nops), or with copies = 0 the rule for any
 // number of copies from the write depth up (where it no longer changes).

@@ -24,12 +24,8 @@ namespace nesshi::sched::pipe {
 namespace {
 
 ModelProblem problem_of(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter) {
-    ModelProblem p;
+    ModelProblem p = machine_problem(m);
     p.ii = ii;
-    p.slot_count = static_cast<int>(m.slots.size());
-    for (std::size_t f = 0; f < m.regs.size(); ++f)
-        p.read_ports[f] = static_cast<int>(m.regs[f].read_ports), p.write_ports[f] = static_cast<int>(m.regs[f].write_ports);
-    p.bubble = static_cast<int>(m.branch_penalty);
     for (const Node& nd : g.nodes) p.ops.push_back(model_op(m, nd.instr));
     p.ops.push_back(model_op(m, counter));
     p.branch = model_op(m, branch);
