@@ -58,7 +58,9 @@ struct Pred {
     int distance; // this op issues at least `distance` cycles after `op`
 };
 
-std::vector<std::vector<Pred>> dependences(std::span<const BlockOp> ops) {
+// `grace`: cycles a result may land after the block's end (its final jump's bubble, when no code
+// of the block or of its target issues).
+std::vector<std::vector<Pred>> dependences(std::span<const BlockOp> ops, int grace) {
     const int n = static_cast<int>(ops.size());
     std::vector<std::vector<Pred>> preds(static_cast<std::size_t>(n));
     std::map<std::pair<int, int>, int> last_write;
@@ -86,7 +88,7 @@ std::vector<std::vector<Pred>> dependences(std::span<const BlockOp> ops) {
         if (op.channel)
             if (auto c = channel_last.find(*op.channel); c != channel_last.end()) p.push_back({c->second, 0});
         if (op.barrier)
-            for (int i = 0; i < j; ++i) p.push_back({i, std::max(ops[static_cast<std::size_t>(i)].latency - 1, 0)});
+            for (int i = 0; i < j; ++i) p.push_back({i, std::max(ops[static_cast<std::size_t>(i)].latency - 1 - grace, 0)});
         for (const auto& s : op.srcs) readers[s].push_back(j);
         if (op.dst) {
             last_write[*op.dst] = j;
@@ -187,16 +189,24 @@ std::vector<int> ordered_slots(const isa::Machine& m, std::span<const isa::Instr
 
 namespace {
 
-// The block's ops as the schedulers see them, and their dependences.
+// The block's ops as the schedulers see them, and their dependences. A block that ends in an
+// unconditional jump (j, jr) lets its results land during the jump's taken-branch bubble: the
+// target's first bundle issues branch_penalty cycles after the block's end, and no bundle issues
+// in between (the assembler's hazard check charges the jump 1 + branch_penalty cycles too).
 struct Described {
     std::vector<BlockOp> ops;
     std::vector<std::vector<Pred>> preds;
+    int grace = 0; // cycles after the block's end by which every result lands
 };
 
 Described describe_block(const isa::Machine& m, std::span<const isa::Instr> instrs) {
     Described d;
     for (const isa::Instr& in : instrs) d.ops.push_back(describe(m, in));
-    d.preds = dependences(d.ops);
+    if (!instrs.empty()) {
+        const isa::Kind last = instrs.back().info().kind;
+        if (last == isa::Kind::Jump || last == isa::Kind::JumpReg) d.grace = static_cast<int>(m.branch_penalty);
+    }
+    d.preds = dependences(d.ops, d.grace);
     return d;
 }
 
@@ -291,13 +301,15 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
 namespace {
 
 // Block op i of the model: its issue cycle at most latest[i] in a block of `length` bundles. Its
-// result lands by the end, and the block's final control op (the model's pinned branch) waits
-// for its dependences.
-std::vector<int> latest_issue(std::span<const BlockOp> ops, const std::vector<std::vector<Pred>>& preds, int length) {
+// result lands by the end (and the grace after it), and the block's final control op (the
+// model's pinned branch) waits for its dependences.
+std::vector<int> latest_issue(const Described& d, int length) {
+    const std::vector<BlockOp>& ops = d.ops;
+    const auto& preds = d.preds;
     const bool barrier = !ops.empty() && ops.back().barrier;
     const std::size_t n = ops.size() - (barrier ? 1 : 0);
     std::vector<int> latest(n);
-    for (std::size_t i = 0; i < n; ++i) latest[i] = length - ops[i].latency;
+    for (std::size_t i = 0; i < n; ++i) latest[i] = length - ops[i].latency + d.grace;
     if (barrier)
         for (const Pred& p : preds.back()) {
             int& l = latest[static_cast<std::size_t>(p.op)];
@@ -319,12 +331,13 @@ BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> 
     const auto& preds = d.preds;
     const bool barrier = ops.back().barrier;
     const int n = static_cast<int>(ops.size()) - (barrier ? 1 : 0); // the model's ops
-    // Nothing is shorter than the longest dependence path to the last landing.
+    // Nothing is shorter than the longest dependence path to the last landing (or the last
+    // issue, where the final jump's bubble leaves time to land).
     std::vector<int> asap(ops.size(), 0);
     int shortest = 1;
     for (std::size_t j = 0; j < ops.size(); ++j) {
         for (const Pred& p : preds[j]) asap[j] = std::max(asap[j], asap[static_cast<std::size_t>(p.op)] + std::max(p.distance, 0));
-        shortest = std::max(shortest, asap[j] + (ops[j].barrier ? 1 : ops[j].latency));
+        shortest = std::max(shortest, asap[j] + (ops[j].barrier ? 1 : std::max(ops[j].latency - d.grace, 1)));
     }
     pipe::ModelProblem p = pipe::machine_problem(m); // its bubble is unused: a block has no back edge
     for (int i = 0; i < n; ++i) p.ops.push_back(pipe::model_op(m, instrs[static_cast<std::size_t>(i)]));
@@ -337,7 +350,7 @@ BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> 
         for (const Pred& d : preds[static_cast<std::size_t>(j)]) p.edges.push_back({d.op, j, std::max(d.distance, 0), 0});
     auto at_length = [&](int length) {
         p.ii = length;
-        p.latest = latest_issue(ops, preds, length);
+        p.latest = latest_issue(d, length);
         return p;
     };
     // The fewest bundles the model's propagation alone does not refute: no block is shorter (a

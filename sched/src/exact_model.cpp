@@ -52,7 +52,8 @@ class TableSpace : public Space {
         time = IntVarArray(*this, n, 0, most_stages * ii_ + last);
         for (int i = 0; i < n; ++i) linear(*this, IntArgs({1, -ii_, -1}), IntVarArgs({time[i], stage[i], row[i]}), IRT_EQ, 0);
         // A block's results land by its end (so the landings never wrap onto its rows but at 0,
-        // where nothing else lands).
+        // where nothing else lands), or by the end of its final jump's bubble: those wrap onto
+        // the first rows, where they only count against ports more than they need to.
         if (p.straight)
             for (int i = 0; i < n; ++i) rel(*this, time[i], IRT_LQ, p.latest[static_cast<std::size_t>(i)]);
         // Edge latencies are never negative, so a stage of II + bubble around the back edge asks

@@ -51,8 +51,8 @@ struct ModelProblem {
     ModelOp branch;                 // fixed in row II - 1
     bool has_branch = true;         // false: no op is fixed in the last row
     // A straight-line block of II cycles: every op in stage 0, op i issued by cycle latest[i] (so
-    // that it lands by the block's end, and before the block's branch as far as that needs); the
-    // edges have distance 0.
+    // that it lands by the block's end or its final jump's bubble, and before the block's branch
+    // as far as that needs); the edges have distance 0.
     bool straight = false;
     std::vector<int> latest;
     std::vector<ModelEdge> edges;

@@ -19,7 +19,8 @@
 // (true: the producer's latency; anti: a reader issues no later than the overwriting producer
 // lands, i.e. distance 1 - latency; output: writes land in order; memory: loads and stores keep
 // their order except load/load; FIFO words of a channel keep their order; a branch or halt waits
-// for every earlier op to land and stays last). Among ready ops the one with the longest path to
+// for every earlier op to land and stays last; an unconditional jump lets them land during its
+// taken-branch bubble, when nothing issues). Among ready ops the one with the longest path to
 // the block's end goes first; ops that only the integer units accept are also ranked by how many
 // of them follow, since those units are the scarce ones. Slots come from the machine description
 // (in a bundle with FIFO words, in program order, because the ISS moves a bundle's words in slot
