@@ -13,14 +13,17 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cctype>
 #include <deque>
+#include <exception>
 #include <map>
 #include <numeric>
 #include <optional>
 #include <set>
 #include <stdexcept>
+#include <thread>
 
 namespace nesshi::sched {
 
@@ -542,6 +545,32 @@ std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, 
 
 namespace {
 
+// Each block's schedule, on as many threads as the host has (blocks are independent and each
+// search is deterministic, so the code is the same on any host); a block's exception is
+// rethrown, the first block's first.
+std::vector<BlockSchedule> schedule_blocks(const isa::Machine& m, const std::vector<std::vector<isa::Instr>>& blocks) {
+    std::vector<BlockSchedule> out(blocks.size());
+    std::vector<std::exception_ptr> failed(blocks.size());
+    std::atomic<std::size_t> next{0};
+    auto work = [&] {
+        for (std::size_t k = next++; k < blocks.size(); k = next++) {
+            try {
+                out[k] = block_schedule(m, blocks[k], kBlockSearchNodes);
+            } catch (...) {
+                failed[k] = std::current_exception();
+            }
+        }
+    };
+    const std::size_t threads = std::min<std::size_t>(blocks.size(), std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
+    return out;
+}
+
 PackResult pack_expanded(std::string_view text, std::string_view filename, const isa::Machine& m,
                          const assembler::AsmOptions& opts) {
     const std::vector<std::string> lines = split_lines(text);
@@ -623,6 +652,24 @@ PackResult pack_expanded(std::string_view text, std::string_view filename, const
             by_line[static_cast<int>(le.line)] = decoded[b][0];
     }
 
+    std::vector<std::vector<isa::Instr>> block_instrs;
+    for (const Block& b : blocks) {
+        std::vector<isa::Instr>& instrs = block_instrs.emplace_back();
+        for (int l : b.lines) {
+            const auto it = by_line.find(l);
+            if (it == by_line.end())
+                throw base::Error(base::SourceLoc(filename, b.begin_line), "an op of this block did not assemble to one operation");
+            instrs.push_back(it->second);
+        }
+        for (std::size_t k = 0; k + 1 < instrs.size(); ++k)
+            if (describe(m, instrs[k]).barrier)
+                throw base::Error(base::SourceLoc(filename, source_line[static_cast<std::size_t>(b.lines[k])]),
+                                  fmt::format("'{}' before the end of a '#pack' block: a block is straight-line code, "
+                                              "its one control operation (a branch or halt) is its last",
+                                              instrs[k].info().mnemonic));
+    }
+    const std::vector<BlockSchedule> schedules = schedule_blocks(m, block_instrs);
+
     PackResult out;
     std::size_t next_block = 0;
     bool in_block = false;
@@ -636,21 +683,9 @@ PackResult pack_expanded(std::string_view text, std::string_view filename, const
         }
         if (marker(s, "#pack end")) {
             in_block = false;
-            const Block& b = blocks[next_block++];
-            std::vector<isa::Instr> instrs;
-            for (int l : b.lines) {
-                const auto it = by_line.find(l);
-                if (it == by_line.end())
-                    throw base::Error(base::SourceLoc(filename, b.begin_line), "an op of this block did not assemble to one operation");
-                instrs.push_back(it->second);
-            }
-            for (std::size_t k = 0; k + 1 < instrs.size(); ++k)
-                if (describe(m, instrs[k]).barrier)
-                    throw base::Error(base::SourceLoc(filename, source_line[static_cast<std::size_t>(b.lines[k])]),
-                                      fmt::format("'{}' before the end of a '#pack' block: a block is straight-line code, "
-                                                  "its one control operation (a branch or halt) is its last",
-                                                  instrs[k].info().mnemonic));
-            const BlockSchedule scheduled = block_schedule(m, instrs, kBlockSearchNodes);
+            const Block& b = blocks[next_block];
+            const std::vector<isa::Instr>& instrs = block_instrs[next_block];
+            const BlockSchedule& scheduled = schedules[next_block++];
             const auto& bundles = scheduled.bundles;
             for (const auto& bundle : bundles) {
                 if (bundle.empty()) {
