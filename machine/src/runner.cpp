@@ -20,6 +20,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <future>
 #include <map>
 #include <mutex>
 #include <bit>
@@ -293,12 +294,21 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         all.push_back(std::move(k));
     }
     const std::vector<std::string> pks = candidate_sources(sources, path);
-    for (const std::string& pk : pks) {
+    // The sources are scheduled side by side (each search is deterministic; the first machine
+    // a user describes waits for the longest one, not for their sum).
+    std::vector<std::future<Scheduled>> scheduling;
+    for (const std::string& pk : pks)
+        scheduling.push_back(pk == pks.front() && preset ? std::future<Scheduled>{}
+                                                         : std::async(std::launch::async, [&, pk] {
+                                                               return cached_schedule_source(sources, pk, m, opts, pk != pks.front());
+                                                           }));
+    for (std::size_t i = 0; i < pks.size(); ++i) {
+        const std::string& pk = pks[i];
         const bool main = pk == pks.front(); // it must schedule and assemble; an alternative may not
         if (main && preset) continue;
         Candidate k;
         try {
-            k.s = cached_schedule_source(sources, pk, m, opts, !main);
+            k.s = scheduling[i].get();
         } catch (const std::runtime_error& e) {
             if (main) throw;
             out.dropped.push_back(pk + " not scheduled (" + first_error(e.what()) + ")");
