@@ -74,11 +74,11 @@ void corpus(const std::string& dir) {
     for (const auto& e : std::filesystem::directory_iterator(dir))
         if (e.path().extension() == ".sa") files.push_back(e.path());
     std::sort(files.begin(), files.end());
-    fmt::print("{:<14} {:<8} {:>4} {:>6} {:>6} {:>4} {:>6} {:>6} {:>5} {:>9} {:>8} {:>4} {:>8}\n", "loop", "machine", "ops",
-               "ResMII", "RecMII", "II", "stages", "copies", "regs", "per iter", "/ MII", "ok", "ms");
+    fmt::print("{:<14} {:<8} {:>4} {:>6} {:>6} {:>5} {:>4} {:>6} {:>6} {:>5} {:>9} {:>8} {:>4} {:>8}\n", "loop", "machine", "ops",
+               "ResMII", "RecMII", "bound", "II", "stages", "copies", "regs", "per iter", "/ MII", "ok", "ms");
     for (const char* name : {"os", "os-real", "ic", "ic-real"}) {
         const isa::Machine m = isa::load_machine(name);
-        int n = 0, ok = 0, at_mii = 0;
+        int n = 0, ok = 0, at_mii = 0, at_bound = 0;
         for (const auto& f : files) {
             std::ifstream in(f);
             std::stringstream ss;
@@ -95,24 +95,28 @@ void corpus(const std::string& dir) {
                 const double per = l.trip ? static_cast<double>(l.trip->chosen.cycles) / l.trip->expected
                                           : static_cast<double>(l.unroll * l.groups * l.ii + static_cast<int>(m.branch_penalty)) /
                                                 (l.unroll * l.groups);
-                const bool good = per <= 1.10 * l.mii + (m.branch_penalty > 0 ? 0.25 : 0.0);
+                const bool good = per <= 1.10 * l.proven_mii + (m.branch_penalty > 0 ? 0.25 : 0.0);
                 ++n;
                 ok += good;
                 at_mii += l.ii == l.mii;
+                at_bound += l.ii == l.proven_mii;
                 const std::size_t ops = std::count(text.begin() + static_cast<std::ptrdiff_t>(text.find(".pipeline")),
                                                    text.begin() + static_cast<std::ptrdiff_t>(text.find(".endpipeline")), '\n');
                 const std::string copies = l.groups == 1 ? fmt::format("{}", l.unroll) : fmt::format("{}x{}", l.unroll, l.groups);
-                fmt::print("{:<14} {:<8} {:>4} {:>6} {:>6} {:>4} {:>6} {:>6} {:>5} {:>9.2f} {:>8.3f} {:>4} {:>8.1f}\n", loop, name, ops,
-                           l.res_mii, l.rec_mii, l.ii, l.stages, copies, r.scratch.size(), per, per / l.mii, good ? "yes" : "no", ms);
+                fmt::print("{:<14} {:<8} {:>4} {:>6} {:>6} {:>5} {:>4} {:>6} {:>6} {:>5} {:>9.2f} {:>8.3f} {:>4} {:>8.1f}\n", loop, name,
+                           ops, l.res_mii, l.rec_mii, l.proven_mii, l.ii, l.stages, copies, r.scratch.size(), per, per / l.mii,
+                           good ? "yes" : "no", ms);
             } catch (const std::exception& e) {
                 fmt::print("{:<14} {:<8} failed: {}\n", loop, name, std::string(e.what()).substr(0, 120));
             }
         }
-        fmt::print("{:<14} {:<8} {} of {} within MII x 1.10{}, {} at II = MII\n", "", name, ok, n,
-                   m.branch_penalty > 0 ? " + 0.25" : "", at_mii);
+        fmt::print("{:<14} {:<8} {} of {} within bound x 1.10{}, {} at II = MII, {} at II = bound\n", "", name, ok, n,
+                   m.branch_penalty > 0 ? " + 0.25" : "", at_mii, at_bound);
     }
     fmt::print("per iter: the whole run per iteration at the loop's .trip count (a while loop: its kernel per iteration,\n"
-               "bubble included); ops: the region's lines; regs: registers the tool allocated; ms: pipeline_source.\n");
+               "bubble included); ops: the region's lines; regs: registers the tool allocated; ms: pipeline_source;\n"
+               "bound: the least II with a modulo schedule, as far as proven: MII, or above it where the constraint model\n"
+               "proves that none exists (nesshi pipeline's report says why); ok: per iter within bound x 1.10 (+0.25).\n");
 }
 
 // `--exact S`: the random counted loops the heuristic leaves above their MII, again with

@@ -8,7 +8,7 @@ namespace nesshi::sched {
 
 std::string LoopSummary::json() const {
     nlohmann::ordered_json j = {{"line", line},       {"while", is_while},   {"ii", ii},
-                                {"mii", mii},         {"res_mii", res_mii},  {"rec_mii", rec_mii},
+                                {"mii", mii},         {"proven_mii", proven_mii}, {"res_mii", res_mii},  {"rec_mii", rec_mii},
                                 {"stages", stages},   {"unroll", unroll},    {"groups", groups},
                                 {"iteration", iteration_cycles},
                                 {"longest_path", iteration_lower},              {"trip", nullptr}};

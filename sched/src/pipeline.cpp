@@ -755,15 +755,26 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // Why each II below the one taken failed, for the report: runs of IIs that failed alike.
     struct Tried {
         int first, last;
-        int kind; // 0: no stage numbers satisfy the recurrences, 1: no modulo schedule, 2: none assembled
+        // 0: no stage numbers satisfy the recurrences, 1: no modulo schedule found, 2: none
+        // assembled, 3: none exists (the constraint model), 4: one exists that the search missed
+        int kind;
         std::string detail;
     };
     std::vector<Tried> tried;
+    // An II the search found nothing at: the constraint model (pipeline_exact.hpp), within a node
+    // budget, tells whether a table exists (counted loops; the model does not search while loops).
+    auto decide = [&](int ii) {
+        if (r.is_while) return 1;
+        const ExactRun ex = exact_schedule(g, m, ii, branch, counter, Clock::time_point::max(), [](const Schedule&) { return true; },
+                                           kProofNodes);
+        return ex.outcome == ExactOutcome::Exhausted ? 3 : ex.outcome == ExactOutcome::Accepted ? 4 : 1;
+    };
     for (int ii = lo, unscheduled = 0; ii <= hi; ++ii) {
         const int before_ii = scheduled_count;
         const bool feasible = feasible_ii(g, ii);
         if (feasible && (by_trip ? try_ii_trip(ii) : try_ii(ii, std::nullopt))) break;
-        const int kind = !feasible ? 0 : scheduled_count == before_ii ? 1 : 2;
+        int kind = !feasible ? 0 : scheduled_count == before_ii ? 1 : 2;
+        if (kind == 1) kind = decide(ii);
         const std::string detail = kind == 2 ? why_not.substr(std::min(why_not.size(), why_not.find(": ") + 2)) : "";
         if (!tried.empty() && tried.back().kind == kind && tried.back().last + 1 == ii)
             tried.back().last = ii, tried.back().detail = detail;
@@ -860,8 +871,11 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     if (r.is_while) res.exit_stage = sched->time[static_cast<std::size_t>(r.exit_op)] / sched->ii;
     res.scratch = alloc.scratch;
     res.min_trip = by_trip ? trip.min : 0;
-    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll, res.groups,
-                  choice, res.iteration_cycles, res.iteration_lower, {}}};
+    int proven_mii = res.mii;
+    for (const Tried& t : tried)
+        if (t.first <= proven_mii && proven_mii <= t.last && (t.kind == 0 || t.kind == 3)) proven_mii = t.last + 1;
+    res.loops = {{static_cast<int>(r.begin + 1), r.is_while, res.ii, res.mii, res.res_mii, res.rec_mii, res.stages, res.unroll,
+                  std::min(proven_mii, res.ii), res.groups, choice, res.iteration_cycles, res.iteration_lower, {}}};
     for (const auto& [f, reg] : named) res.source_registers.push_back(reg_name(static_cast<isa::RegFile>(f), reg));
 
     std::string rep;
@@ -876,7 +890,10 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     rep += fmt::format("#   recurrence bound (RecMII)  {}{}\n", res.rec_mii, circuit.empty() ? "" : "  (" + circuit + ")");
     if (const std::string hint = alias_hint(g, critical); !hint.empty()) rep += "#     " + hint + "\n";
     rep += fmt::format("#   ii = {}  schedule found with {} iteration{} in parallel{}\n", res.ii, res.stages,
-                       res.stages == 1 ? "" : "s", res.ii == res.mii ? " (at the bound)" : fmt::format(" ({} above the MII)", res.ii - res.mii));
+                       res.stages == 1 ? "" : "s",
+                       res.ii == res.mii         ? " (at the bound)"
+                       : res.loops[0].proven_mii == res.ii ? fmt::format(" ({} above the MII; no modulo schedule exists below it)", res.ii - res.mii)
+                                                 : fmt::format(" ({} above the MII)", res.ii - res.mii));
     rep += fmt::format("#   one iteration {} cycles from its first issue to its last landing (its longest path: {})\n",
                        res.iteration_cycles, res.iteration_lower);
     if (!tried.empty()) {
@@ -886,6 +903,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             why += fmt::format("{}{}: {}", why.empty() ? "" : "; ", iis,
                                t.kind == 0   ? "no stage numbers satisfy the recurrences"
                                : t.kind == 1 ? "no modulo schedule found"
+                               : t.kind == 3 ? fmt::format("no modulo schedule exists{} (proven by the constraint model)",
+                                                           m.branch_penalty > 0 ? " that keeps the write ports across the kernel's back edge" : "")
+                               : t.kind == 4 ? "a modulo schedule exists that the search missed (the constraint model found one; try --exact)"
                                              : "schedules found, none assembled (the last: " + t.detail + ")");
         }
         rep += fmt::format("#   below it: {}\n", why);

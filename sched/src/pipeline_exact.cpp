@@ -62,7 +62,8 @@ std::vector<BackEdgeRule> back_edge_rules(const ModelProblem& p) {
 } // namespace
 
 ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa::Instr& branch, const isa::Instr& counter,
-                        std::chrono::steady_clock::time_point deadline, const std::function<bool(const Schedule&)>& accept) {
+                        std::chrono::steady_clock::time_point deadline, const std::function<bool(const Schedule&)>& accept,
+                        std::uint64_t node_limit) {
     const ModelProblem p = problem_of(g, m, ii, branch, counter);
     const int n = static_cast<int>(g.nodes.size());
     std::set<std::vector<int>> refused; // a table passing several rules is assembled once
@@ -79,7 +80,7 @@ ExactRun exact_schedule(const Graph& g, const isa::Machine& m, int ii, const isa
             k.counter = counter;
             k.counter_row = rows[static_cast<std::size_t>(n)];
             return accept(k);
-        });
+        }, node_limit ? node_limit - std::min(node_limit - 1, run.nodes) : 0);
         run.nodes += s.nodes;
         if (s.outcome == ModelSearch::Accepted) {
             run.outcome = ExactOutcome::Accepted;

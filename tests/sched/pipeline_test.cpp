@@ -61,6 +61,7 @@ TEST_CASE("saxpy pipelines at its bound and equals its sequential meaning", "[un
     sched::PipelineResult r;
     CHECK(check(kSaxpy, isa::load_machine("os"), &r) == std::nullopt);
     CHECK(r.ii == 3); // 2 loads + store + step + loop control on the OS's 2 integer units
+    CHECK(r.loops.at(0).proven_mii == r.mii); // at the bound: nothing to prove
     CHECK(r.ii == r.res_mii);
     CHECK(r.stages == 2);
     CHECK(r.pipelined.find("SOFTWARE PIPELINE INFORMATION") != std::string::npos);
@@ -189,6 +190,11 @@ TEST_CASE("exact search: normalize on os-real is decided, within the heuristic's
     const double heuristic = timed(0, &plain);
     CHECK(plain.mii == 6);
     CHECK(plain.ii == 7);
+    // Without --exact too, the model's node budget proves II 6 impossible: the report says so,
+    // and the least II not proven impossible is the one taken.
+    REQUIRE(plain.loops.size() == 1);
+    CHECK(plain.loops[0].proven_mii == 7);
+    CHECK(plain.report.find("below it: II 6: no modulo schedule exists") != std::string::npos);
     const double with_exact = timed(0.5, &r);
     INFO(r.report);
     CHECK(with_exact < heuristic + 0.5 + 0.25); // the budget, and what verifying the code found takes

@@ -112,6 +112,9 @@ struct LoopSummary {
     int line = 0; // of its .pipeline
     bool is_while = false;
     int ii = 0, mii = 0, res_mii = 0, rec_mii = 0, stages = 0, unroll = 1;
+    // The least II not proven impossible: mii, or above it where every II from mii up has no
+    // modulo schedule (the recurrences, or the constraint model's proof).
+    int proven_mii = 0;
     int groups = 1;                 // the kernel repeated, an exit test between repeats (TripChoice::Option)
     std::optional<TripChoice> trip; // with `.trip`
     // One iteration from its first issue to its last landing, and its longest path (as in
