@@ -2,6 +2,7 @@
 #include "status.hpp"
 
 #include "base/error.hpp"
+#include "base/suggest.hpp"
 #include "base/write_file.hpp"
 
 #include <fmt/core.h>
@@ -31,6 +32,30 @@ std::string command_name(const CLI::App& app) {
     return name;
 }
 
+// The subcommands `app` offers, and its long options ("--model").
+std::vector<std::string> subcommand_names(const CLI::App& app) {
+    std::vector<std::string> names;
+    for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(s->get_name());
+    return names;
+}
+std::vector<std::string> long_options(const CLI::App& app) {
+    std::vector<std::string> names;
+    for (const CLI::Option* o : app.get_options())
+        for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+    return names;
+}
+
+// "did you mean" for the first unexpected word that is near an option (or a subcommand) of the
+// command that parsed.
+std::string suggest_for(const CLI::App& app, const std::vector<std::string>& words) {
+    for (const std::string& w : words) {
+        const std::string name = w.substr(0, w.find('='));
+        const std::string hint = base::did_you_mean(name, name.starts_with("--") ? long_options(app) : subcommand_names(app));
+        if (!hint.empty()) return hint;
+    }
+    return "";
+}
+
 void print_usage_error(const std::string& who, const std::string& msg) {
     status("{}: error: {}\nRun '{} --help' for more information.\n", who, msg, who);
 }
@@ -52,7 +77,8 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         // CLI11 reads an unknown first word as a missing subcommand (`nesshi frob`, `nesshi scene frob`).
         const std::vector<std::string> rest = deepest(app).remaining();
         if (!rest.empty() && std::string(e.what()).find("subcommand is required") != std::string::npos)
-            print_usage_error(who, fmt::format("unknown command '{}' (see the list in '{} --help')", rest.front(), who));
+            print_usage_error(who, fmt::format("unknown command '{}'{} (see the list in '{} --help')", rest.front(),
+                                               base::did_you_mean(rest.front(), subcommand_names(deepest(app))), who));
         else
             print_usage_error(who, e.what());
         return kExitUsage;
@@ -60,6 +86,9 @@ int report_error(const CLI::App& app, std::exception_ptr error) {
         std::string msg = e.what();
         if (const auto at = msg.find(": must be "); at != std::string::npos) msg.erase(at, 1);
         print_usage_error(who, msg);
+        return kExitUsage;
+    } catch (const CLI::ExtrasError& e) {
+        print_usage_error(who, e.what() + suggest_for(deepest(app), deepest(app).remaining()));
         return kExitUsage;
     } catch (const CLI::ParseError& e) {
         print_usage_error(who, e.what());

@@ -1,6 +1,8 @@
 // First pass (see layout.hpp).
 #include "layout.hpp"
 
+#include "base/suggest.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -28,12 +30,18 @@ void Layout::define(const std::string& name, SymbolDef def) {
     Diagnostics::note(d, it->second.loc, "previous definition is here");
 }
 
+std::vector<std::string> Layout::symbol_names() const {
+    std::vector<std::string> names;
+    for (const auto& [name, def] : symbols) names.push_back(name);
+    return names;
+}
+
 std::optional<int64_t> Layout::lookup(const Token& name, std::string& err, size_t limit) {
     auto it = symbols.find(name.text);
     if (it == symbols.end() || (limit != kAll && it->second.order > limit)) {
         err = limit != kAll ? fmt::format("'{}' is undefined here (.data, .space, .align and .loc need "
                                           "values known where they stand)", name.text)
-                            : fmt::format("undefined symbol '{}'", name.text);
+                            : fmt::format("undefined symbol '{}'{}", name.text, base::did_you_mean(name.text, symbol_names()));
         return std::nullopt;
     }
     SymbolDef& s = it->second;

@@ -69,6 +69,7 @@ class Layout {
 
   private:
     std::optional<int64_t> lookup(const Token& name, std::string& err, size_t limit);
+    std::vector<std::string> symbol_names() const; // for "did you mean"
     std::optional<int64_t> evaluate_equ(const Token& name, SymbolDef& s, std::string& err, size_t limit);
     std::optional<int64_t> eval_now(const std::vector<Token>& toks, Loc loc, size_t limit);
     void define(const std::string& name, SymbolDef def);

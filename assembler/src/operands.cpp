@@ -3,6 +3,8 @@
 
 #include "expr.hpp"
 
+#include "base/suggest.hpp"
+
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -232,7 +234,9 @@ std::optional<OpRec> parse_op(std::span<const Token> toks, int file, int line,
     }
     auto opc = isa::find_opcode(mn.text);
     if (!opc) {
-        diags.error(loc, fmt::format("unknown operation '{}'", mn.text));
+        std::vector<std::string> names;
+        for (const isa::OpInfo& o : isa::kOps) names.emplace_back(o.mnemonic);
+        diags.error(loc, fmt::format("unknown operation '{}'{}", mn.text, base::did_you_mean(mn.text, names)));
         return std::nullopt;
     }
     const isa::OpInfo& info = isa::kOps[*opc];

@@ -5,6 +5,7 @@
 
 #include "base/error.hpp"
 #include "base/read_file.hpp"
+#include "base/suggest.hpp"
 
 #include <fmt/format.h>
 
@@ -47,11 +48,12 @@ bool read_text(const std::string& path, std::string& text) {
 }
 } // namespace
 
+constexpr std::array<std::string_view, 16> kDirectives = {
+    ".text", ".data", ".word", ".half", ".byte", ".float", ".space", ".align",
+    ".equ", ".include", ".global", ".globl", ".file", ".loc", ".section", ".end"};
+
 bool known_directive(std::string_view name) {
-    static constexpr std::array<std::string_view, 16> kNames = {
-        ".text", ".data", ".word", ".half", ".byte", ".float", ".space", ".align",
-        ".equ", ".include", ".global", ".globl", ".file", ".loc", ".section", ".end"};
-    for (auto n : kNames)
+    for (auto n : kDirectives)
         if (n == name && n != ".section" && n != ".end") return true;
     return false;
 }
@@ -205,7 +207,10 @@ void Parser::directive(const std::vector<Token>& toks, size_t i, int file, int l
     const Token& name = toks[i];
     Loc loc{file, line, name.col};
     if (!known_directive(name.text)) {
-        diags_.error(loc, fmt::format("unknown directive '{}'", name.text));
+        std::vector<std::string> names;
+        for (auto n : kDirectives)
+            if (known_directive(n)) names.emplace_back(n);
+        diags_.error(loc, fmt::format("unknown directive '{}'{}", name.text, base::did_you_mean(name.text, names)));
         return;
     }
     std::span<const Token> rest(toks.data() + i + 1, toks.size() - i - 1);

@@ -8,6 +8,7 @@
 #include "base/error.hpp"
 #include "base/hash.hpp"
 #include "base/read_file.hpp"
+#include "base/suggest.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -34,7 +35,12 @@ void reject_unknown_keys(const Ctx& ctx, const toml::table& t, std::set<std::str
                          std::string_view where) {
     for (auto&& [k, v] : t)
         if (!known.count(std::string(k.str())))
-            ctx.fail(v.source(), fmt::format("unknown key '{}' in {}", k.str(), where));
+            ctx.fail(v.source(), fmt::format("unknown key '{}' in {}{}", k.str(), where,
+                                             base::did_you_mean(k.str(), {known.begin(), known.end()})));
+}
+
+std::vector<std::string> class_names() {
+    return {kOpClassNames.begin(), kOpClassNames.end()};
 }
 
 uint32_t get_uint(const Ctx& ctx, const toml::table& t, std::string_view key, bool required,
@@ -103,7 +109,7 @@ void parse_latency(const Ctx& ctx, const toml::table& root, Machine& m, bool inh
     const auto& t = *n->as_table();
     for (auto&& [k, v] : t)
         if (class_index(k.str()) < 0)
-            ctx.fail(v.source(), fmt::format("unknown operation class '{}'", k.str()));
+            ctx.fail(v.source(), fmt::format("unknown operation class '{}'{}", k.str(), base::did_you_mean(k.str(), class_names())));
     for (int c = 0; c < kNumOpClasses; ++c)
         m.latency[c] =
             get_uint(ctx, t, kOpClassNames[c], !inherited, m.latency[c], 1000, t.source());

@@ -2,6 +2,8 @@
 #include "rt/scene.hpp"
 #include "rt/spd.hpp"
 
+#include "base/suggest.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -155,10 +157,13 @@ Scene load_scene(const std::string& file_or_name) {
         }
         // A bare name that is neither a file nor a built-in scene: say both, not just "cannot open"
         // (a path, with a folder or an extension, gets the system's reason from load_nff_file).
-        if (file_or_name.find_first_of("/.") == std::string::npos)
-                throw SceneError(SourceLoc(file_or_name), fmt::format("unknown scene: no such file, and not a built-in one "
-                                                                  "({} gears, NAME:SIZE for another size)",
-                                                                  fmt::join(spd_names(), " ")));
+        if (file_or_name.find_first_of("/.") == std::string::npos) {
+            std::vector<std::string> names = spd_names();
+            names.push_back("gears");
+            throw SceneError(SourceLoc(file_or_name),
+                             fmt::format("unknown scene: no such file, and not a built-in one ({}, NAME:SIZE for another size){}",
+                                         fmt::join(names, " "), base::did_you_mean(file_or_name.substr(0, file_or_name.find(':')), names)));
+        }
     }
     return load_nff_file(file_or_name);
 }

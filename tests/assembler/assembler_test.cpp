@@ -224,7 +224,7 @@ TEST_CASE("long .equ chains are an error, not a stack overflow", "[diag][equ]") 
     CHECK(good.ok);
     const auto bad = assemble(ok + "li r1, e0\nhalt\n");
     CHECK(bad.errors == 1);
-    CHECK(bad.diagnostics.find("'e7' has no value: ...: undefined symbol 'e200'\n") != std::string::npos);
+    CHECK(bad.diagnostics.find("'e7' has no value: ...: undefined symbol 'e200'; did you mean 'e100'?\n") != std::string::npos);
     CHECK(bad.diagnostics.size() < 400);
     const auto two = assemble(".equ a, b\n.equ b, c\nli r1, a\nhalt\n");
     CHECK(two.diagnostics.find("error: 'a' has no value: 'b' has no value: undefined symbol 'c'\n") != std::string::npos);
@@ -304,4 +304,13 @@ TEST_CASE("a source without code assembles with a warning", "[diag]") {
         CHECK(r.object.code.empty());
     }
     CHECK(assemble("halt\n").diagnostics.empty());
+}
+
+TEST_CASE("an unknown operation, directive or symbol one slip from a known one gets a 'did you mean'", "[diag]") {
+    CHECK(assemble("fadx f1, f2, f3\nhalt\n").diagnostics.find("unknown operation 'fadx'; did you mean 'fadd'?") != std::string::npos);
+    CHECK(assemble(".wrd 3\nhalt\n").diagnostics.find("unknown directive '.wrd'; did you mean '.word'?") != std::string::npos);
+    const auto r = assemble("loop: li r1, 3\nbnez r1, lop\nhalt\n");
+    CHECK(r.diagnostics.find("undefined symbol 'lop'; did you mean 'loop'?") != std::string::npos);
+    // Nothing near: no suggestion.
+    CHECK(assemble("zzzz f1, f2, f3\nhalt\n").diagnostics.find("did you mean") == std::string::npos);
 }
