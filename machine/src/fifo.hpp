@@ -157,7 +157,10 @@ class Fifo final : public iss::Channel {
     void take(std::uint32_t* out, std::size_t n) {
         const std::uint64_t now = consumer_now();
         if (may_act(consumer_, now)) release(now);
-        if (turns_) max_size_ = std::max(max_size_, sent_by(now) + held_.size());
+        // (The words sent by `now` are at most all of them: when those cannot beat the most so
+        // far, the count of sent words need not move on.)
+        if (turns_ && words_.size() + held_.size() > max_size_)
+            max_size_ = std::max(max_size_, sent_by(now) + held_.size());
         for (std::size_t i = 0; i < n; ++i) {
             out[i] = words_.front().value;
             words_.pop_front();
@@ -231,7 +234,7 @@ class Fifo final : public iss::Channel {
     Turns* turns_ = nullptr;
     int consumer_ = 0, producer_ = -1, host_producer_ = -1;
     std::size_t max_size_ = 0;
-    std::size_t sent_ = 0; // one producer: the words from the front sent by the last receive's cycle
+    std::size_t sent_ = 0; // one producer: words from the front known sent (counted on at a receive that may set a new most)
     std::uint64_t pushed_ = 0;
 };
 
