@@ -47,6 +47,9 @@ struct Core {
     std::array<uint16_t, isa::kMaxSlots> wb_reg;
     std::array<uint32_t, isa::kMaxSlots> wb_val;
     std::array<uint32_t, isa::kMaxSlots> wb_op;
+    // The words of the bundle being issued received from (sent into) its one channel, when it moves
+    // several (DecodedOp::batch): taken at its first receive, given at its last send.
+    std::array<uint32_t, isa::kMaxSlots> fifo_in, fifo_out;
     std::array<uint32_t, 2> lat1_landed{}; // per file: latency-1 writes of the bundle issued last
     bool lat1_owed = false; // that bundle's landing cycle has not been through land() yet
     // The histogram bucket of the last cycle landed (land_next - 1): whether the bundle before

@@ -143,12 +143,24 @@ template <size_t O, bool Direct, int T, class Fields>
     } else if constexpr (info.kind == Kind::Recv) {
         // The FIFO gate (the engine's, or the chain's fast one) has checked that the channel
         // exists and holds a word.
+        // A bundle's words from one channel come in one call, at its first receive.
         c.cycle = cycle; // for a host's channel
-        put(c.channels[f.record(c).chan]->pop());
+        const DecodedOp& r = f.record(c);
+        if (!r.batch) put(c.channels[r.chan]->pop());
+        else {
+            if (r.need == 1) c.channels[r.chan]->pop_n(c.fifo_in.data(), r.batch);
+            put(c.fifo_in[r.need - 1u]);
+        }
         ++*c.words_received;
     } else if constexpr (info.kind == Kind::Send) {
+        // A bundle's words into one channel go in one call, at its last send.
         c.cycle = cycle;
-        c.channels[f.record(c).chan]->push(a, cycle);
+        const DecodedOp& r = f.record(c);
+        if (!r.batch) c.channels[r.chan]->push(a, cycle);
+        else {
+            c.fifo_out[r.need - 1u] = a;
+            if (r.need == r.batch) c.channels[r.chan]->push_n(c.fifo_out.data(), r.batch, cycle);
+        }
         ++*c.words_sent;
     } else if constexpr (info.kind == Kind::Halt) {
         c.event |= kHalt;

@@ -186,9 +186,19 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
             auto g = std::find_if(fifo_needs_.begin() + b.gate_first, fifo_needs_.end(),
                                   [&](const FifoNeed& n) { return n.slot == d.chan && n.recv == recv; });
             if (g == fifo_needs_.end()) g = fifo_needs_.insert(g, FifoNeed{d.chan, 0, recv});
-            d.need = ++g->need;
+            d.need = uint16_t(++g->need);
         }
         b.gate_count = uint32_t(fifo_needs_.size()) - b.gate_first;
+        for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+            DecodedOp& d = ops_[i];
+            const isa::Kind k = d.instr.info().kind;
+            if (k != isa::Kind::Recv && k != isa::Kind::Send) continue;
+            const bool recv = k == isa::Kind::Recv;
+            const auto first = fifo_needs_.begin() + b.gate_first;
+            const auto ways = std::count_if(first, fifo_needs_.end(), [&](const FifoNeed& n) { return n.recv == recv; });
+            const FifoNeed& g = *std::find_if(first, fifo_needs_.end(), [&](const FifoNeed& n) { return n.slot == d.chan && n.recv == recv; });
+            d.batch = ways == 1 && g.need > 1 ? uint16_t(g.need) : 0;
+        }
     }
 
     // The key of a compiled-run table: every field the engine's form depends on.

@@ -65,22 +65,11 @@ class Fifo final : public iss::Channel {
         return words_.front().ready;
     }
     std::uint32_t pop() override {
-        const std::uint64_t now = consumer_now();
-        if (may_act(consumer_, now)) release(now);
-        if (turns_) max_size_ = std::max(max_size_, sent_by(now) + held_.size());
-        const std::uint32_t v = words_.front().value;
-        words_.pop_front();
-        if (sent_) --sent_;
-        room_cycle = now + 1;
-        if (turns_ && bounded_) {
-            pops_.push_back(now);
-            if (pops_.size() > 2 * capacity_ + 16) pops_.pop_front();
-            for (int p : {producer_, host_producer_})
-                if (p >= 0 && turns_->wants_room[p])
-                    turns_->enables(consumer_, p, std::max(now + 1, p == host_producer_ ? 0 : producer_now()));
-        }
+        std::uint32_t v;
+        take(&v, 1);
         return v;
     }
+    void pop_n(std::uint32_t* out, std::size_t n) override { take(out, n); }
     // The producer processor's side.
     std::size_t writable() const override {
         // One producer and no capacity: its words enter in its own order and nothing limits it.
@@ -90,14 +79,8 @@ class Fifo final : public iss::Channel {
         release(now);
         return room_at(now);
     }
-    void push(std::uint32_t word, std::uint64_t cycle) override {
-        release(cycle);
-        put(word, cycle + latency_);
-        // The consumer may act from the word's arrival (not before its own clock); usually the
-        // message's first word has lowered the horizon already.
-        if (turns_ && cycle + latency_ <= turns_->horizon[producer_])
-            turns_->enables(producer_, consumer_, std::max(cycle + latency_, consumer_now()));
-    }
+    void push(std::uint32_t word, std::uint64_t cycle) override { put_n(&word, 1, cycle); }
+    void push_n(const std::uint32_t* words, std::size_t n, std::uint64_t cycle) override { put_n(words, n, cycle); }
 
     // Host side (SC and DIS, stage host_producer): a message of words sent one per cycle from
     // `first`; `ahead` (DIS) when `first` may be past the acting stage's cycle.
@@ -168,6 +151,44 @@ class Fifo final : public iss::Channel {
         std::uint32_t value;
         std::uint64_t ready, first; // `first`: the send cycle of its message's first word
     };
+    // n receives at the consumer's cycle, as n pop()s: the first one releases held messages and
+    // counts the most words waiting (each later one finds one fewer); the room they free and
+    // the turns they hand on are the same for all.
+    void take(std::uint32_t* out, std::size_t n) {
+        const std::uint64_t now = consumer_now();
+        if (may_act(consumer_, now)) release(now);
+        // (The words sent by `now` are at most all of them: when those cannot beat the most so
+        // far, the count of sent words need not move on.)
+        if (turns_ && words_.size() + held_.size() > max_size_)
+            max_size_ = std::max(max_size_, sent_by(now) + held_.size());
+        for (std::size_t i = 0; i < n; ++i) {
+            out[i] = words_.front().value;
+            words_.pop_front();
+        }
+        sent_ -= std::min(sent_, n);
+        room_cycle = now + 1;
+        if (turns_ && bounded_) {
+            for (std::size_t i = 0; i < n; ++i) {
+                pops_.push_back(now);
+                if (pops_.size() > 2 * capacity_ + 16) pops_.pop_front();
+            }
+            for (int p : {producer_, host_producer_})
+                if (p >= 0 && turns_->wants_room[p])
+                    turns_->enables(consumer_, p, std::max(now + 1, p == host_producer_ ? 0 : producer_now()));
+        }
+    }
+    // n sends in the bundle issued at `cycle`, as n push()es: the turn they hand the consumer is
+    // the same for all.
+    void put_n(const std::uint32_t* words, std::size_t n, std::uint64_t cycle) {
+        release(cycle);
+        for (std::size_t i = 0; i < n; ++i) words_.push_back({words[i], cycle + latency_});
+        pushed_ += n;
+        note_size();
+        // The consumer may act from the word's arrival (not before its own clock); usually the
+        // message's first word has lowered the horizon already.
+        if (turns_ && cycle + latency_ <= turns_->horizon[producer_])
+            turns_->enables(producer_, consumer_, std::max(cycle + latency_, consumer_now()));
+    }
     bool may_act(int stage, std::uint64_t cycle) const { return !turns_ || turns_->may_act(stage, cycle); }
     // A stage's clock: it acts at no earlier cycle, whatever it is sent.
     std::uint64_t producer_now() const { return producer_proc ? producer_proc->cycle() : 0; }
@@ -213,7 +234,7 @@ class Fifo final : public iss::Channel {
     Turns* turns_ = nullptr;
     int consumer_ = 0, producer_ = -1, host_producer_ = -1;
     std::size_t max_size_ = 0;
-    std::size_t sent_ = 0; // one producer: the words from the front sent by the last receive's cycle
+    std::size_t sent_ = 0; // one producer: words from the front known sent (counted on at a receive that may set a new most)
     std::uint64_t pushed_ = 0;
 };
 

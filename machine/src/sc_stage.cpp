@@ -175,7 +175,7 @@ void ScStage::run(std::uint64_t horizon) {
             on_miss(tag);
         } else {
             std::uint32_t w[6];
-            for (std::size_t i = 0; i < hit_words; ++i) w[i] = from_ic_.pop();
+            from_ic_.pop_n(w, hit_words);
             communication(hit_words);
             cycles.words_received += hit_words;
             on_hit(w);

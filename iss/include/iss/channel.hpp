@@ -39,6 +39,17 @@ class Channel {
     virtual size_t writable() const = 0;
     // Called with the cycle the sending bundle issues.
     virtual void push(uint32_t word, uint64_t cycle) = 0;
+    // A bundle's words at once: when a bundle receives several words from this channel and from
+    // no other, or sends several into it and into no other, the engines make one call with all of
+    // them (at the bundle's first receive, at its last send), which must do what n pop()s, or n
+    // push()es at `cycle`, in a row would do. A bundle issues whole, so the host sees no
+    // difference but the count of calls.
+    virtual void pop_n(uint32_t* out, size_t n) {
+        for (size_t i = 0; i < n; ++i) out[i] = pop();
+    }
+    virtual void push_n(const uint32_t* words, size_t n, uint64_t cycle) {
+        for (size_t i = 0; i < n; ++i) push(words[i], cycle);
+    }
     // True when no word will ever arrive again (standalone input files): receiving from an
     // empty closed channel is a deadlock, not a wait.
     virtual bool closed() const { return false; }

@@ -54,8 +54,11 @@ struct DecodedOp {
     uint32_t bundle = 0;               // bundle address
     isa::Instr instr;                  // the decoded operation, for printing
     uint32_t chan = 0;                 // send/recv: index of channel `imm` in Program::channel_ids()
-    uint32_t need = 0;                 // send/recv: this op and the earlier ops of its bundle on its
+    uint16_t need = 0;                 // send/recv: this op and the earlier ops of its bundle on its
                                        // channel in its direction (the words its gate asks for)
+    uint16_t batch = 0;                // send/recv: the words its bundle moves in its direction when
+                                       // they are more than one and all on its channel (moved in one
+                                       // Channel::pop_n or push_n call), else 0
 };
 
 // A FIFO bundle's fast gate (the threaded engine's test before it chains into the bundle): per
