@@ -28,11 +28,15 @@ std::optional<std::string> closest(std::string_view word, const std::vector<std:
     if (word.size() < 3) return std::nullopt; // one edit from "c" is any other letter
     const std::size_t most = std::max<std::size_t>(1, word.size() / 3);
     std::optional<std::string> best;
-    std::size_t best_distance = most + 1;
+    std::size_t best_distance = most + 1, best_gap = 0;
+    auto gap = [&](const std::string& c) { return c.size() > word.size() ? c.size() - word.size() : word.size() - c.size(); };
     for (const std::string& c : candidates) {
         if (c == word || c.empty()) continue;
-        if (const std::size_t d = distance(word, c); d < best_distance) {
+        // Equally near: the one of the word's length first (a letter replaced or two swapped
+        // rather than one added or dropped), then the first.
+        if (const std::size_t d = distance(word, c); d < best_distance || (d == best_distance && gap(c) < best_gap)) {
             best_distance = d;
+            best_gap = gap(c);
             best = c;
         }
     }

@@ -15,7 +15,7 @@ namespace nesshi::base {
 // The candidate nearest to `word` in edits (a character inserted, deleted or replaced, or two
 // neighbours swapped), when near enough to be a slip: one edit for words of three to five
 // characters, a third of the word's length beyond; none for shorter words, where one edit is
-// anything. The first of equally near ones.
+// anything. Of equally near ones, the nearest in length, then the first.
 std::optional<std::string> closest(std::string_view word, const std::vector<std::string>& candidates);
 
 // "; did you mean 'X'?" with the closest candidate, or "" when none is near.
