@@ -189,15 +189,16 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
             d.need = uint16_t(++g->need);
         }
         b.gate_count = uint32_t(fifo_needs_.size()) - b.gate_first;
-        for (uint32_t i = b.first; i < b.first + b.count; ++i) {
-            DecodedOp& d = ops_[i];
-            const isa::Kind k = d.instr.info().kind;
-            if (k != isa::Kind::Recv && k != isa::Kind::Send) continue;
-            const bool recv = k == isa::Kind::Recv;
-            const auto first = fifo_needs_.begin() + b.gate_first;
-            const auto ways = std::count_if(first, fifo_needs_.end(), [&](const FifoNeed& n) { return n.recv == recv; });
-            const FifoNeed& g = *std::find_if(first, fifo_needs_.end(), [&](const FifoNeed& n) { return n.slot == d.chan && n.recv == recv; });
-            d.batch = ways == 1 && g.need > 1 ? uint16_t(g.need) : 0;
+        // A direction whose words, more than one, all go through one channel moves them in one
+        // Channel call (DecodedOp::batch).
+        const auto first = fifo_needs_.begin() + b.gate_first;
+        for (const bool recv : {true, false}) {
+            const auto way = [&](const FifoNeed& n) { return n.recv == recv; };
+            if (std::count_if(first, fifo_needs_.end(), way) != 1) continue;
+            const uint32_t words = std::find_if(first, fifo_needs_.end(), way)->need;
+            if (words < 2) continue;
+            for (uint32_t i = b.first; i < b.first + b.count; ++i)
+                if (ops_[i].instr.info().kind == (recv ? isa::Kind::Recv : isa::Kind::Send)) ops_[i].batch = uint16_t(words);
         }
     }
 
