@@ -44,16 +44,6 @@ MemRegion* MemorySystem::region(std::string_view name) {
     return nullptr;
 }
 
-void MemorySystem::fill_tlb(const MemRegion& r, uint32_t addr) const {
-    constexpr uint32_t kPage = PagedMemory::kPageSize;
-    const uint64_t page_start = addr & ~uint64_t{kPage - 1};
-    if (r.desc.latency || r.cache || r.desc.base % kPage) return;
-    if (page_start < r.desc.base || page_start + kPage > uint64_t{r.desc.base} + r.desc.size) return;
-    uint8_t* data = r.store->page_data(uint32_t(page_start - r.desc.base));
-    if (!data) return; // an unallocated page reads as zero until a write allocates it
-    tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)] = {uint32_t(page_start), data};
-}
-
 bool MemorySystem::peek(uint32_t addr, uint32_t bytes, uint32_t& out) const {
     const MemRegion* r = find(addr, bytes);
     if (!r) return false;

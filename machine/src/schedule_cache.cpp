@@ -3,12 +3,12 @@
 #include "schedule_cache.hpp"
 #include "kernel_build_json.hpp"
 
+#include "base/cache_dir.hpp"
 #include "base/hash.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <atomic>
-#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -32,24 +32,9 @@ Cache& cache() {
 }
 
 // One folder per build: another build's schedules are never read, and its folder goes once
-// unused for kPruneAfter.
+// unused for a while (base::prune_cache_folders).
 std::string file_of(const std::string& key) {
     return cache().dir + "/" + cache().build + "/" + base::hex64(base::Fnv1a().add(key).value()) + ".json";
-}
-
-constexpr auto kPruneAfter = std::chrono::hours(24 * 30);
-
-// Removes the folders of other builds not written for kPruneAfter (errors ignored: another run
-// may be pruning too, and the cache only saves time).
-void prune_other_builds(const std::string& dir, const std::string& build) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const auto now = fs::file_time_type::clock::now();
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-        if (!it->is_directory(ec) || it->path().filename() == build) continue;
-        const auto when = fs::last_write_time(it->path(), ec);
-        if (!ec && now - when > kPruneAfter) fs::remove_all(it->path(), ec);
-    }
 }
 
 } // namespace
@@ -60,14 +45,12 @@ void enable_schedule_cache(const std::string& dir, const std::string& build) {
         cache().dir = dir;
         cache().build = build;
     }
-    if (!dir.empty()) prune_other_builds(dir, build);
+    if (!dir.empty()) base::prune_cache_folders(dir, build);
 }
 
 std::string default_schedule_cache_dir() {
     if (const char* d = std::getenv("NESSHI_CACHE_DIR")) return d;
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/nesshi/kernels";
-    if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/nesshi/kernels";
-    return "";
+    return base::user_cache_dir("kernels");
 }
 
 namespace detail {

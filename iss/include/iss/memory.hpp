@@ -99,7 +99,16 @@ class MemorySystem {
         return tlb_entry(addr).tag == (addr & (~(PagedMemory::kPageSize - 1) | (Bytes - 1)));
     }
     uint8_t* tlb_data(uint32_t addr) const { return tlb_entry(addr).data + (addr & (PagedMemory::kPageSize - 1)); }
-    void fill_tlb(const MemRegion& r, uint32_t addr) const;
+    // Inline, so that compiled runs built at run time (iss/compiled.hpp) call nothing of the binary.
+    void fill_tlb(const MemRegion& r, uint32_t addr) const {
+        constexpr uint32_t kPage = PagedMemory::kPageSize;
+        const uint64_t page_start = addr & ~uint64_t{kPage - 1};
+        if (r.desc.latency || r.cache || r.desc.base % kPage) return;
+        if (page_start < r.desc.base || page_start + kPage > uint64_t{r.desc.base} + r.desc.size) return;
+        uint8_t* data = r.store->page_data(uint32_t(page_start - r.desc.base));
+        if (!data) return; // an unallocated page reads as zero until a write allocates it
+        tlb_[(addr >> PagedMemory::kPageBits) & (kTlbEntries - 1)] = {uint32_t(page_start), data};
+    }
     void flush_tlb() { tlb_.fill(TlbEntry{}); }
 
     // The region holding [addr, addr+bytes), or nullptr.

@@ -25,7 +25,7 @@ struct SourceSet {
     bool has(std::string_view path) const;
 };
 
-// Generated at build time (embed_kernels.cmake).
+// Generated at build time (cmake/EmbedFiles.cmake).
 const std::vector<SourceFile>& embedded_sources();
 
 SourceSet embedded();
