@@ -208,11 +208,13 @@ void run_sim(const SimOpts& o) {
     if (!o.stats_json.empty()) base::write_file(o.stats_json, iss::stats_json(s).dump(2) + "\n");
     if (!o.quiet) {
         // The first line says why the run stopped; the full fault report follows the statistics.
+        const bool compiled = o.engine == "fast" && shown->compiled_runs(); // built in, or at run time
+        const std::string engine = o.engine + (compiled ? " engine, compiled runs" : " engine");
         if (fault)
-            fmt::print(report, "{}: stopped after {} cycles ({} engine): {}: {}\n", o.input, shown->cycle(), o.engine,
+            fmt::print(report, "{}: stopped after {} cycles ({}): {}: {}\n", o.input, shown->cycle(), engine,
                        iss::fault_rule(fault->kind), fault->message);
         else
-            fmt::print(report, "{}: halted after {} cycles ({} engine)\n", o.input, shown->cycle(), o.engine);
+            fmt::print(report, "{}: halted after {} cycles ({})\n", o.input, shown->cycle(), engine);
         fmt::print(report, "{}", iss::stats_text(s));
     }
     if (!fault) dump_and_check(o, p, expect);

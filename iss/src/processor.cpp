@@ -12,6 +12,7 @@
 
 #include "compiled.hpp"
 #include "core.hpp"
+#include "runtime_compile.hpp"
 
 #include "isa/printer.hpp"
 
@@ -21,6 +22,7 @@
 #include <bit>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 namespace nesshi::iss {
 
@@ -527,6 +529,16 @@ void Processor::set_engine(Engine e) {
 void Processor::set_compiled_runs(bool on) {
     compiled_on_ = on;
     core_->compiled = on && prog_->compiled() ? prog_->compiled()->entry : nullptr;
+    runtime_ = on && !core_->compiled ? prog_->runtime_compiled() : nullptr;
+    runtime_unreported_ = 0;
+}
+
+void Processor::poll_runtime() {
+    const uint64_t cycles = std::exchange(runtime_unreported_, 0);
+    if (const CompiledProgram* t = detail::runtime_ran(*runtime_, *prog_, cycles)) {
+        core_->compiled = t->entry;
+        runtime_ = nullptr;
+    }
 }
 
 bool Processor::compiled_runs() const { return core_->compiled != nullptr; }
@@ -562,19 +574,33 @@ void Processor::attach_cache(std::string_view region, CacheModel* cache) {
     r->cache = cache;
 }
 
+Status Processor::run_engine(uint64_t limit, uint64_t budget, bool wait_blocked) {
+    const bool checked = engine_ == Engine::Checked;
+    if (tracer_) {
+        if (checked) return EngineLoop<true, true>(*this).run(limit, budget, wait_blocked);
+        return EngineLoop<false, true>(*this).run(limit, budget, wait_blocked);
+    }
+    if (checked) return EngineLoop<true, false>(*this).run(limit, budget, wait_blocked);
+    return EngineLoop<false, false>(*this).run(limit, budget, wait_blocked);
+}
+
 Status Processor::dispatch(uint64_t limit, uint64_t budget, bool wait_blocked) {
     if (status_ == Status::Halted || status_ == Status::Faulted) return status_;
-    Status st;
-    bool checked = engine_ == Engine::Checked;
-    if (tracer_) {
-        if (checked) st = EngineLoop<true, true>(*this).run(limit, budget, wait_blocked);
-        else st = EngineLoop<false, true>(*this).run(limit, budget, wait_blocked);
-    } else {
-        if (checked) st = EngineLoop<true, false>(*this).run(limit, budget, wait_blocked);
-        else st = EngineLoop<false, false>(*this).run(limit, budget, wait_blocked);
+    if (!runtime_) return status_ = run_engine(limit, budget, wait_blocked);
+    // A program whose runs may be compiled at run time reports the cycles it runs, a long call in
+    // slices, and switches to its runs between two slices or calls once they are ready.
+    constexpr uint64_t kSlice = uint64_t{1} << 20; // about 10 ms on the interpreter
+    if (core_->cycle == 0) poll_runtime(); // loaded by another processor, or compiled now under `wait`
+    for (;;) {
+        const uint64_t start = core_->cycle;
+        const uint64_t end = runtime_ && budget == kNoLimit && limit - start > kSlice ? start + kSlice : limit;
+        status_ = run_engine(end, budget, wait_blocked);
+        if (runtime_) {
+            runtime_unreported_ += core_->cycle - start;
+            if (runtime_unreported_ >= kSlice) poll_runtime();
+        }
+        if (end == limit || status_ != Status::Running || core_->cycle < end) return status_;
     }
-    status_ = st;
-    return st;
 }
 
 Status Processor::run_until(uint64_t cycle) { return dispatch(cycle, kNoLimit, true); }

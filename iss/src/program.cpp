@@ -2,6 +2,7 @@
 #include "iss/program.hpp"
 
 #include "handlers.hpp"
+#include "runtime_compile.hpp"
 
 #include "iss/compiled.hpp"
 #include "iss/memory.hpp"
@@ -220,6 +221,7 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
         }
         hash_ = h.value();
         compiled_ = find_compiled(hash_, size());
+        if (!compiled_ && compiled_enabled()) runtime_ = detail::runtime_compiled_for(hash_, uint32_t(size()));
     }
 
     // Label regions, from code symbols sorted by address.
@@ -245,6 +247,11 @@ Program::Program(const isa::ObjectFile& obj, const isa::Machine& m) : machine_(m
 
 std::vector<isa::Instr> Program::bundle_instrs(uint32_t pc) const {
     return pc < original_.size() ? original_[pc] : std::vector<isa::Instr>{};
+}
+
+const CompiledProgram* Program::compiled() const {
+    if (compiled_ || !runtime_) return compiled_;
+    return detail::runtime_table(*runtime_);
 }
 
 const isa::Symbol* Program::find_symbol(std::string_view name) const {

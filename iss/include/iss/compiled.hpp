@@ -35,6 +35,20 @@ const CompiledProgram* find_compiled(uint64_t hash, uint32_t bundles);
 // Whether programs loaded from now on look their table up (default: NESSHI_COMPILED is not "0").
 void set_compiled_enabled(bool on);
 bool compiled_enabled();
+// Compiled runs for the programs the build did not compile, built at run time with the system's
+// C++ compiler (src/runtime_compile.hpp), chosen by NESSHI_RUNTIME_COMPILE:
+//   unset or "1"  Background: a program that has run 2^26 cycles (about half a second) is compiled
+//                 at nice 10 while it runs on the interpreter, and switches to its runs when they
+//                 are ready; runs compiled before are loaded from the cache at once;
+//   "wait"        Wait: compiled before its first bundle runs, the run waiting (benchmarks);
+//   "wait:N"      Wait, once the program has run N cycles (tests: a switch in mid-run);
+//   "0"           Off: never compiled, nothing loaded from the cache.
+// The compiler is $NESSHI_CXX, else the one that built nesshi, else `c++`; without one, programs
+// run on the interpreter. Results never depend on the mode.
+enum class RuntimeCompile { Off, Background, Wait };
+RuntimeCompile runtime_compile_mode();
+void set_runtime_compile_mode(RuntimeCompile mode, uint64_t wait_after = 0); // for the programs loaded from now on
+
 // Every registered table, for tests.
 int compiled_count();
 const CompiledProgram& compiled_at(int i);

@@ -147,6 +147,7 @@ class Processor {
   private:
     template <bool Checked, bool Traced> friend struct EngineLoop;
     Status dispatch(uint64_t cycle_limit, uint64_t bundle_budget, bool wait_blocked);
+    Status run_engine(uint64_t cycle_limit, uint64_t bundle_budget, bool wait_blocked); // the loop of engine_ and tracing
 
     std::shared_ptr<const Program> prog_;
     Engine engine_;
@@ -171,6 +172,11 @@ class Processor {
     std::optional<Fault> fault_;
     uint32_t blocked_channel_ = 0;
     bool compiled_on_ = true;
+    // A program without built-in runs whose runs may be compiled at run time: the cycles run
+    // since they were last reported, and the report that switches to them once they are ready.
+    struct RuntimeCompiled* runtime_ = nullptr;
+    uint64_t runtime_unreported_ = 0;
+    void poll_runtime();
     std::vector<PendingWrite> landed_; // tracing: writes landed in the cycle not yet reported
 };
 

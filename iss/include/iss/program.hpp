@@ -135,8 +135,11 @@ class Program {
     // registers, immediate, latency, channel, FIFO need and in-place write; each bundle's shape
     // and FIFO gate; the machine's fingerprint): the key of a compiled-run table (iss/compiled.hpp).
     uint64_t decoded_hash() const { return hash_; }
-    // This program's compiled runs, or nullptr.
-    const struct CompiledProgram* compiled() const { return compiled_; }
+    // This program's compiled runs: the build's, else those compiled at run time once they are
+    // ready (src/runtime_compile.hpp); nullptr when it has neither (yet).
+    const struct CompiledProgram* compiled() const;
+    // The run-time entry of a program without built-in runs, or nullptr (compilation off).
+    struct RuntimeCompiled* runtime_compiled() const { return runtime_; }
 
   private:
     isa::Machine machine_;
@@ -152,6 +155,7 @@ class Program {
     std::vector<std::vector<isa::Instr>> original_; // bundles as written (slot order)
     uint64_t hash_ = 0;
     const struct CompiledProgram* compiled_ = nullptr;
+    struct RuntimeCompiled* runtime_ = nullptr;
 };
 
 std::shared_ptr<const Program> load_program(const isa::ObjectFile& obj, const isa::Machine& m);

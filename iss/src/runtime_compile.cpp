@@ -1,0 +1,311 @@
+// Compiled runs built at run time (runtime_compile.hpp).
+#include "runtime_compile.hpp"
+
+#include "iss/compiled_emit.hpp"
+#include "iss/program.hpp"
+
+#include "base/cache_dir.hpp"
+#include "base/hash.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+#include <unordered_map>
+
+extern char** environ;
+
+namespace nesshi::iss {
+
+struct RuntimeCompiled {
+    std::string name; // in the cache folder of this build: the program's hash and size
+    std::atomic<const CompiledProgram*> table{nullptr};
+    std::atomic<uint64_t> cycles{0};
+    std::atomic<bool> requested{false};
+    uint64_t hash = 0;
+    uint32_t bundles = 0;
+};
+
+namespace detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+// About half a second of one processor on the interpreter: a run shorter than that is not worth a
+// compilation of 10-60 s, a longer one (a sweep's cells, the paper) gets faster from then on.
+constexpr uint64_t kHotCycles = uint64_t{1} << 26;
+// A lock older than this is left from a compilation that died with its machine.
+constexpr auto kStaleLock = std::chrono::minutes(30);
+
+// The mode, and under Wait the cycles after which a program is compiled.
+struct ModeSetting {
+    RuntimeCompile mode = RuntimeCompile::Background;
+    uint64_t after = 0;
+};
+ModeSetting from_environment() {
+    const char* v = std::getenv("NESSHI_RUNTIME_COMPILE");
+    if (!v) return {};
+    const std::string_view s(v);
+    if (s == "0") return {RuntimeCompile::Off, 0};
+    if (s == "wait") return {RuntimeCompile::Wait, 0};
+    if (s.starts_with("wait:")) {
+        uint64_t n = 0;
+        const auto [end, ec] = std::from_chars(s.data() + 5, s.data() + s.size(), n);
+        if (ec == std::errc() && end == s.data() + s.size()) return {RuntimeCompile::Wait, n};
+    }
+    return {};
+}
+std::atomic<RuntimeCompile> mode{from_environment().mode};
+std::atomic<uint64_t> wait_after{from_environment().after};
+
+bool runnable(const std::string& cmd) {
+    if (cmd.find('/') != std::string::npos) return ::access(cmd.c_str(), X_OK) == 0;
+    const char* path = std::getenv("PATH");
+    for (std::string_view rest = path ? path : ""; !rest.empty();) {
+        const size_t colon = rest.find(':');
+        const std::string dir(rest.substr(0, colon));
+        if (::access(((dir.empty() ? "." : dir) + "/" + cmd).c_str(), X_OK) == 0) return true;
+        rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon + 1);
+    }
+    return false;
+}
+
+std::string quoted(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// What every program shares, found once: the cache folder, the compiler and what it compiles
+// against. Each build (its sources, compiler and flags) has a folder of its own in the cache.
+struct Setup {
+    std::string dir;      // the cache; empty: none, nothing compiled
+    std::string compiler; // empty: none found
+    std::string key;      // hex key of the embedded sources, the compiler and the flags
+    std::string build;    // dir/key
+    std::string includes; // build/include: the embedded headers, written on first use
+};
+
+const Setup& setup() {
+    static const Setup& s = *[] { // never freed: a compilation's thread may outlive main
+        auto* p = new Setup;
+        Setup& r = *p;
+        r.dir = base::user_cache_dir("compiled");
+        if (const char* c = std::getenv("NESSHI_CXX"); c && *c) r.compiler = c;
+        else if (runnable(NESSHI_RUNTIME_CXX)) r.compiler = NESSHI_RUNTIME_CXX;
+        else r.compiler = "c++";
+        if (!runnable(r.compiler)) r.compiler.clear();
+        base::Fnv1a h;
+        for (const EmbeddedFile& f : runtime_sources()) h.add(f.path).add(std::string_view("\0", 1)).add(f.text);
+        h.add(r.compiler).add(NESSHI_RUNTIME_FLAGS);
+        r.key = base::hex64(h.value());
+        r.build = r.dir + "/" + r.key;
+        r.includes = r.build + "/include";
+        return p;
+    }();
+    return s;
+}
+
+std::mutex registry_mutex;
+std::unordered_map<std::string, RuntimeCompiled*>& registry() {
+    static auto* r = new std::unordered_map<std::string, RuntimeCompiled*>; // never freed: threads may outlive main
+    return *r;
+}
+
+void warn_once(const std::string& what) {
+    static std::atomic<bool> warned{false};
+    if (!warned.exchange(true)) std::fprintf(stderr, "nesshi: %s; those programs run on the interpreter\n", what.c_str());
+}
+
+std::string so_path(const RuntimeCompiled& e) { return setup().build + "/" + e.name + ".so"; }
+
+// Loads the cached runs of `e` when there are some; true when its table is set.
+bool load(RuntimeCompiled& e) {
+    const std::string path = so_path(e);
+    if (::access(path.c_str(), R_OK) != 0) return false;
+    void* h = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        warn_once(fmt::format("cannot load compiled runs {} ({})", path, ::dlerror()));
+        return false;
+    }
+    using Get = const CompiledProgram* (*)();
+    const auto get = reinterpret_cast<Get>(::dlsym(h, "nesshi_compiled_program"));
+    const CompiledProgram* t = get ? get() : nullptr;
+    if (!t || t->hash != e.hash || t->bundles != e.bundles) {
+        ::dlclose(h);
+        return false;
+    }
+    e.table.store(t, std::memory_order_release); // the object stays loaded for the process's life
+    return true;
+}
+
+// The embedded headers under setup().includes, written once (into a folder of their own first,
+// renamed into place, so that a reader never sees half of them).
+bool write_includes() {
+    const Setup& s = setup();
+    std::error_code ec;
+    if (fs::is_directory(s.includes, ec)) return true;
+    const std::string tmp = fmt::format("{}.tmp-{}-{}", s.includes, ::getpid(), std::hash<std::thread::id>{}(std::this_thread::get_id()));
+    try {
+        for (const EmbeddedFile& f : runtime_sources()) {
+            const fs::path p = fs::path(tmp) / f.path;
+            fs::create_directories(p.parent_path());
+            std::ofstream out(p, std::ios::binary);
+            out << f.text;
+            if (!out.flush()) return false;
+        }
+    } catch (const std::exception&) {
+        fs::remove_all(tmp, ec);
+        return false;
+    }
+    fs::rename(tmp, s.includes, ec);
+    if (ec) fs::remove_all(tmp, ec); // another process was first
+    return fs::is_directory(s.includes, ec);
+}
+
+bool process_alive(pid_t pid) { return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM); }
+
+// A compilation of this key by another process (or thread) is under way: its lock holds the pid
+// of the shell that compiles, and the lock goes when it ends.
+bool lock_live(const std::string& lock) {
+    std::ifstream in(lock);
+    long pid = 0;
+    in >> pid;
+    std::error_code ec;
+    const auto age = fs::file_time_type::clock::now() - fs::last_write_time(lock, ec);
+    return !ec && age < kStaleLock && (pid == 0 || process_alive(pid_t(pid)));
+}
+
+// Runs `script` with sh, its standard streams on /dev/null and no other descriptor of ours (a pipe
+// to a reader must not stay open after we exit); writes the shell's pid into `lock` and waits.
+int run_shell(const std::string& script, const std::string& lock) {
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    for (int fd = 0; fd < 3; ++fd) posix_spawn_file_actions_addopen(&fa, fd, "/dev/null", fd ? O_WRONLY : O_RDONLY, 0);
+    posix_spawn_file_actions_addclosefrom_np(&fa, 3);
+    std::string sh = "sh", c = "-c", body = script;
+    char* argv[] = {sh.data(), c.data(), body.data(), nullptr};
+    pid_t pid = 0;
+    const int rc = ::posix_spawn(&pid, "/bin/sh", &fa, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0) return -1;
+    if (std::FILE* f = std::fopen(lock.c_str(), "r+")) { // unless the shell is done already
+        std::fprintf(f, "%ld\n", long(pid));
+        std::fclose(f);
+    }
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Compiles `files` (compiled_runs_source's) into the cache and loads them. Under a live lock of
+// another process, waits for its result instead.
+void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files) {
+    const Setup& s = setup();
+    std::error_code ec;
+    static std::once_flag pruned;
+    std::call_once(pruned, [&] { base::prune_cache_folders(s.dir, s.key); });
+    fs::create_directories(s.build, ec);
+    const std::string lock = s.build + "/" + e.name + ".lock";
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        const int fd = ::open(lock.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0644);
+        if (fd >= 0) {
+            ::close(fd);
+            break;
+        }
+        if (errno != EEXIST) return warn_once(fmt::format("cannot write {} ({})", lock, std::strerror(errno)));
+        while (lock_live(lock)) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        if (load(e)) return;
+        fs::remove(lock, ec); // stale, or its compilation failed: ours
+        if (attempt == 1) return;
+    }
+    if (!write_includes()) {
+        fs::remove(lock, ec);
+        return warn_once(fmt::format("cannot write the compiled runs' headers under {}", s.build));
+    }
+    const std::string work = fmt::format("{}/{}.work-{}", s.build, e.name, ::getpid());
+    fs::create_directories(work, ec);
+    for (size_t i = 0; i < files.size(); ++i) std::ofstream(fmt::format("{}/runs_{}.cpp", work, i), std::ios::binary) << files[i];
+    const std::string log = s.build + "/" + e.name + ".log";
+    // The parts compile side by side; the shell links, renames and unlocks, so that a compilation
+    // outlives a process that exits first.
+    const std::string script = fmt::format(
+        "cd {work} || exit 1; for f in runs_*.cpp; do "
+        "(nice -n 10 {cxx} {flags} -I{inc}/iss/src -I{inc}/iss/include -I{inc}/isa/include -I{inc}/base/include "
+        "-c $f -o $f.o >$f.log 2>&1 || touch failed) & done; wait; "
+        "[ ! -e failed ] && {cxx} -shared runs_*.o -o runs.so >link.log 2>&1 && mv runs.so {so}; st=$?; "
+        "[ $st = 0 ] && rm -f {log} || cat *.log >{log}; cd / && rm -rf {work} {lock}; exit $st",
+        fmt::arg("work", quoted(work)), fmt::arg("cxx", quoted(s.compiler)), fmt::arg("flags", NESSHI_RUNTIME_FLAGS),
+        fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)),
+        fmt::arg("lock", quoted(lock)));
+    if (run_shell(script, lock) != 0 || !load(e))
+        warn_once(fmt::format("compiling the runs of a program failed (see {})", log));
+}
+
+} // namespace
+
+RuntimeCompiled* runtime_compiled_for(uint64_t decoded_hash, uint32_t bundles) {
+    if (mode.load() == RuntimeCompile::Off || setup().dir.empty()) return nullptr;
+    const std::string name = fmt::format("{:016x}-{}", decoded_hash, bundles);
+    std::lock_guard lock(registry_mutex);
+    RuntimeCompiled*& e = registry()[name];
+    if (!e) {
+        e = new RuntimeCompiled;
+        e->name = name;
+        e->hash = decoded_hash;
+        e->bundles = bundles;
+        load(*e);
+    }
+    return e;
+}
+
+const CompiledProgram* runtime_table(const RuntimeCompiled& e) { return e.table.load(std::memory_order_acquire); }
+
+const CompiledProgram* runtime_ran(RuntimeCompiled& e, const Program& prog, uint64_t cycles) {
+    if (const CompiledProgram* t = runtime_table(e)) return t;
+    const RuntimeCompile m = mode.load();
+    const uint64_t total = e.cycles.fetch_add(cycles, std::memory_order_relaxed) + cycles;
+    if (m == RuntimeCompile::Off || total < (m == RuntimeCompile::Wait ? wait_after.load() : kHotCycles)) return nullptr;
+    if (e.requested.exchange(true) || setup().compiler.empty()) return runtime_table(e);
+    std::vector<std::string> files;
+    try {
+        const std::string id = "rt_" + base::hex64(e.hash);
+        const uint32_t parts = std::clamp(std::thread::hardware_concurrency(), 1u, 8u); // compiled side by side
+        files = compiled_runs_source(prog, e.name + " (compiled at run time)", id, parts, "nesshi::iss::runtime");
+        files[0] += fmt::format("\nextern \"C\" __attribute__((visibility(\"default\"))) const nesshi::iss::CompiledProgram* "
+                                "nesshi_compiled_program() {{ return &nesshi::iss::runtime::kCompiled_{}; }}\n",
+                                id);
+    } catch (const std::exception&) {
+        return nullptr; // a program the compiled form cannot hold runs on the interpreter
+    }
+    if (m == RuntimeCompile::Wait) compile_and_load(e, files);
+    else std::thread([&e, files = std::move(files)] { compile_and_load(e, files); }).detach();
+    return runtime_table(e);
+}
+
+} // namespace detail
+
+RuntimeCompile runtime_compile_mode() { return detail::mode.load(); }
+void set_runtime_compile_mode(RuntimeCompile m, uint64_t wait_after) {
+    detail::mode.store(m);
+    detail::wait_after.store(wait_after);
+}
+
+} // namespace nesshi::iss

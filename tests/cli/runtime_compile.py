@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Compiled runs built at run time (iss/compiled.hpp: NESSHI_RUNTIME_COMPILE) for a user's machine.
+
+A loop of 3.6 M cycles on a copy of the `seq` preset with another branch penalty, which the build
+compiled nothing for: under `wait:1` it starts on the interpreter and switches to its compiled runs
+in mid-run (after its first slice), with the interpreter's statistics and memory, also under
+lock-step; the runs land in the cache once, with nothing left beside them, and a later run in the
+default mode loads them; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
+processes compiling one program at once make one object; a compiler that fails is a warning and
+the run goes on interpreted; a model M render (several processors, the kernel workloads) gives the
+interpreter's statistics. usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+nesshi, src, out = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+shutil.rmtree(out, ignore_errors=True)
+out.mkdir(parents=True)
+machine = out / "myseq.toml"
+machine.write_text((src / "isa/machines/seq.toml").read_text()
+                   .replace('name = "seq"', 'name = "myseq"').replace("branch_penalty = 0", "branch_penalty = 2"))
+program = out / "long.s"
+program.write_text("""# machine: seq
+        .data 0x200
+total:  .word 0
+        .text
+        li r2, 600000
+        li r3, 0
+loop:   add r3, r3, r2
+        xor r3, r3, r2
+        addi r2, r2, -1
+        bnez r2, loop
+        li r5, total
+        sw r3, 0(r5)
+        halt
+""")
+failures = []
+base_env = {k: v for k, v in os.environ.items() if k not in ("NESSHI_COMPILED", "NESSHI_CXX")}
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAILED:", what)
+
+
+def run(mode, cache, *args, engine="fast", env=None, name="run"):
+    """nesshi sim of the loop: (first line of the report, stats JSON, dumped total, stderr)."""
+    stats = out / f"{name}.json"
+    e = dict(base_env, NESSHI_RUNTIME_COMPILE=mode, XDG_CACHE_HOME=str(out / cache), **(env or {}))
+    r = subprocess.run([nesshi, "sim", "-m", str(machine), str(program), "--engine", engine, "--stats-json", str(stats),
+                        "--dump", "total:1:i32", *args], env=e, capture_output=True, text=True)
+    check(r.returncode == 0, f"{name}: exit {r.returncode}: {r.stderr}")
+    lines = r.stdout.splitlines()
+    return (lines[0] if lines else ""), (stats.read_text() if stats.exists() else ""), lines[-1:], r.stderr
+
+
+def cache_files(cache):
+    """The files of the cache's build folders, their headers aside."""
+    d = out / cache / "nesshi/compiled"
+    return sorted(f.name for b in d.iterdir() for f in b.iterdir() if f.name != "include") if d.exists() else []
+
+
+interpreted = run("0", "cache", name="interpreted")
+check(interpreted[0].endswith("(fast engine)"), f"NESSHI_RUNTIME_COMPILE=0: {interpreted[0]}")
+check(not (out / "cache").exists(), "NESSHI_RUNTIME_COMPILE=0 wrote a cache")
+
+switched = run("wait:1", "cache", name="switched")
+check(switched[0].endswith("(fast engine, compiled runs)"), f"wait:1: {switched[0]}")
+check(switched[1:3] == interpreted[1:3], "wait:1: statistics or memory differ from the interpreter's")
+objects = cache_files("cache")
+check(len(objects) == 1 and objects[0].endswith(".so"), f"the cache holds {objects}, not one object")
+
+loaded = run("1", "cache", name="loaded")
+check(loaded[0].endswith("(fast engine, compiled runs)"), f"the default mode did not load the cache: {loaded[0]}")
+check(loaded[1:3] == interpreted[1:3], "loaded runs: statistics or memory differ")
+off = run("1", "cache", env={"NESSHI_COMPILED": "0"}, name="compiled-off")
+check(off[0].endswith("(fast engine)"), f"NESSHI_COMPILED=0 still used compiled runs: {off[0]}")
+check(run("0", "cache", name="runtime-off")[0].endswith("(fast engine)"), "NESSHI_RUNTIME_COMPILE=0 loaded the cache")
+check(run("1", "cache", engine="checked", name="checked")[0].endswith("(checked engine)"), "the checked engine")
+run("wait:1", "cache-lockstep", "-q", engine="lockstep", name="lockstep") # a divergence exits 3
+
+# Two processes compiling one program at once: one object, nothing else left.
+envs = [dict(base_env, NESSHI_RUNTIME_COMPILE="wait", XDG_CACHE_HOME=str(out / "cache-race"))] * 2
+both = [subprocess.Popen([nesshi, "sim", "-m", str(machine), str(program)], env=e, stdout=subprocess.PIPE, text=True)
+        for e in envs]
+for p in both:
+    first = p.communicate()[0].splitlines()[0]
+    check(p.returncode == 0 and first.endswith("(fast engine, compiled runs)"), f"concurrent compilation: {first}")
+check(len(cache_files("cache-race")) == 1, f"concurrent compilation left {cache_files('cache-race')}")
+
+# A compiler that fails: a warning that names its log, the run goes on interpreted.
+failed = run("wait", "cache-failing", env={"NESSHI_CXX": "false"}, name="failing")
+check(failed[0].endswith("(fast engine)") and failed[1:3] == interpreted[1:3], "a failing compiler changed the run")
+check("compiling the runs of a program failed (see" in failed[3], f"no warning of the failure: {failed[3]!r}")
+check([f for f in cache_files("cache-failing") if not f.endswith(".log")] == [], "a failed compilation left files")
+
+
+# The machine: a model M render on the user's machine (the OS and IC stages run seq programs).
+def render(mode, name):
+    stats = out / f"{name}.json"
+    e = dict(base_env, NESSHI_RUNTIME_COMPILE=mode, XDG_CACHE_HOME=str(out / "cache-render"))
+    r = subprocess.run([nesshi, "render", "tetra:1", "--size", "16", "--grid", "4", "--model", "M", "--seq-machine",
+                        str(machine), "-o", str(out / f"{name}.png"), "--stats-json", str(stats)],
+                       env=e, capture_output=True, text=True)
+    check(r.returncode == 0, f"render {name}: exit {r.returncode}: {r.stderr}")
+    s = json.loads(stats.read_text())
+    s.pop("host", None)
+    return s, (out / f"{name}.png").read_bytes()
+
+
+check(render("wait:1", "render-compiled") == render("0", "render-interpreted"), "model M: compiled runs changed the render")
+check(len(cache_files("cache-render")) >= 1, "model M: nothing compiled")
+
+if failures:
+    sys.exit(f"{len(failures)} check(s) failed")
+print("runtime compilation: all checks passed")
