@@ -108,7 +108,10 @@ const Setup& setup() {
         auto* p = new Setup;
         Setup& r = *p;
         r.dir = base::user_cache_dir("compiled");
+        // clang++ first: it compiles these runs 7x faster than g++ at -O1 (17 s against 126 s for
+        // the 1,948 bundles of the IC's loop kernel on a user's machine), and they run as fast.
         if (const char* c = std::getenv("NESSHI_CXX"); c && *c) r.compiler = c;
+        else if (runnable("clang++")) r.compiler = "clang++";
         else if (runnable(NESSHI_RUNTIME_CXX)) r.compiler = NESSHI_RUNTIME_CXX;
         else r.compiler = "c++";
         if (!runnable(r.compiler)) r.compiler.clear();

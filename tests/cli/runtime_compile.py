@@ -7,7 +7,7 @@ in mid-run (after its first slice), with the interpreter's statistics and memory
 lock-step; the runs land in the cache once, with nothing left beside them, and a later run in the
 default mode loads them; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
 processes compiling one program at once make one object; a compiler that fails is a warning and
-the run goes on interpreted; a model M render (several processors, the kernel workloads) gives the
+the run goes on interpreted; another compiler gets a cache folder of its own; a model M render (several processors, the kernel workloads) gives the
 interpreter's statistics. usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
 """
 import json
@@ -98,6 +98,12 @@ failed = run("wait", "cache-failing", env={"NESSHI_CXX": "false"}, name="failing
 check(failed[0].endswith("(fast engine)") and failed[1:3] == interpreted[1:3], "a failing compiler changed the run")
 check("compiling the runs of a program failed (see" in failed[3], f"no warning of the failure: {failed[3]!r}")
 check([f for f in cache_files("cache-failing") if not f.endswith(".log")] == [], "a failed compilation left files")
+
+# Another compiler (clang++ is the default when installed): a cache folder of its own, same results.
+if shutil.which("c++"):
+    other = run("wait", "cache", env={"NESSHI_CXX": "c++"}, name="other-compiler")
+    check(other[0].endswith("(fast engine, compiled runs)") and other[1:3] == interpreted[1:3], "NESSHI_CXX=c++")
+    check(len(list((out / "cache/nesshi/compiled").iterdir())) == 2, "a compiler without a cache folder of its own")
 
 
 # The machine: a model M render on the user's machine (the OS and IC stages run seq programs).

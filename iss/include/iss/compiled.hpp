@@ -43,8 +43,9 @@ bool compiled_enabled();
 //   "wait"        Wait: compiled before its first bundle runs, the run waiting (benchmarks);
 //   "wait:N"      Wait, once the program has run N cycles (tests: a switch in mid-run);
 //   "0"           Off: never compiled, nothing loaded from the cache.
-// The compiler is $NESSHI_CXX, else the one that built nesshi, else `c++`; without one, programs
-// run on the interpreter. Results never depend on the mode.
+// The compiler is $NESSHI_CXX, else clang++ (the fastest to compile them), else the one that built
+// nesshi, else `c++`; without one, programs run on the interpreter. Results never depend on the
+// mode or the compiler.
 enum class RuntimeCompile { Off, Background, Wait };
 RuntimeCompile runtime_compile_mode();
 void set_runtime_compile_mode(RuntimeCompile mode, uint64_t wait_after = 0); // for the programs loaded from now on
