@@ -7,8 +7,9 @@ in mid-run (after its first slice), with the interpreter's statistics and memory
 lock-step; the runs land in the cache once, with nothing left beside them, and a later run in the
 default mode loads them; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
 processes compiling one program at once make one object; a compiler that fails is a warning and
-the run goes on interpreted; another compiler gets a cache folder of its own; a model M render (several processors, the kernel workloads) gives the
-interpreter's statistics. usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
+the run goes on interpreted; another compiler gets a cache folder of its own; a model M render
+(several processors, the kernel workloads) gives the interpreter's statistics.
+usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
 """
 import json
 import os
