@@ -14,6 +14,7 @@
 #include <cerrno>
 #include <charconv>
 #include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +23,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <spawn.h>
 #include <sys/stat.h>
@@ -29,6 +31,7 @@
 #include <thread>
 #include <unistd.h>
 #include <unordered_map>
+#include <utility>
 
 extern char** environ;
 
@@ -196,9 +199,49 @@ bool lock_live(const std::string& lock) {
     return !ec && age < kStaleLock && (pid == 0 || process_alive(pid_t(pid)));
 }
 
+// Background compilations that have not started their compiler yet. A process that exits waits
+// for them to start it (writing the sources takes milliseconds), not for the compiler, which
+// outlives the process: a run of a second compiles for the next one.
+struct Starting {
+    std::mutex mutex;
+    std::condition_variable cv;
+    int count = 0;
+};
+Starting& starting() {
+    static auto* s = new Starting; // never freed: a compilation's thread may outlive main
+    return *s;
+}
+struct WaitForStartsAtExit {
+    ~WaitForStartsAtExit() {
+        std::unique_lock lock(starting().mutex);
+        starting().cv.wait_for(lock, std::chrono::seconds(10), [] { return starting().count == 0; });
+    }
+};
+// One background compilation until its compiler has started or it gave up (idempotent).
+class StartGuard {
+  public:
+    explicit StartGuard(bool background) : on_(background) {
+        if (!on_) return;
+        static WaitForStartsAtExit waiter; // destroyed at exit, before anything it waits for
+        std::lock_guard lock(starting().mutex);
+        ++starting().count;
+    }
+    ~StartGuard() { started(); }
+    StartGuard(const StartGuard&) = delete;
+    StartGuard& operator=(const StartGuard&) = delete;
+    void started() {
+        if (!std::exchange(on_, false)) return;
+        std::lock_guard lock(starting().mutex);
+        if (--starting().count == 0) starting().cv.notify_all();
+    }
+
+  private:
+    bool on_;
+};
+
 // Runs `script` with sh, its standard streams on /dev/null and no other descriptor of ours (a pipe
 // to a reader must not stay open after we exit); writes the shell's pid into `lock` and waits.
-int run_shell(const std::string& script, const std::string& lock) {
+int run_shell(const std::string& script, const std::string& lock, StartGuard& start) {
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     for (int fd = 0; fd < 3; ++fd) posix_spawn_file_actions_addopen(&fa, fd, "/dev/null", fd ? O_WRONLY : O_RDONLY, 0);
@@ -213,6 +256,7 @@ int run_shell(const std::string& script, const std::string& lock) {
         std::fprintf(f, "%ld\n", long(pid));
         std::fclose(f);
     }
+    start.started();
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -220,7 +264,7 @@ int run_shell(const std::string& script, const std::string& lock) {
 
 // Compiles `files` (compiled_runs_source's) into the cache and loads them. Under a live lock of
 // another process, waits for its result instead.
-void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files) {
+void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files, StartGuard& start) {
     const Setup& s = setup();
     std::error_code ec;
     static std::once_flag pruned;
@@ -234,6 +278,7 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files)
             break;
         }
         if (errno != EEXIST) return warn_once(fmt::format("cannot write {} ({})", lock, std::strerror(errno)));
+        start.started(); // another compiler runs already: nothing to start before an exit
         while (lock_live(lock)) std::this_thread::sleep_for(std::chrono::milliseconds(200));
         if (load(e)) return;
         fs::remove(lock, ec); // stale, or its compilation failed: ours
@@ -258,7 +303,7 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files)
         fmt::arg("work", quoted(work)), fmt::arg("cxx", quoted(s.compiler)), fmt::arg("flags", NESSHI_RUNTIME_FLAGS),
         fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)),
         fmt::arg("lock", quoted(lock)));
-    if (run_shell(script, lock) != 0 || !load(e))
+    if (run_shell(script, lock, start) != 0 || !load(e))
         warn_once(fmt::format("compiling the runs of a program failed (see {})", log));
 }
 
@@ -298,8 +343,13 @@ const CompiledProgram* runtime_ran(RuntimeCompiled& e, const Program& prog, uint
     } catch (const std::exception&) {
         return nullptr; // a program the compiled form cannot hold runs on the interpreter
     }
-    if (m == RuntimeCompile::Wait) compile_and_load(e, files);
-    else std::thread([&e, files = std::move(files)] { compile_and_load(e, files); }).detach();
+    if (m == RuntimeCompile::Wait) {
+        StartGuard none(false);
+        compile_and_load(e, files, none);
+    } else {
+        auto start = std::make_shared<StartGuard>(true);
+        std::thread([&e, files = std::move(files), start] { compile_and_load(e, files, *start); }).detach();
+    }
     return runtime_table(e);
 }
 

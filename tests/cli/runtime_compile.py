@@ -5,7 +5,8 @@ A loop of 3.6 M cycles on a copy of the `seq` preset with another branch penalty
 compiled nothing for: under `wait:1` it starts on the interpreter and switches to its compiled runs
 in mid-run (after its first slice), with the interpreter's statistics and memory, also under
 lock-step; the runs land in the cache once, with nothing left beside them, and a later run in the
-default mode loads them; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
+default mode loads them; in the default mode a run shorter than its compilation leaves the
+object for the next one; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
 processes compiling one program at once make one object; a compiler that fails is a warning and
 the run goes on interpreted; another compiler gets a cache folder of its own; a model M render
 (several processors, the kernel workloads) gives the interpreter's statistics.
@@ -16,6 +17,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 nesshi, src, out = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
@@ -39,6 +41,8 @@ loop:   add r3, r3, r2
         sw r3, 0(r5)
         halt
 """)
+hot = out / "hot.s" # 72 M cycles: past the default mode's 2^26
+hot.write_text(program.read_text().replace("li r2, 600000", "li r2, 12000000"))
 failures = []
 base_env = {k: v for k, v in os.environ.items() if k not in ("NESSHI_COMPILED", "NESSHI_CXX")}
 
@@ -105,6 +109,24 @@ if shutil.which("c++"):
     other = run("wait", "cache", env={"NESSHI_CXX": "c++"}, name="other-compiler")
     check(other[0].endswith("(fast engine, compiled runs)") and other[1:3] == interpreted[1:3], "NESSHI_CXX=c++")
     check(len(list((out / "cache/nesshi/compiled").iterdir())) == 2, "a compiler without a cache folder of its own")
+
+
+# The default mode: a run that ends before its compilation starts it, the compiler outlives it,
+# and the next run loads the object.
+def sim_hot():
+    e = dict(base_env, NESSHI_RUNTIME_COMPILE="1", XDG_CACHE_HOME=str(out / "cache-background"))
+    r = subprocess.run([nesshi, "sim", "-m", str(machine), str(hot)], env=e, capture_output=True, text=True)
+    check(r.returncode == 0, f"background: exit {r.returncode}: {r.stderr}")
+    return r.stdout.splitlines()[0] if r.stdout else ""
+
+
+sim_hot()
+for _ in range(600):
+    if any(f.endswith(".so") for f in cache_files("cache-background")) and not any(
+            f.endswith(".lock") for f in cache_files("cache-background")):
+        break
+    time.sleep(0.1)
+check(sim_hot().endswith("(fast engine, compiled runs)"), f"background: the next run did not load: {cache_files('cache-background')}")
 
 
 # The machine: a model M render on the user's machine (the OS and IC stages run seq programs).
