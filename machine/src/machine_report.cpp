@@ -114,6 +114,7 @@ nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions
     }
     j["detail"] = std::move(detail);
     j["host"]["wall_seconds"] = m.wall_seconds;
+    j["host"]["machine_setup_seconds"] = m.machine_setup_seconds;
     j["host"]["simulated_bundles"] = m.simulated_bundles;
     j["host"]["bundles_per_second"] = m.bundles_per_second();
     j["host"]["threads"] = m.threads;

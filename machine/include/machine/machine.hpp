@@ -120,6 +120,7 @@ struct Stats {
     std::uint64_t max_fifo_words = 0;      // highest occupancy seen on any FIFO
     KernelBuild os_kernel, ic_kernel;      // how the OS and IC stages' kernels were built
     double wall_seconds = 0;               // host time of the simulation
+    double machine_setup_seconds = 0;      // host time before it: kernels built (or loaded), memories laid out
     std::uint64_t simulated_bundles = 0;   // bundles issued by every ISS instance
     int threads = 1;
     double bundles_per_second() const { return wall_seconds > 0 ? static_cast<double>(simulated_bundles) / wall_seconds : 0; }
