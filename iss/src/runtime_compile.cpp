@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <dlfcn.h>
+#include <elf.h>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
@@ -135,20 +136,54 @@ std::unordered_map<std::string, RuntimeCompiled*>& registry() {
     return *r;
 }
 
-void warn_once(const std::string& what) {
-    static std::atomic<bool> warned{false};
-    if (!warned.exchange(true)) std::fprintf(stderr, "nesshi: %s; those programs run on the interpreter\n", what.c_str());
+// One warning of each kind per process (a sweep loads many programs); `kind` is a literal.
+void warn_once(const char* kind, const std::string& what) {
+    static std::mutex mutex;
+    static auto* warned = new std::vector<const char*>; // never freed: threads may outlive main
+    std::lock_guard lock(mutex);
+    if (std::find(warned->begin(), warned->end(), kind) != warned->end()) return;
+    warned->push_back(kind);
+    std::fprintf(stderr, "nesshi: %s\n", what.c_str());
 }
+constexpr const char* kInterpreted = "; those programs run on the interpreter";
 
 std::string so_path(const RuntimeCompiled& e) { return setup().build + "/" + e.name + ".so"; }
 
-// Loads the cached runs of `e` when there are some; true when its table is set.
+// Whether `path` holds every byte its ELF headers promise: dlopen maps a truncated object and
+// dies of SIGBUS on its first touch past the end. (We only ever rename a whole object into the
+// cache; this is for damage from outside.)
+bool whole_elf(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    Elf64_Ehdr eh{};
+    if (!in.read(reinterpret_cast<char*>(&eh), sizeof eh) || std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 ||
+        eh.e_ident[EI_CLASS] != ELFCLASS64 || eh.e_phentsize != sizeof(Elf64_Phdr))
+        return false;
+    std::error_code ec;
+    const uint64_t size = fs::file_size(path, ec);
+    if (ec || eh.e_shoff + uint64_t{eh.e_shnum} * eh.e_shentsize > size) return false;
+    for (uint32_t i = 0; i < eh.e_phnum; ++i) {
+        Elf64_Phdr ph{};
+        if (!in.seekg(std::streamoff(eh.e_phoff + uint64_t{i} * sizeof ph)) || !in.read(reinterpret_cast<char*>(&ph), sizeof ph) ||
+            ph.p_offset + ph.p_filesz > size)
+            return false;
+    }
+    return true;
+}
+
+// Loads the cached runs of `e` when there are some; true when its table is set. A damaged object
+// is removed (and compiled again when the program is hot).
 bool load(RuntimeCompiled& e) {
     const std::string path = so_path(e);
     if (::access(path.c_str(), R_OK) != 0) return false;
+    if (!whole_elf(path)) {
+        warn_once("damaged", fmt::format("removed damaged compiled runs {}; they are compiled again", path));
+        std::error_code ec;
+        fs::remove(path, ec);
+        return false;
+    }
     void* h = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!h) {
-        warn_once(fmt::format("cannot load compiled runs {} ({})", path, ::dlerror()));
+        warn_once("load", fmt::format("cannot load compiled runs {} ({}){}", path, ::dlerror(), kInterpreted));
         return false;
     }
     using Get = const CompiledProgram* (*)();
@@ -277,7 +312,7 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
             ::close(fd);
             break;
         }
-        if (errno != EEXIST) return warn_once(fmt::format("cannot write {} ({})", lock, std::strerror(errno)));
+        if (errno != EEXIST) return warn_once("lock", fmt::format("cannot write {} ({}){}", lock, std::strerror(errno), kInterpreted));
         start.started(); // another compiler runs already: nothing to start before an exit
         while (lock_live(lock)) std::this_thread::sleep_for(std::chrono::milliseconds(200));
         if (load(e)) return;
@@ -286,7 +321,7 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
     }
     if (!write_includes()) {
         fs::remove(lock, ec);
-        return warn_once(fmt::format("cannot write the compiled runs' headers under {}", s.build));
+        return warn_once("headers", fmt::format("cannot write the compiled runs' headers under {}{}", s.build, kInterpreted));
     }
     const std::string work = fmt::format("{}/{}.work-{}", s.build, e.name, ::getpid());
     fs::create_directories(work, ec);
@@ -304,7 +339,7 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
         fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)),
         fmt::arg("lock", quoted(lock)));
     if (run_shell(script, lock, start) != 0 || !load(e))
-        warn_once(fmt::format("compiling the runs of a program failed (see {})", log));
+        warn_once("compile", fmt::format("compiling the runs of a program failed (see {}){}", log, kInterpreted));
 }
 
 } // namespace

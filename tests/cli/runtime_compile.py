@@ -5,8 +5,9 @@ A loop of 3.6 M cycles on a copy of the `seq` preset with another branch penalty
 compiled nothing for: under `wait:1` it starts on the interpreter and switches to its compiled runs
 in mid-run (after its first slice), with the interpreter's statistics and memory, also under
 lock-step; the runs land in the cache once, with nothing left beside them, and a later run in the
-default mode loads them; in the default mode a run shorter than its compilation leaves the
-object for the next one; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
+default mode loads them; a damaged object is removed and compiled again; a cache that cannot be
+written is a warning; in the default mode a run shorter than its compilation leaves the object
+for the next one; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
 processes compiling one program at once make one object; a compiler that fails is a warning and
 the run goes on interpreted; another compiler gets a cache folder of its own; a model M render
 (several processors, the kernel workloads) gives the interpreter's statistics.
@@ -83,6 +84,14 @@ check(len(objects) == 1 and objects[0].endswith(".so"), f"the cache holds {objec
 loaded = run("1", "cache", name="loaded")
 check(loaded[0].endswith("(fast engine, compiled runs)"), f"the default mode did not load the cache: {loaded[0]}")
 check(loaded[1:3] == interpreted[1:3], "loaded runs: statistics or memory differ")
+# A damaged object (cut short from outside; dlopen would die of SIGBUS on it): removed, warned of,
+# compiled again.
+so = next((out / "cache/nesshi/compiled").glob("*/*.so"))
+so.write_bytes(so.read_bytes()[:1000])
+mended = run("wait", "cache", name="damaged")
+check(mended[0].endswith("(fast engine, compiled runs)") and mended[1:3] == interpreted[1:3], "a damaged object")
+check("removed damaged compiled runs" in mended[3], f"no warning of the damaged object: {mended[3]!r}")
+check(so.stat().st_size > 1000, "the damaged object was not compiled again")
 off = run("1", "cache", env={"NESSHI_COMPILED": "0"}, name="compiled-off")
 check(off[0].endswith("(fast engine)"), f"NESSHI_COMPILED=0 still used compiled runs: {off[0]}")
 check(run("0", "cache", name="runtime-off")[0].endswith("(fast engine)"), "NESSHI_RUNTIME_COMPILE=0 loaded the cache")
@@ -103,6 +112,12 @@ failed = run("wait", "cache-failing", env={"NESSHI_CXX": "false"}, name="failing
 check(failed[0].endswith("(fast engine)") and failed[1:3] == interpreted[1:3], "a failing compiler changed the run")
 check("compiling the runs of a program failed (see" in failed[3], f"no warning of the failure: {failed[3]!r}")
 check([f for f in cache_files("cache-failing") if not f.endswith(".log")] == [], "a failed compilation left files")
+
+# A cache that cannot be written: a warning, the run interpreted.
+(out / "not-a-folder").write_text("")
+unwritable = run("wait", "not-a-folder", name="unwritable")
+check(unwritable[0].endswith("(fast engine)") and unwritable[1:3] == interpreted[1:3], "an unwritable cache")
+check("cannot write" in unwritable[3], f"no warning of the unwritable cache: {unwritable[3]!r}")
 
 # Another compiler (clang++ is the default when installed): a cache folder of its own, same results.
 if shutil.which("c++"):
