@@ -588,12 +588,16 @@ Status Processor::dispatch(uint64_t limit, uint64_t budget, bool wait_blocked) {
     if (status_ == Status::Halted || status_ == Status::Faulted) return status_;
     if (!runtime_) return status_ = run_engine(limit, budget, wait_blocked);
     // A program whose runs may be compiled at run time reports the cycles it runs, a long call in
-    // slices, and switches to its runs between two slices or calls once they are ready.
+    // slices, and switches to its runs between two slices or calls once they are ready. Only a
+    // call that returns when blocked and is not traced is sliced: one that waits (run_until) idles
+    // to its limit once blocked, where a slice would return early or ask its channels again, and
+    // a trace would show a wait cut at a slice's end as two.
     constexpr uint64_t kSlice = uint64_t{1} << 20; // about 10 ms on the interpreter
     if (core_->cycle == 0) poll_runtime(); // loaded by another processor, or compiled now under `wait`
+    const bool sliced = budget == kNoLimit && !wait_blocked && !tracer_;
     for (;;) {
         const uint64_t start = core_->cycle;
-        const uint64_t end = runtime_ && budget == kNoLimit && limit - start > kSlice ? start + kSlice : limit;
+        const uint64_t end = runtime_ && sliced && limit - start > kSlice ? start + kSlice : limit;
         status_ = run_engine(end, budget, wait_blocked);
         if (runtime_) {
             runtime_unreported_ += core_->cycle - start;
