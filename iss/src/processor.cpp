@@ -597,13 +597,14 @@ Status Processor::dispatch(uint64_t limit, uint64_t budget, bool wait_blocked) {
     const bool sliced = budget == kNoLimit && !wait_blocked && !tracer_;
     for (;;) {
         const uint64_t start = core_->cycle;
-        const uint64_t end = runtime_ && sliced && limit - start > kSlice ? start + kSlice : limit;
+        // (a bundle's bubble or stall may carry a slice past its end, even past the limit)
+        const uint64_t end = runtime_ && sliced && limit > start && limit - start > kSlice ? start + kSlice : limit;
         status_ = run_engine(end, budget, wait_blocked);
         if (runtime_) {
             runtime_unreported_ += core_->cycle - start;
             if (runtime_unreported_ >= kSlice) poll_runtime();
         }
-        if (end == limit || status_ != Status::Running || core_->cycle < end) return status_;
+        if (end == limit || status_ != Status::Running || core_->cycle < end || core_->cycle >= limit) return status_;
     }
 }
 
