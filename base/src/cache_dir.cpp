@@ -7,7 +7,8 @@
 namespace nesshi::base {
 
 std::string user_cache_dir(std::string_view kind) {
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/nesshi/" + std::string(kind);
+    // A relative XDG_CACHE_HOME is ignored, as the XDG base directory specification asks.
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x == '/') return std::string(x) + "/nesshi/" + std::string(kind);
     if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/nesshi/" + std::string(kind);
     return "";
 }

@@ -27,7 +27,9 @@
 #include <memory>
 #include <mutex>
 #include <spawn.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/utsname.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -55,29 +57,30 @@ namespace fs = std::filesystem;
 // About half a second of one processor on the interpreter: a run shorter than that is not worth a
 // compilation of 10-60 s, a longer one (a sweep's cells, the paper) gets faster from then on.
 constexpr uint64_t kHotCycles = uint64_t{1} << 26;
-// A lock older than this is left from a compilation that died with its machine.
-constexpr auto kStaleLock = std::chrono::minutes(30);
-
-// The mode, and under Wait the cycles after which a program is compiled.
+// The mode, and under Wait the cycles after which a program is compiled; `bad`: a value of
+// NESSHI_RUNTIME_COMPILE that means none of them (the default applies, with a warning).
 struct ModeSetting {
     RuntimeCompile mode = RuntimeCompile::Background;
     uint64_t after = 0;
+    bool bad = false;
 };
 ModeSetting from_environment() {
     const char* v = std::getenv("NESSHI_RUNTIME_COMPILE");
     if (!v) return {};
     const std::string_view s(v);
     if (s == "0") return {RuntimeCompile::Off, 0};
+    if (s == "1") return {};
     if (s == "wait") return {RuntimeCompile::Wait, 0};
     if (s.starts_with("wait:")) {
         uint64_t n = 0;
         const auto [end, ec] = std::from_chars(s.data() + 5, s.data() + s.size(), n);
         if (ec == std::errc() && end == s.data() + s.size()) return {RuntimeCompile::Wait, n};
     }
-    return {};
+    return {RuntimeCompile::Background, 0, true};
 }
 std::atomic<RuntimeCompile> mode{from_environment().mode};
 std::atomic<uint64_t> wait_after{from_environment().after};
+const bool bad_mode_value = from_environment().bad;
 
 bool runnable(const std::string& cmd) {
     if (cmd.find('/') != std::string::npos) return ::access(cmd.c_str(), X_OK) == 0;
@@ -102,6 +105,7 @@ std::string quoted(const std::string& s) {
 struct Setup {
     std::string dir;      // the cache; empty: none, nothing compiled
     std::string compiler; // empty: none found
+    std::string no_compiler; // then why, when the user named one
     std::string key;      // hex key of the embedded sources, the compiler and the flags
     std::string build;    // dir/key
     std::string includes; // build/include: the embedded headers, written on first use
@@ -118,10 +122,18 @@ const Setup& setup() {
         else if (runnable("clang++")) r.compiler = "clang++";
         else if (runnable(NESSHI_RUNTIME_CXX)) r.compiler = NESSHI_RUNTIME_CXX;
         else r.compiler = "c++";
-        if (!runnable(r.compiler)) r.compiler.clear();
+        if (!runnable(r.compiler)) {
+            if (std::getenv("NESSHI_CXX"))
+                r.no_compiler = fmt::format("NESSHI_CXX={} is not a program found on PATH (a compiler with options "
+                                            "needs a script of its own)",
+                                            r.compiler);
+            r.compiler.clear();
+        }
         base::Fnv1a h;
         for (const EmbeddedFile& f : runtime_sources()) h.add(f.path).add(std::string_view("\0", 1)).add(f.text);
-        h.add(r.compiler).add(NESSHI_RUNTIME_FLAGS);
+        utsname host{};
+        ::uname(&host); // a home folder shared by hosts of two architectures keeps both objects
+        h.add(r.compiler).add(NESSHI_RUNTIME_FLAGS).add(std::string_view(host.machine));
         r.key = base::hex64(h.value());
         r.build = r.dir + "/" + r.key;
         r.includes = r.build + "/include";
@@ -210,7 +222,7 @@ bool write_includes() {
             fs::create_directories(p.parent_path());
             std::ofstream out(p, std::ios::binary);
             out << f.text;
-            if (!out.flush()) return false;
+            if (!out.flush()) throw std::runtime_error("short write");
         }
     } catch (const std::exception&) {
         fs::remove_all(tmp, ec);
@@ -219,19 +231,6 @@ bool write_includes() {
     fs::rename(tmp, s.includes, ec);
     if (ec) fs::remove_all(tmp, ec); // another process was first
     return fs::is_directory(s.includes, ec);
-}
-
-bool process_alive(pid_t pid) { return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM); }
-
-// A compilation of this key by another process (or thread) is under way: its lock holds the pid
-// of the shell that compiles, and the lock goes when it ends.
-bool lock_live(const std::string& lock) {
-    std::ifstream in(lock);
-    long pid = 0;
-    in >> pid;
-    std::error_code ec;
-    const auto age = fs::file_time_type::clock::now() - fs::last_write_time(lock, ec);
-    return !ec && age < kStaleLock && (pid == 0 || process_alive(pid_t(pid)));
 }
 
 // Background compilations that have not started their compiler yet. A process that exits waits
@@ -274,77 +273,96 @@ class StartGuard {
     bool on_;
 };
 
-// Runs `script` with sh, its standard streams on /dev/null and no other descriptor of ours (a pipe
-// to a reader must not stay open after we exit); writes the shell's pid into `lock` and waits.
-int run_shell(const std::string& script, const std::string& lock, StartGuard& start) {
+// Runs `script` with sh in a session of its own (a terminal's hang-up or Ctrl-C does not stop
+// it), with default signal handling, its standard streams on /dev/null, the lock `lock_fd` as its
+// descriptor 3 (held as long as the shell runs, whatever ends it) and no other descriptor of ours
+// (a pipe to a reader must not stay open after we exit); waits for it.
+int run_shell(const std::string& script, int lock_fd, StartGuard& start) {
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     for (int fd = 0; fd < 3; ++fd) posix_spawn_file_actions_addopen(&fa, fd, "/dev/null", fd ? O_WRONLY : O_RDONLY, 0);
-    posix_spawn_file_actions_addclosefrom_np(&fa, 3);
+    posix_spawn_file_actions_adddup2(&fa, lock_fd, 3);
+    posix_spawn_file_actions_addclosefrom_np(&fa, 4);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    sigset_t all, none;
+    sigfillset(&all);
+    sigemptyset(&none);
+    posix_spawnattr_setsigdefault(&attr, &all);
+    posix_spawnattr_setsigmask(&attr, &none);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSID | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
     std::string sh = "sh", c = "-c", body = script;
     char* argv[] = {sh.data(), c.data(), body.data(), nullptr};
     pid_t pid = 0;
-    const int rc = ::posix_spawn(&pid, "/bin/sh", &fa, nullptr, argv, environ);
+    const int rc = ::posix_spawn(&pid, "/bin/sh", &fa, &attr, argv, environ);
+    posix_spawnattr_destroy(&attr);
     posix_spawn_file_actions_destroy(&fa);
     if (rc != 0) return -1;
-    if (std::FILE* f = std::fopen(lock.c_str(), "r+")) { // unless the shell is done already
-        std::fprintf(f, "%ld\n", long(pid));
-        std::fclose(f);
-    }
     start.started();
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// Compiles `files` (compiled_runs_source's) into the cache and loads them. Under a live lock of
-// another process, waits for its result instead.
+// Compiles `files` (compiled_runs_source's) into the cache and loads them. The lock is a flock on
+// <name>.lock, held by the process that compiles and handed to its shell, so that it lasts as
+// long as the compilation and goes with it however it ends; another process waits for it, then
+// finds the object, or the log of a failure (which compiling again would repeat).
 void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files, StartGuard& start) {
     const Setup& s = setup();
-    std::error_code ec;
     static std::once_flag pruned;
     std::call_once(pruned, [&] { base::prune_cache_folders(s.dir, s.key); });
+    std::error_code ec;
     fs::create_directories(s.build, ec);
-    const std::string lock = s.build + "/" + e.name + ".lock";
-    for (int attempt = 0; attempt < 2; ++attempt) {
-        const int fd = ::open(lock.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0644);
-        if (fd >= 0) {
-            ::close(fd);
-            break;
-        }
-        if (errno != EEXIST) return warn_once("lock", fmt::format("cannot write {} ({}){}", lock, std::strerror(errno), kInterpreted));
-        start.started(); // another compiler runs already: nothing to start before an exit
-        while (lock_live(lock)) std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        if (load(e)) return;
-        fs::remove(lock, ec); // stale, or its compilation failed: ours
-        if (attempt == 1) return;
+    const std::string lock = s.build + "/" + e.name + ".lock", log = s.build + "/" + e.name + ".log";
+    const int fd = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    if (fd < 0) return warn_once("lock", fmt::format("cannot write {} ({}){}", lock, std::strerror(errno), kInterpreted));
+    struct Close {
+        int fd;
+        ~Close() { ::close(fd); }
+    } close_lock{fd};
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        start.started(); // another process compiles: nothing of ours to start before an exit
+        while (::flock(fd, LOCK_EX) != 0 && errno == EINTR) {}
     }
-    if (!write_includes()) {
-        fs::remove(lock, ec);
+    if (load(e)) return;
+    if (fs::exists(log, ec))
+        return warn_once("failed", fmt::format("the runs of a program failed to compile before (see {}; remove it to "
+                                               "try again){}",
+                                               log, kInterpreted));
+    // One compilation at a time in a process: a sweep may find many programs hot at once.
+    static std::mutex one_at_a_time;
+    std::unique_lock turn(one_at_a_time, std::try_to_lock);
+    if (!turn.owns_lock()) {
+        start.started(); // queued: an exit does not wait for it (the next run compiles it)
+        turn.lock();
+    }
+    if (!write_includes())
         return warn_once("headers", fmt::format("cannot write the compiled runs' headers under {}{}", s.build, kInterpreted));
-    }
     const std::string work = fmt::format("{}/{}.work-{}", s.build, e.name, ::getpid());
+    fs::remove_all(work, ec); // a dead process's of the same pid
     fs::create_directories(work, ec);
     for (size_t i = 0; i < files.size(); ++i) std::ofstream(fmt::format("{}/runs_{}.cpp", work, i), std::ios::binary) << files[i];
-    const std::string log = s.build + "/" + e.name + ".log";
-    // The parts compile side by side; the shell links, renames and unlocks, so that a compilation
+    // The parts compile side by side; the shell links and renames, so that a compilation
     // outlives a process that exits first.
     const std::string script = fmt::format(
         "cd {work} || exit 1; for f in runs_*.cpp; do "
         "(nice -n 10 {cxx} {flags} -I{inc}/iss/src -I{inc}/iss/include -I{inc}/isa/include -I{inc}/base/include "
         "-c $f -o $f.o >$f.log 2>&1 || touch failed) & done; wait; "
         "[ ! -e failed ] && {cxx} -shared runs_*.o -o runs.so >link.log 2>&1 && mv runs.so {so}; st=$?; "
-        "[ $st = 0 ] && rm -f {log} || cat *.log >{log}; cd / && rm -rf {work} {lock}; exit $st",
+        "[ $st = 0 ] || cat *.log >{log}; cd / && rm -rf {work}; exit $st",
         fmt::arg("work", quoted(work)), fmt::arg("cxx", quoted(s.compiler)), fmt::arg("flags", NESSHI_RUNTIME_FLAGS),
-        fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)),
-        fmt::arg("lock", quoted(lock)));
-    if (run_shell(script, lock, start) != 0 || !load(e))
+        fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)));
+    if (run_shell(script, fd, start) != 0 || !load(e))
         warn_once("compile", fmt::format("compiling the runs of a program failed (see {}){}", log, kInterpreted));
 }
 
 } // namespace
 
 RuntimeCompiled* runtime_compiled_for(uint64_t decoded_hash, uint32_t bundles) {
+    if (bad_mode_value)
+        warn_once("mode", fmt::format("NESSHI_RUNTIME_COMPILE={} is none of 0, 1, wait or wait:N; taken as 1",
+                                      std::getenv("NESSHI_RUNTIME_COMPILE")));
     if (mode.load() == RuntimeCompile::Off || setup().dir.empty()) return nullptr;
     const std::string name = fmt::format("{:016x}-{}", decoded_hash, bundles);
     std::lock_guard lock(registry_mutex);
@@ -366,7 +384,11 @@ const CompiledProgram* runtime_ran(RuntimeCompiled& e, const Program& prog, uint
     const RuntimeCompile m = mode.load();
     const uint64_t total = e.cycles.fetch_add(cycles, std::memory_order_relaxed) + cycles;
     if (m == RuntimeCompile::Off || total < (m == RuntimeCompile::Wait ? wait_after.load() : kHotCycles)) return nullptr;
-    if (e.requested.exchange(true) || setup().compiler.empty()) return runtime_table(e);
+    if (e.requested.exchange(true)) return runtime_table(e);
+    if (setup().compiler.empty()) {
+        if (!setup().no_compiler.empty()) warn_once("compiler", setup().no_compiler + kInterpreted);
+        return nullptr;
+    }
     std::vector<std::string> files;
     try {
         const std::string id = "rt_" + base::hex64(e.hash);
@@ -382,8 +404,12 @@ const CompiledProgram* runtime_ran(RuntimeCompiled& e, const Program& prog, uint
         StartGuard none(false);
         compile_and_load(e, files, none);
     } else {
-        auto start = std::make_shared<StartGuard>(true);
-        std::thread([&e, files = std::move(files), start] { compile_and_load(e, files, *start); }).detach();
+        try {
+            auto start = std::make_shared<StartGuard>(true);
+            std::thread([&e, files = std::move(files), start] { compile_and_load(e, files, *start); }).detach();
+        } catch (const std::system_error& err) { // no thread to be had: the interpreter goes on
+            warn_once("thread", fmt::format("cannot start a compilation ({}){}", err.what(), kInterpreted));
+        }
     }
     return runtime_table(e);
 }

@@ -9,7 +9,8 @@ default mode loads them; a damaged object is removed and compiled again; a cache
 written is a warning; in the default mode a run shorter than its compilation leaves the object
 for the next one; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
 processes compiling one program at once make one object; a compiler that fails is a warning and
-the run goes on interpreted; another compiler gets a cache folder of its own; a model M render
+the run goes on interpreted, and the next run does not compile it again; a missing compiler is a
+warning; another compiler gets a cache folder of its own; a model M render
 (several processors, the kernel workloads) gives the interpreter's statistics.
 usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
 """
@@ -66,9 +67,10 @@ def run(mode, cache, *args, engine="fast", env=None, name="run"):
 
 
 def cache_files(cache):
-    """The files of the cache's build folders, their headers aside."""
+    """The files of the cache's build folders, their headers and lock files (empty, kept) aside."""
     d = out / cache / "nesshi/compiled"
-    return sorted(f.name for b in d.iterdir() for f in b.iterdir() if f.name != "include") if d.exists() else []
+    return sorted(f.name for b in d.iterdir() for f in b.iterdir()
+                  if f.name != "include" and not f.name.endswith(".lock")) if d.exists() else []
 
 
 interpreted = run("0", "cache", name="interpreted")
@@ -112,6 +114,10 @@ failed = run("wait", "cache-failing", env={"NESSHI_CXX": "false"}, name="failing
 check(failed[0].endswith("(fast engine)") and failed[1:3] == interpreted[1:3], "a failing compiler changed the run")
 check("compiling the runs of a program failed (see" in failed[3], f"no warning of the failure: {failed[3]!r}")
 check([f for f in cache_files("cache-failing") if not f.endswith(".log")] == [], "a failed compilation left files")
+again = run("wait", "cache-failing", env={"NESSHI_CXX": "false"}, name="failing-again")
+check("failed to compile before (see" in again[3] and again[1:3] == interpreted[1:3], f"a failure compiled again: {again[3]!r}")
+missing = run("wait", "cache-missing", env={"NESSHI_CXX": "no-such-compiler"}, name="no-compiler")
+check("NESSHI_CXX=no-such-compiler is not a program" in missing[3], f"no warning of a missing compiler: {missing[3]!r}")
 
 # A cache that cannot be written: a warning, the run interpreted.
 (out / "not-a-folder").write_text("")
@@ -137,8 +143,7 @@ def sim_hot():
 
 sim_hot()
 for _ in range(600):
-    if any(f.endswith(".so") for f in cache_files("cache-background")) and not any(
-            f.endswith(".lock") for f in cache_files("cache-background")):
+    if any(f.endswith(".so") for f in cache_files("cache-background")): # renamed in whole
         break
     time.sleep(0.1)
 check(sim_hot().endswith("(fast engine, compiled runs)"), f"background: the next run did not load: {cache_files('cache-background')}")

@@ -1,5 +1,5 @@
 // Where nesshi keeps what it can recompute (scheduled kernels, compiled runs): one folder per kind
-// under $XDG_CACHE_HOME/nesshi, else ~/.cache/nesshi, and in it one folder per build.
+// under $XDG_CACHE_HOME/nesshi (when absolute), else ~/.cache/nesshi, and in it one folder per build.
 //
 //   base::user_cache_dir("compiled")   // "/home/me/.cache/nesshi/compiled"; "" with no HOME either
 //   base::prune_cache_folders(dir, build_key);

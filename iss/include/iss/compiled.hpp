@@ -48,7 +48,9 @@ bool compiled_enabled();
 // mode or the compiler.
 enum class RuntimeCompile { Off, Background, Wait };
 RuntimeCompile runtime_compile_mode();
-void set_runtime_compile_mode(RuntimeCompile mode, uint64_t wait_after = 0); // for the programs loaded from now on
+// Off keeps the programs loaded from now on from looking for run-time runs; Background and Wait
+// (compiled once the program has run `wait_after` cycles) apply to every program from now on.
+void set_runtime_compile_mode(RuntimeCompile mode, uint64_t wait_after = 0);
 
 // Every registered table, for tests.
 int compiled_count();

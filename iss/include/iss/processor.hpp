@@ -172,8 +172,9 @@ class Processor {
     std::optional<Fault> fault_;
     uint32_t blocked_channel_ = 0;
     bool compiled_on_ = true;
-    // A program without built-in runs whose runs may be compiled at run time: the cycles run
-    // since they were last reported, and the report that switches to them once they are ready.
+    // A program without built-in runs whose runs may be compiled at run time: its entry, the
+    // cycles run since they were last counted in it, and poll_runtime, which counts them and
+    // switches this processor to the runs once they are ready.
     struct RuntimeCompiled* runtime_ = nullptr;
     uint64_t runtime_unreported_ = 0;
     void poll_runtime();
