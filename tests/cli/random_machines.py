@@ -81,14 +81,18 @@ def main():
         if os.path.exists(result_path):
             os.remove(result_path)
     rng = random.Random(seed)
-    native = {s: render(nesshi, s, os.path.join(out, "native-" + s.replace(":", "-")))[1] for s in SCENES}
+    # Shards run side by side in one folder: each writes only files of its own (a shared native
+    # image read while another shard rewrote it once failed a whole shard).
+    native = {s: render(nesshi, s, os.path.join(out, f"native-{shard}-" + s.replace(":", "-")))[1] for s in SCENES}
     machines = []  # drawn first, in order, so the same seed draws the same machines
     for i in range(n):
         files = []
         for stage, bases in (("os", ["os", "os-real"]), ("ic", ["ic", "ic-real"])):
             path = os.path.join(out, f"{stage}-{i}.toml")
-            with open(path, "w") as f:
-                f.write(describe(rng, rng.choice(bases), f"random-{stage}-{i}"))
+            text = describe(rng, rng.choice(bases), f"random-{stage}-{i}")
+            if i % shards == shard - 1:
+                with open(path, "w") as f:
+                    f.write(text)
             files.append(path)
         machines.append(files)
 

@@ -37,15 +37,13 @@ std::unique_ptr<Processor> loop(int pad) {
 TEST_CASE("A cycle limit holds across the slices of a program that may still be compiled") {
     for (int pad = 0; pad < 5; ++pad)
         for (uint64_t limit = kSlice - 4; limit <= kSlice + 4; ++limit) {
-            std::unique_ptr<Processor> plain, sliced;
+            std::unique_ptr<Processor> plain;
             {
                 Mode off(RuntimeCompile::Off, 0);
                 plain = loop(pad);
             }
-            {
-                Mode never(RuntimeCompile::Wait, ~uint64_t{0});
-                sliced = loop(pad);
-            }
+            Mode never(RuntimeCompile::Wait, ~uint64_t{0}); // for the whole run: never compiled
+            std::unique_ptr<Processor> sliced = loop(pad);
             REQUIRE(plain->program().runtime_compiled() == nullptr);
             REQUIRE(sliced->program().runtime_compiled() != nullptr); // else nothing here is sliced
             INFO("pad " << pad << ", limit " << limit);
