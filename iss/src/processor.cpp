@@ -604,7 +604,7 @@ Status Processor::dispatch(uint64_t limit, uint64_t budget, bool wait_blocked) {
             runtime_unreported_ += core_->cycle - start;
             if (runtime_unreported_ >= kSlice) poll_runtime();
         }
-        if (end == limit || status_ != Status::Running || core_->cycle < end || core_->cycle >= limit) return status_;
+        if (status_ != Status::Running || core_->cycle < end || core_->cycle >= limit) return status_;
     }
 }
 

@@ -6,6 +6,7 @@
 
 #include "base/cache_dir.hpp"
 #include "base/hash.hpp"
+#include "base/write_file.hpp"
 
 #include <fmt/core.h>
 
@@ -23,7 +24,7 @@
 #include <elf.h>
 #include <fcntl.h>
 #include <filesystem>
-#include <fstream>
+#include <fstream> // whole_elf reads the headers
 #include <memory>
 #include <mutex>
 #include <spawn.h>
@@ -78,9 +79,9 @@ ModeSetting from_environment() {
     }
     return {RuntimeCompile::Background, 0, true};
 }
-std::atomic<RuntimeCompile> mode{from_environment().mode};
-std::atomic<uint64_t> wait_after{from_environment().after};
-const bool bad_mode_value = from_environment().bad;
+const ModeSetting kEnvironment = from_environment();
+std::atomic<RuntimeCompile> mode{kEnvironment.mode};
+std::atomic<uint64_t> wait_after{kEnvironment.after};
 
 bool runnable(const std::string& cmd) {
     if (cmd.find('/') != std::string::npos) return ::access(cmd.c_str(), X_OK) == 0;
@@ -220,9 +221,7 @@ bool write_includes() {
         for (const EmbeddedFile& f : runtime_sources()) {
             const fs::path p = fs::path(tmp) / f.path;
             fs::create_directories(p.parent_path());
-            std::ofstream out(p, std::ios::binary);
-            out << f.text;
-            if (!out.flush()) throw std::runtime_error("short write");
+            base::write_file(p.string(), f.text);
         }
     } catch (const std::exception&) {
         fs::remove_all(tmp, ec);
@@ -251,11 +250,10 @@ struct WaitForStartsAtExit {
         starting().cv.wait_for(lock, std::chrono::seconds(10), [] { return starting().count == 0; });
     }
 };
-// One background compilation until its compiler has started or it gave up (idempotent).
+// One compilation until its compiler has started or it gave up (started() is idempotent).
 class StartGuard {
   public:
-    explicit StartGuard(bool background) : on_(background) {
-        if (!on_) return;
+    StartGuard() {
         static WaitForStartsAtExit waiter; // destroyed at exit, before anything it waits for
         std::lock_guard lock(starting().mutex);
         ++starting().count;
@@ -270,7 +268,7 @@ class StartGuard {
     }
 
   private:
-    bool on_;
+    bool on_ = true;
 };
 
 // Runs `script` with sh in a session of its own (a terminal's hang-up or Ctrl-C does not stop
@@ -342,7 +340,12 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
     const std::string work = fmt::format("{}/{}.work-{}", s.build, e.name, ::getpid());
     fs::remove_all(work, ec); // a dead process's of the same pid
     fs::create_directories(work, ec);
-    for (size_t i = 0; i < files.size(); ++i) std::ofstream(fmt::format("{}/runs_{}.cpp", work, i), std::ios::binary) << files[i];
+    try {
+        for (size_t i = 0; i < files.size(); ++i) base::write_file(fmt::format("{}/runs_{}.cpp", work, i), files[i]);
+    } catch (const base::WriteError& err) {
+        fs::remove_all(work, ec);
+        return warn_once("sources", fmt::format("{}{}", err.what(), kInterpreted));
+    }
     // The parts compile side by side; the shell links and renames, so that a compilation
     // outlives a process that exits first.
     const std::string script = fmt::format(
@@ -360,7 +363,7 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
 } // namespace
 
 RuntimeCompiled* runtime_compiled_for(uint64_t decoded_hash, uint32_t bundles) {
-    if (bad_mode_value)
+    if (kEnvironment.bad)
         warn_once("mode", fmt::format("NESSHI_RUNTIME_COMPILE={} is none of 0, 1, wait or wait:N; taken as 1",
                                       std::getenv("NESSHI_RUNTIME_COMPILE")));
     if (mode.load() == RuntimeCompile::Off || setup().dir.empty()) return nullptr;
@@ -401,11 +404,11 @@ const CompiledProgram* runtime_ran(RuntimeCompiled& e, const Program& prog, uint
         return nullptr; // a program the compiled form cannot hold runs on the interpreter
     }
     if (m == RuntimeCompile::Wait) {
-        StartGuard none(false);
-        compile_and_load(e, files, none);
+        StartGuard start;
+        compile_and_load(e, files, start);
     } else {
         try {
-            auto start = std::make_shared<StartGuard>(true);
+            auto start = std::make_shared<StartGuard>();
             std::thread([&e, files = std::move(files), start] { compile_and_load(e, files, *start); }).detach();
         } catch (const std::system_error& err) { // no thread to be had: the interpreter goes on
             warn_once("thread", fmt::format("cannot start a compilation ({}){}", err.what(), kInterpreted));
