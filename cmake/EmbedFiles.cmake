@@ -1,7 +1,30 @@
-# Writes OUT, a C++ file defining FUNCTION (a qualified name declared in INCLUDE) that returns
-# `const std::vector<TYPE>&`: each of FILES (paths relative to ROOT, separated by '|') as
-# {"path", "text"}, so that the installed binary needs no source tree. Run at build time
-# whenever one of the files changes (kernel sources, the headers compiled runs are built against).
+# Embeds files in a library, so that the installed binary needs no source tree (kernel sources,
+# the headers compiled runs are built against).
+#
+# Included (CMakeLists.txt), it defines
+#   nesshi_embed_files(OUT file ROOT dir GLOBS pattern... INCLUDE header FUNCTION ns::name TYPE type COMMENT text)
+# which writes OUT at build time, again whenever one of the files (GLOBS, relative to ROOT)
+# changes: a C++ file defining FUNCTION (declared in INCLUDE) that returns
+# `const std::vector<TYPE>&`, each file as {"path from ROOT", "text"}.
+# Run with -P (by that function's command), it writes OUT from FILES, paths relative to ROOT
+# separated by '|'.
+if(NOT CMAKE_SCRIPT_MODE_FILE)
+  function(nesshi_embed_files)
+    cmake_parse_arguments(E "" "OUT;ROOT;INCLUDE;FUNCTION;TYPE;COMMENT" "GLOBS" ${ARGN})
+    list(TRANSFORM E_GLOBS PREPEND "${E_ROOT}/")
+    file(GLOB files CONFIGURE_DEPENDS RELATIVE "${E_ROOT}" ${E_GLOBS})
+    list(TRANSFORM files PREPEND "${E_ROOT}/" OUTPUT_VARIABLE paths)
+    string(REPLACE ";" "|" list "${files}")
+    add_custom_command(
+      OUTPUT "${E_OUT}"
+      COMMAND ${CMAKE_COMMAND} -DROOT=${E_ROOT} "-DFILES=${list}" -DOUT=${E_OUT} -DINCLUDE=${E_INCLUDE}
+              -DFUNCTION=${E_FUNCTION} -DTYPE=${E_TYPE} -P ${CMAKE_CURRENT_FUNCTION_LIST_FILE}
+      DEPENDS ${paths} ${CMAKE_CURRENT_FUNCTION_LIST_FILE}
+      COMMENT "${E_COMMENT}" VERBATIM)
+  endfunction()
+  return()
+endif()
+
 string(REPLACE "|" ";" files "${FILES}")
 list(SORT files)
 string(REGEX REPLACE "::[^:]*$" "" ns "${FUNCTION}")
