@@ -1,8 +1,10 @@
 #include "base/cache_dir.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <vector>
 
 namespace nesshi::base {
 
@@ -23,6 +25,37 @@ void prune_cache_folders(const std::string& dir, const std::string& keep) {
         const auto when = fs::last_write_time(it->path(), ec);
         if (!ec && now - when > kPruneAfter) fs::remove_all(it->path(), ec);
     }
+}
+
+void trim_cache_files(const std::string& dir, std::string_view extension, std::uint64_t max_bytes, const std::string& keep) {
+    namespace fs = std::filesystem;
+    struct File {
+        fs::path path;
+        fs::file_time_type when;
+        std::uint64_t bytes;
+    };
+    std::vector<File> files;
+    std::uint64_t total = 0;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (!name.ends_with(extension) || !it->is_regular_file(ec)) continue;
+        const std::uint64_t bytes = it->file_size(ec);
+        const fs::file_time_type when = it->last_write_time(ec);
+        if (ec) continue; // gone meanwhile
+        total += bytes;
+        if (name != keep) files.push_back({it->path(), when, bytes});
+    }
+    std::sort(files.begin(), files.end(), [](const File& a, const File& b) { return a.when < b.when; });
+    for (const File& f : files) {
+        if (total <= max_bytes) break;
+        if (fs::remove(f.path, ec)) total -= f.bytes;
+    }
+}
+
+void touch_cache_file(const std::string& path) {
+    std::error_code ec;
+    std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now(), ec);
 }
 
 } // namespace nesshi::base

@@ -80,6 +80,24 @@ ModeSetting from_environment() {
     return {RuntimeCompile::Background, 0, true};
 }
 const ModeSetting kEnvironment = from_environment();
+
+// The objects of one build stay within this many bytes together, the least recently loaded
+// removed first (one object per hot program, 0.1-1.5 MB: a sweep over 100 machine descriptions
+// leaves about 200 MB): NESSHI_COMPILED_CACHE_MB, default 1024; `bad`: a value that is no number.
+struct CacheLimit {
+    uint64_t bytes = uint64_t{1024} << 20;
+    bool bad = false;
+};
+CacheLimit cache_limit_from_environment() {
+    const char* v = std::getenv("NESSHI_COMPILED_CACHE_MB");
+    if (!v) return {};
+    uint64_t mb = 0;
+    const std::string_view s(v);
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), mb);
+    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || mb > (uint64_t{1} << 40)) return {CacheLimit{}.bytes, true};
+    return {mb << 20, false};
+}
+const CacheLimit kCacheLimit = cache_limit_from_environment();
 std::atomic<RuntimeCompile> mode{kEnvironment.mode};
 std::atomic<uint64_t> wait_after{kEnvironment.after};
 
@@ -189,6 +207,7 @@ bool load(RuntimeCompiled& e) {
     const std::string path = so_path(e);
     if (::access(path.c_str(), R_OK) != 0) return false;
     if (!whole_elf(path)) {
+        if (::access(path.c_str(), F_OK) != 0) return false; // removed meanwhile (trim_cache_files elsewhere)
         warn_once("damaged", fmt::format("removed damaged compiled runs {}; they are compiled again", path));
         std::error_code ec;
         fs::remove(path, ec);
@@ -207,6 +226,7 @@ bool load(RuntimeCompiled& e) {
         return false;
     }
     e.table.store(t, std::memory_order_release); // the object stays loaded for the process's life
+    base::touch_cache_file(path); // recently used: trimming the cache keeps it
     return true;
 }
 
@@ -357,7 +377,8 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
         fmt::arg("work", quoted(work)), fmt::arg("cxx", quoted(s.compiler)), fmt::arg("flags", NESSHI_RUNTIME_FLAGS),
         fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)));
     if (run_shell(script, fd, start) != 0 || !load(e))
-        warn_once("compile", fmt::format("compiling the runs of a program failed (see {}){}", log, kInterpreted));
+        return warn_once("compile", fmt::format("compiling the runs of a program failed (see {}){}", log, kInterpreted));
+    base::trim_cache_files(s.build, ".so", kCacheLimit.bytes, e.name + ".so");
 }
 
 } // namespace
@@ -366,6 +387,9 @@ RuntimeCompiled* runtime_compiled_for(uint64_t decoded_hash, uint32_t bundles) {
     if (kEnvironment.bad)
         warn_once("mode", fmt::format("NESSHI_RUNTIME_COMPILE={} is none of 0, 1, wait or wait:N; taken as 1",
                                       std::getenv("NESSHI_RUNTIME_COMPILE")));
+    if (kCacheLimit.bad)
+        warn_once("limit", fmt::format("NESSHI_COMPILED_CACHE_MB={} is not a number of megabytes; taken as {}",
+                                       std::getenv("NESSHI_COMPILED_CACHE_MB"), CacheLimit{}.bytes >> 20));
     if (mode.load() == RuntimeCompile::Off || setup().dir.empty()) return nullptr;
     const std::string name = fmt::format("{:016x}-{}", decoded_hash, bundles);
     std::lock_guard lock(registry_mutex);

@@ -10,7 +10,8 @@ written is a warning; in the default mode a run shorter than its compilation lea
 for the next one; NESSHI_COMPILED=0 and NESSHI_RUNTIME_COMPILE=0 leave them unused; two
 processes compiling one program at once make one object; a compiler that fails is a warning and
 the run goes on interpreted, and the next run does not compile it again; a missing compiler is a
-warning; another compiler gets a cache folder of its own; a model M render
+warning; another compiler gets a cache folder of its own; under NESSHI_COMPILED_CACHE_MB=0 a new
+object replaces the old one, and a limit that is no number is a warning; a model M render
 (several processors, the kernel workloads) gives the interpreter's statistics.
 usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
 """
@@ -55,11 +56,11 @@ def check(ok, what):
         print("FAILED:", what)
 
 
-def run(mode, cache, *args, engine="fast", env=None, name="run"):
+def run(mode, cache, *args, engine="fast", env=None, name="run", source=program):
     """nesshi sim of the loop: (first line of the report, stats JSON, dumped total, stderr)."""
     stats = out / f"{name}.json"
     e = dict(base_env, NESSHI_RUNTIME_COMPILE=mode, XDG_CACHE_HOME=str(out / cache), **(env or {}))
-    r = subprocess.run([nesshi, "sim", "-m", str(machine), str(program), "--engine", engine, "--stats-json", str(stats),
+    r = subprocess.run([nesshi, "sim", "-m", str(machine), str(source), "--engine", engine, "--stats-json", str(stats),
                         "--dump", "total:1:i32", *args], env=e, capture_output=True, text=True)
     check(r.returncode == 0, f"{name}: exit {r.returncode}: {r.stderr}")
     lines = r.stdout.splitlines()
@@ -98,6 +99,18 @@ off = run("1", "cache", env={"NESSHI_COMPILED": "0"}, name="compiled-off")
 check(off[0].endswith("(fast engine)"), f"NESSHI_COMPILED=0 still used compiled runs: {off[0]}")
 check(run("0", "cache", name="runtime-off")[0].endswith("(fast engine)"), "NESSHI_RUNTIME_COMPILE=0 loaded the cache")
 check(run("1", "cache", engine="checked", name="checked")[0].endswith("(checked engine)"), "the checked engine")
+# The cache's size limit (NESSHI_COMPILED_CACHE_MB): another program compiled under a limit of 0
+# takes the place of the object there (the least recently loaded goes; the one just made stays).
+other = out / "other.s"
+other.write_text(program.read_text().replace("li r2, 600000", "li r2, 600001"))
+first_object = cache_files("cache")
+trimmed = run("wait", "cache", env={"NESSHI_COMPILED_CACHE_MB": "0"}, name="trimmed", source=other)
+check(trimmed[0].endswith("(fast engine, compiled runs)"), f"under a limit of 0: {trimmed[0]}")
+now = cache_files("cache")
+check(len(now) == 1 and now != first_object, f"a limit of 0 left {now} (before: {first_object})")
+bad_limit = run("1", "cache", env={"NESSHI_COMPILED_CACHE_MB": "lots"}, name="bad-limit", source=other)
+check("NESSHI_COMPILED_CACHE_MB=lots is not a number of megabytes" in bad_limit[3], f"no warning: {bad_limit[3]!r}")
+check(bad_limit[0].endswith("(fast engine, compiled runs)"), f"a bad limit stopped the cache: {bad_limit[0]}")
 run("wait:1", "cache-lockstep", "-q", engine="lockstep", name="lockstep") # a divergence exits 3
 
 # Two processes compiling one program at once: one object, nothing else left.
