@@ -2,7 +2,8 @@
 # The layering of DESIGN.md ("Layout"): a library's sources include only its own headers and those
 # of the libraries below it, never a higher one, and never reach across folders with "../"; an
 # include without a folder ("x.hpp") names a file of the library's own folder (or one its build
-# generates), never another folder's private header reached through an include path.
+# generates), never another folder's private header reached through an include path or by its
+# src/ path.
 # Fails listing every offending include.
 cmake_minimum_required(VERSION 3.25)
 set(allowed_base "base")
@@ -46,10 +47,14 @@ foreach(lib ${libs})
         endif()
         continue()
       endif()
-      if(NOT DEFINED allowed_${lib})
-        continue() # the front ends may include anything
-      endif()
       string(REGEX REPLACE "/.*" "" top "${inc}")
+      if(inc MATCHES "^[a-z_]+/src/" AND NOT top STREQUAL lib)
+        string(APPEND errors "${rel}: \"${inc}\" is private to ${top}/ (its src/): include a public header of ${top}\n")
+        continue()
+      endif()
+      if(NOT DEFINED allowed_${lib})
+        continue() # the front ends may include anything else
+      endif()
       if(top IN_LIST ours AND NOT top IN_LIST allowed_${lib})
         string(APPEND errors "${rel}: ${lib} includes \"${inc}\" from the higher or unrelated layer ${top}\n")
       endif()

@@ -13,6 +13,7 @@
 #include <array>
 #include <bit>
 #include <chrono>
+#include <cstdint>
 #include <cctype>
 #include <functional>
 #include <limits>
@@ -29,36 +30,45 @@ namespace nesshi::sched::pipe {
 namespace {
 
 // First fit of each virtual's copies, in `order`, on registers whose cycles on the circle (the
-// kernel, unroll x II cycles) are free; `take` gives a new register.
+// kernel, unroll x II cycles) are free; `take` gives a new register. The cycles are bit sets of
+// 64-cycle words (the allocator tries every register for every copy).
 template <class Take>
 void share(Allocation& a, const Region& r, const Schedule& s, int circle, const std::vector<std::size_t>& order, Take& take) {
-    std::vector<std::vector<char>> busy[2];   // per file, per register taken: cycles occupied
-    std::vector<int> busy_reg[2];             // the register of each
+    using Cycles = std::vector<std::uint64_t>;
+    const std::size_t words = (static_cast<std::size_t>(circle) + 63) / 64;
+    std::vector<Cycles> busy[2];  // per file, per register taken: cycles occupied (empty: a register of its own)
+    std::vector<int> busy_reg[2]; // the register of each
     a.regs.assign(r.virtuals.size(), {});
+    Cycles need(words);
     for (const std::size_t v : order) {
         const Virtual& x = r.virtuals[v];
         const int f = static_cast<int>(x.file);
         const bool own = r.carry.count(x.name) || r.liveout.count(x.name);
         const int t0 = s.time[static_cast<std::size_t>(x.def)];
         for (int c = 0; c < a.copies[v]; ++c) {
-            std::vector<char> need(static_cast<std::size_t>(circle), 0);
+            std::fill(need.begin(), need.end(), 0);
             for (int k = c; k < a.unroll; k += a.copies[v])
-                for (int t = 0; t < a.lifetime[v]; ++t)
-                    need[static_cast<std::size_t>(((t0 + k * s.ii + t) % circle + circle) % circle)] = 1;
+                for (int t = 0; t < a.lifetime[v]; ++t) {
+                    const auto at = static_cast<std::size_t>(((t0 + k * s.ii + t) % circle + circle) % circle);
+                    need[at / 64] |= std::uint64_t{1} << (at % 64);
+                }
             int slot = -1;
             for (std::size_t b = 0; !own && slot < 0 && b < busy[f].size(); ++b) {
-                if (busy[f][b].empty()) continue; // a register of its own
+                const Cycles& held = busy[f][b];
+                if (held.empty()) continue; // a register of its own
                 bool free = true;
-                for (int t = 0; free && t < circle; ++t) free = !(need[static_cast<std::size_t>(t)] && busy[f][b][static_cast<std::size_t>(t)]);
+                for (std::size_t w = 0; free && w < words; ++w) free = (need[w] & held[w]) == 0;
                 if (free) slot = static_cast<int>(b);
             }
             if (slot < 0) {
                 busy_reg[f].push_back(take(x.file, x.name));
-                busy[f].push_back(own ? std::vector<char>{} : std::vector<char>(static_cast<std::size_t>(circle), 0));
+                busy[f].push_back(own ? Cycles{} : Cycles(words, 0));
                 slot = static_cast<int>(busy[f].size()) - 1;
             }
-            if (!own)
-                for (int t = 0; t < circle; ++t) busy[f][static_cast<std::size_t>(slot)][static_cast<std::size_t>(t)] |= need[static_cast<std::size_t>(t)];
+            if (!own) {
+                Cycles& held = busy[f][static_cast<std::size_t>(slot)];
+                for (std::size_t w = 0; w < words; ++w) held[w] |= need[w];
+            }
             a.regs[v].push_back(reg_name(x.file, busy_reg[f][static_cast<std::size_t>(slot)]));
         }
     }

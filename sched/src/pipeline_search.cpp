@@ -79,7 +79,8 @@ bool back_edge_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, c
     for (int f = 0; f < isa::kNumRegFiles; ++f) {
         const int w_in = in.per_file[static_cast<std::size_t>(f)];
         if (w_in == 0) continue;
-        std::vector<std::pair<int, int>> lands{{land_in, w_in}}; // (land, writes) of every writer of f
+        thread_local std::vector<std::pair<int, int>> lands; // (land, writes) of every writer of f; asked per place tried
+        lands.assign(1, {land_in, w_in});
         int last = land_in;
         for (int r = 0; r < ii; ++r)
             for (const Writes& other : rows[static_cast<std::size_t>(r)].writes)
@@ -103,13 +104,19 @@ bool back_edge_ok(const isa::Machine& m, int ii, const std::vector<Row>& rows, c
     return true;
 }
 
-bool bundle_legal(const isa::Machine& m, std::vector<isa::Instr> ops) {
-    // Asked for every place the search tries: no allocation. More ops than slots never fit.
-    if (ops.size() > m.slots.size()) return false;
+// Whether a row's ops and `extra` make a legal bundle. Asked for every place the search tries: no
+// allocation (the slots are assigned on a copy on the stack). More ops than slots never fit.
+bool bundle_legal(const isa::Machine& m, std::span<const isa::Instr> row, const isa::Instr& extra) {
+    const std::size_t n = row.size() + 1;
+    if (n > m.slots.size() || n > static_cast<std::size_t>(isa::kMaxSlots)) return false;
+    std::array<isa::Instr, isa::kMaxSlots> ops;
+    std::copy(row.begin(), row.end(), ops.begin());
+    ops[row.size()] = extra;
     std::array<int, isa::kMaxSlots> pinned;
     pinned.fill(-1);
-    if (!isa::assign_slots(m, ops, std::span<const int>(pinned).first(ops.size()))) return false;
-    return isa::bundle_fits(m, ops);
+    const std::span<isa::Instr> bundle(ops.data(), n);
+    if (!isa::assign_slots(m, bundle, std::span<const int>(pinned).first(n))) return false;
+    return isa::bundle_fits(m, bundle);
 }
 
 // The reservation table: its rows, and the writes landing in each cycle mod II per register file
@@ -272,7 +279,7 @@ class ModuloScheduler {
     }
 
   private:
-    bool legal(std::vector<isa::Instr> ops) const { return bundle_legal(m_, std::move(ops)); }
+    bool legal(int row, const isa::Instr& in) const { return bundle_legal(m_, rows_[row].ops, in); }
 
     // Writes landing in each cycle (mod II) per register file, across rows, within the ports, and
     // around the back edge.
@@ -306,16 +313,12 @@ class ModuloScheduler {
         const int row = ((t % ii_) + ii_) % ii_;
         if (op == exit_ && row != ii_ - 1) return false;
         const isa::Instr& in = g_.nodes[static_cast<std::size_t>(op)].instr;
-        std::vector<isa::Instr> ops = rows_[row].ops;
-        ops.push_back(in);
-        return legal(ops) && landings_ok(writes_[static_cast<std::size_t>(op)], row) && induction_ok(op, t);
+        return legal(row, in) && landings_ok(writes_[static_cast<std::size_t>(op)], row) && induction_ok(op, t);
     }
 
     bool place_fixed(const isa::Instr& in, int row) {
-        std::vector<isa::Instr> ops = rows_[row].ops;
-        ops.push_back(in);
         const Writes w = writes_of(m_, in);
-        if (!legal(ops) || !landings_ok(w, row)) return false;
+        if (!legal(row, in) || !landings_ok(w, row)) return false;
         rows_.push(row, in, -1, w);
         return true;
     }
@@ -354,9 +357,7 @@ class ModuloScheduler {
         for (int guard = 0; guard < 64 && !fits(op, t); ++guard) {
             int victim = -1;
             const Row& r = rows_[row];
-            std::vector<isa::Instr> ops = r.ops;
-            ops.push_back(in);
-            if (!legal(ops)) {
+            if (!legal(row, in)) {
                 for (std::size_t k = r.nodes.size(); k-- > 0;)
                     if (r.nodes[k] >= 0) {
                         victim = r.nodes[k];
