@@ -126,8 +126,8 @@ int main(int argc, char** argv) {
         machine::Options mo;
         if (!machine::parse_model(model, mo.model)) throw std::runtime_error("unknown model " + model);
         mo.threads = 1;
-        mo.os_machine = args.text("--os-machine", "");
-        mo.ic_machine = args.text("--ic-machine", "");
+        mo.os_machine = args.text("--os-machine", "os");
+        mo.ic_machine = args.text("--ic-machine", "ic");
         RenderOptions opt;
         opt.width = opt.height = size;
         opt.threads = 1;
@@ -145,8 +145,7 @@ int main(int argc, char** argv) {
                 at = comma + 1;
             }
             const std::string stages = mo.model == machine::Model::V
-                                           ? fmt::format("OS {}, IC {}", mo.os_machine.empty() ? "os" : mo.os_machine,
-                                                         mo.ic_machine.empty() ? "ic" : mo.ic_machine)
+                                           ? fmt::format("OS {}, IC {}", mo.os_machine.reference(), mo.ic_machine.reference())
                                            : "seq";
             fmt::print("{}x{} grid {}, model {} on {}, 1 PE, 1 host thread; CPU time of this process\n", size, size, grid, model,
                        stages);

@@ -106,10 +106,10 @@ void run_machine_demo(const DemoArgs& a) {
     check_output(a.out);
     fmt::print("Nesshisen demo: SPD '{}' at {}x{} through model V (one PE: OS and IC VLIW kernels on the ISS)\n",
                a.scene, a.size, a.size);
-    if (!a.machines.os_machine.empty() || !a.machines.ic_machine.empty() || !a.machines.seq_machine.empty())
-        fmt::print("machines: OS {}, IC {}, SC prices {}\n", a.machines.os_machine.empty() ? "os" : a.machines.os_machine,
-                   a.machines.ic_machine.empty() ? "ic" : a.machines.ic_machine,
-                   a.machines.seq_machine.empty() ? "seq" : a.machines.seq_machine);
+    if (a.machines.os_machine.reference() != "os" || a.machines.ic_machine.reference() != "ic" ||
+        a.machines.seq_machine.reference() != "seq")
+        fmt::print("machines: OS {}, IC {}, SC prices {}\n", a.machines.os_machine.reference(), a.machines.ic_machine.reference(),
+                   a.machines.seq_machine.reference());
     const auto t_prep = std::chrono::steady_clock::now();
     const rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), 0); // grid: the paper's pre-pass choice
     fmt::print("{}grid chosen by the low-resolution pre-pass ({:.1f} s)\n",

@@ -3,9 +3,9 @@
 #include "commands.hpp"
 #include "errors.hpp"
 #include "outputs.hpp"
+#include "stage_machines.hpp"
 
 #include "base/write_file.hpp"
-
 #include "machine/kernel_report.hpp"
 
 #include <fmt/core.h>
@@ -22,9 +22,9 @@ void add_kernels(CLI::App& app) {
     cmd->add_option("--json", *json, "Also write the table as JSON to FILE ('-': the JSON on stdout, the table on stderr)");
     cmd->add_option("--kernels", *dir, "A folder of kernel sources to measure instead of the built-in ones");
     auto machines = std::make_shared<machine::KernelMachines>();
-    cmd->add_option("--os-machine", machines->os, "measure the os rows on this machine: preset or TOML (default os)");
-    cmd->add_option("--ic-machine", machines->ic, "measure the ic rows on this machine (default ic)");
-    cmd->add_option("--seq-machine", machines->seq, "measure the seq rows on this machine (default seq)");
+    add_stage_machine_options(cmd, machines->os, machines->ic, machines->seq, "Options",
+                              "measure the os rows on this machine: preset or TOML (default os)",
+                              "measure the ic rows on this machine (default ic)", "measure the seq rows on this machine (default seq)");
     auto loops = std::make_shared<bool>(false);
     cmd->add_flag("--loops", *loops,
                   "After the table, the pipeliner's report of each loop scheduled for the machines (as nesshi pipeline prints it)");

@@ -217,7 +217,7 @@ class Runs {
   public:
     Runs(const kernels::SourceSet& sources, const KernelMachines& machines) : sources_(sources), machines_(machines) {}
     const WorkloadRun& get(Workload w, const std::string& machine) {
-        const std::string& desc = machines_.of(machine);
+        const isa::Machine& desc = machines_.of(machine).machine();
         if (is_grid(w)) {
             if (dda_machine_ != machine) {
                 dda_ = DdaRuns{};
@@ -327,15 +327,15 @@ std::string KernelReport::json(bool loops) const {
     return j.dump(2);
 }
 
-const std::string& KernelMachines::of(std::string_view role) const { return role == "os" ? os : role == "ic" ? ic : seq; }
+const StageMachine& KernelMachines::of(std::string_view role) const { return role == "os" ? os : role == "ic" ? ic : seq; }
 
 KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines) {
     KernelReport r;
     Runs runs(sources, machines);
     for (const KernelMetric& k : kernel_metrics()) {
         const WorkloadRun& run = runs.get(k.workload, k.machine);
-        if (machines.of(k.machine) != k.machine) {
-            const std::string given = isa::load_machine(machines.of(k.machine)).name, &used = run.run->prog->machine().name;
+        if (machines.of(k.machine).reference() != k.machine) {
+            const std::string &given = machines.of(k.machine).machine().name, &used = run.run->prog->machine().name;
             r.machines[k.machine] = given == used ? given : fmt::format("{} (the preset {} under another name)", given, used);
         }
         r.rows.push_back(measure_row(k, run));

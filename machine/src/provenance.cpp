@@ -25,10 +25,7 @@ std::string scene_text(const std::string& scene) {
     return base::read_file(scene);
 }
 
-std::string machine_id(const std::string& spec, const char* preset) {
-    const isa::Machine m = isa::load_machine(spec.empty() ? preset : spec);
-    return fmt::format("{} {}", spec.empty() ? preset : spec, base::hex64(m.fingerprint()));
-}
+std::string machine_id(const StageMachine& s) { return fmt::format("{} {}", s.reference(), base::hex64(s.machine().fingerprint())); }
 
 } // namespace
 
@@ -43,10 +40,10 @@ Provenance provenance(const std::string& scene, int grid, const rt::RenderOption
     const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
     for (const kernels::SourceFile& f : src.files) p["kernels." + f.path] = base::hex64(base::fnv1a64(f.text));
     if (mo.model == Model::V) { // models S and M run both kernels on seq
-        p["machine.os"] = machine_id(mo.os_machine, "os");
-        p["machine.ic"] = machine_id(mo.ic_machine, "ic");
+        p["machine.os"] = machine_id(mo.os_machine);
+        p["machine.ic"] = machine_id(mo.ic_machine);
     }
-    p["machine.seq"] = machine_id(mo.seq_machine, "seq"); // also the SC's operation prices
+    p["machine.seq"] = machine_id(mo.seq_machine); // also the SC's operation prices
     auto opt = [&](const char* name, const auto& value) { p[std::string("options.") + name] = fmt::format("{}", value); };
     opt("model", model_name(mo.model));
     opt("size", fmt::format("{}x{}", ro.width, ro.height));

@@ -23,32 +23,17 @@ using namespace machine;
 
 namespace {
 
-std::string or_preset(const std::string& name, const char* preset) { return name.empty() ? preset : name; }
-
-OpPrices seq_prices(const isa::Machine& m) {
-    auto lat = [&](isa::OpClass c) { return m.latency[static_cast<std::size_t>(c)]; };
-    OpPrices p;
-    p.alu = lat(isa::OpClass::Alu);
-    p.fadd = lat(isa::OpClass::FAdd);
-    p.fmul = lat(isa::OpClass::FMul);
-    p.fdiv = lat(isa::OpClass::FDiv);
-    p.load = lat(isa::OpClass::Load);
-    p.store = lat(isa::OpClass::Store);
-    p.branch = lat(isa::OpClass::Branch);
-    return p;
-}
-
 MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const Options& mo) {
     const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
     const bool vliw = mo.model == Model::V;
     MachineSetup s;
-    const isa::Machine seq = isa::load_machine(or_preset(mo.seq_machine, "seq"));
-    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? isa::load_machine(or_preset(mo.os_machine, "os")) : seq,
+    const isa::Machine& seq = mo.seq_machine.machine();
+    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? mo.os_machine.machine() : seq,
                                 &s.os_build);
     // The IC kernel's candidates (on a preset: its committed kernel and the alternatives) are
     // measured on this scene.
     const LazySceneSample sample(prep, opt);
-    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? isa::load_machine(or_preset(mo.ic_machine, "ic")) : seq,
+    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? mo.ic_machine.machine() : seq,
                                 &s.ic_build, vliw ? &sample : nullptr);
     const rt::Grid& g = prep.grid;
     if (!abi::os_sram_fits(g.geom.n[0], g.geom.n[1], g.geom.n[2]))
@@ -70,7 +55,7 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions&
     s.ic_resident = std::move(ic.resident);
     s.global = std::make_shared<iss::PagedMemory>(global->size);
     if (!ic.global.bytes.empty()) s.global->write_bytes(ic.global.base - abi::kIcGlobal, ic.global.bytes);
-    s.sc_prices = seq_prices(seq);
+    s.sc_prices = OpPrices{seq.latency};
     return s;
 }
 

@@ -14,10 +14,12 @@
 #include "fifo.hpp"
 #include "sc_cost.hpp"
 
-#include "rt/camera.hpp"
+#include "isa/ops.hpp"
 #include "machine/machine.hpp"
+#include "rt/camera.hpp"
 #include "rt/shading.hpp"
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <vector>
@@ -27,12 +29,15 @@ namespace nesshi::machine {
 inline constexpr std::uint64_t kNever = ~std::uint64_t{0};
 
 // Per-class latencies of the machine SC runs on (`seq`).
+// The price of an operation of each class (isa::OpClass): the seq machine's latency of it
+// (sc_cost.hpp: a sequential shader waits on each result).
 struct OpPrices {
-    std::uint32_t alu = 1, fadd = 1, fmul = 1, fdiv = 4, load = 1, store = 1, branch = 1;
+    std::array<std::uint32_t, isa::kNumOpClasses> of{};
     std::uint64_t cycles(const OpMix& m) const {
-        return std::uint64_t{m.alu} * alu + std::uint64_t{m.fadd} * fadd + std::uint64_t{m.fmul} * fmul +
-               std::uint64_t{m.fdiv} * fdiv + std::uint64_t{m.load} * load + std::uint64_t{m.store} * store +
-               std::uint64_t{m.branch} * branch;
+        auto price = [&](isa::OpClass c) { return std::uint64_t{of[static_cast<std::size_t>(c)]}; };
+        return m.alu * price(isa::OpClass::Alu) + m.fadd * price(isa::OpClass::FAdd) + m.fmul * price(isa::OpClass::FMul) +
+               m.fdiv * price(isa::OpClass::FDiv) + m.load * price(isa::OpClass::Load) +
+               m.store * price(isa::OpClass::Store) + m.branch * price(isa::OpClass::Branch);
     }
 };
 

@@ -34,17 +34,14 @@ std::string row(const KernelReport& r, const std::string& metric, const std::str
 
 std::string schedules_used(const Options& mo, const std::vector<Model>& models) {
     const kernels::SourceSet src = mo.kernels_dir.empty() ? kernels::embedded() : kernels::from_directory(mo.kernels_dir);
-    KernelMachines km;
-    if (!mo.os_machine.empty()) km.os = mo.os_machine;
-    if (!mo.ic_machine.empty()) km.ic = mo.ic_machine;
-    if (!mo.seq_machine.empty()) km.seq = mo.seq_machine;
+    const KernelMachines km{mo.os_machine, mo.ic_machine, mo.seq_machine};
     std::vector<Stage> stages;
     auto runs = [&](Model m) { return std::find(models.begin(), models.end(), m) != models.end(); };
     if (runs(Model::V)) {
-        if (km.os != "os") stages.push_back({"os", false, {"dda_step", "dda_init"}});
-        if (km.ic != "ic") stages.push_back({"ic", true, {"triangle", "quadric_hit", "quadric2_hit", "cylinder_hit"}});
+        if (!km.os.same_as_preset("os")) stages.push_back({"os", false, {"dda_step", "dda_init"}});
+        if (!km.ic.same_as_preset("ic")) stages.push_back({"ic", true, {"triangle", "quadric_hit", "quadric2_hit", "cylinder_hit"}});
     }
-    if ((runs(Model::S) || runs(Model::M)) && km.seq != "seq") {
+    if ((runs(Model::S) || runs(Model::M)) && !km.seq.same_as_preset("seq")) {
         stages.push_back({"seq", false, {"dda_step", "dda_init"}});
         stages.push_back({"seq", true, {"triangle", "quadric_hit"}});
     }
@@ -54,7 +51,7 @@ std::string schedules_used(const Options& mo, const std::vector<Model>& models) 
     for (const Stage& s : stages) {
         KernelBuild b;
         (void)assemble_kernel(src, kernels::kernel_path(s.role != std::string("seq"), s.intersect),
-                              isa::load_machine(km.of(s.role)), &b); // cached: the run builds it again for free
+                              km.of(s.role).machine(), &b); // cached: the run builds it again for free
         std::vector<std::string> rows;
         for (const std::string& m : s.metrics)
             if (std::string r = row(report, m, s.role); !r.empty()) rows.push_back(std::move(r));

@@ -115,16 +115,16 @@ DdaRuns run_dda(const std::shared_ptr<const iss::Program>& prog) {
     return r;
 }
 
-DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine) {
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const isa::Machine& machine) {
     KernelBuild build;
-    DdaRuns r = run_dda(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), isa::load_machine(machine), &build));
+    DdaRuns r = run_dda(assemble_kernel(sources, kernels::kernel_path(role != "seq", false), machine, &build));
     r.empty.build = r.sparse.build = build;
     return r;
 }
 
-WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w) {
+WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const isa::Machine& machine, Workload w) {
     KernelBuild build;
-    WorkloadRun r = run_intersect(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), isa::load_machine(machine), &build), w);
+    WorkloadRun r = run_intersect(assemble_kernel(sources, kernels::kernel_path(role != "seq", true), machine, &build), w);
     r.build = std::move(build);
     return r;
 }

@@ -25,11 +25,11 @@ struct DdaRuns {
     WorkloadRun empty, sparse;
 };
 // `role` is the stage the kernel is written for (os or seq: kernels::kernel_path), `machine` the
-// description it runs on (a preset name or a TOML file).
-DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const std::string& machine);
+// description it runs on.
+DdaRuns run_dda(const kernels::SourceSet& sources, const std::string& role, const isa::Machine& machine);
 
 // The intersection kernel for `machine` on a primitive workload (seed 7).
-WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const std::string& machine, Workload w);
+WorkloadRun run_intersect(const kernels::SourceSet& sources, const std::string& role, const isa::Machine& machine, Workload w);
 
 // The same on a program already assembled (its machine is the program's).
 DdaRuns run_dda(const std::shared_ptr<const iss::Program>& prog);

@@ -39,6 +39,16 @@ std::string from_spec_folder(const std::string& axis, const std::string& value, 
     return folder.empty() ? value : (folder / value).lexically_normal().string();
 }
 
+// A machine axis's value, loaded (a description that does not load is the spec's error, located
+// at the axis by parse_sweep_spec).
+machine::StageMachine stage_machine(const std::string& axis, const std::string& value) {
+    try {
+        return machine::StageMachine(value);
+    } catch (const std::exception& e) {
+        throw PaperError(fmt::format("{} = {}: {}", axis, value, e.what()));
+    }
+}
+
 bool is_axis(const std::string& name) {
     const auto& a = sweep_axis_names();
     return std::any_of(a.begin(), a.end(), [&](const auto& p) { return p.first == name; });
@@ -325,9 +335,9 @@ SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c) {
         else if (a == "cache_line") mo.cache.line = number<std::uint32_t>(a, v, 4, 4096);
         else if (a == "miss_cycles") mo.cache.miss_cycles = number<std::uint32_t>(a, v, 0, 1u << 20);
         else if (a == "resident") mo.resident = boolean(a, v);
-        else if (a == "os_machine") mo.os_machine = v;
-        else if (a == "ic_machine") mo.ic_machine = v;
-        else if (a == "seq_machine") mo.seq_machine = v;
+        else if (a == "os_machine") mo.os_machine = stage_machine(a, v);
+        else if (a == "ic_machine") mo.ic_machine = stage_machine(a, v);
+        else if (a == "seq_machine") mo.seq_machine = stage_machine(a, v);
         else if (a == "kernels") mo.kernels_dir = v;
         else if (a == "max_cycles") { mo.max_cycles = number<std::uint64_t>(a, v, 1, std::uint64_t{1} << 62); limit_named = true; }
     }

@@ -1,23 +1,15 @@
 // nesshi.machine() and nesshi.Machine: a description's slots, ports, latencies and memories.
 #include "convert.hpp"
 
-#include "base/error.hpp"
-#include "base/write_file.hpp"
-
 #include <pybind11/stl.h>
-
-#include <cctype>
-#include <filesystem>
-#include <unistd.h>
 
 namespace nesshi::python {
 namespace {
 
-// A Python-side machine: the description and its TOML text (what a stage option needs to load
-// it again when it came from a string).
+// A Python-side machine: the description and the TOML text it was made from, if any.
 struct PyMachine {
     isa::Machine m;
-    std::string toml;     // the text it was parsed from ("" for presets and files: they reload by name)
+    std::string toml;     // the text it was parsed from ("" for presets and files)
 };
 
 bool looks_like_toml(const std::string& s) { return s.find('\n') != std::string::npos || s.find('=') != std::string::npos; }
@@ -72,25 +64,15 @@ isa::Machine machine_arg(const py::handle& arg, const std::string& fallback) {
     return make_machine(py::str(arg).cast<std::string>(), "").m;
 }
 
-std::string machine_reference(const py::handle& arg) {
-    if (arg.is_none()) return "";
-    if (!py::isinstance<PyMachine>(arg)) return py::str(arg).cast<std::string>();
-    const PyMachine& pm = arg.cast<const PyMachine&>();
-    if (pm.toml.empty()) return pm.m.reference();
-    // One private folder per process, removed when the interpreter exits; the file is named after
-    // the machine, as its messages name it (a name's '/' or '..' must not lead out of the folder).
-    static const std::filesystem::path dir = [] {
-        std::string tmpl = (std::filesystem::temp_directory_path() / "nesshi-py-XXXXXX").string();
-        if (!mkdtemp(tmpl.data())) throw base::Error("cannot create a temporary folder for a machine description");
-        py::module_::import("atexit").attr("register")(py::module_::import("shutil").attr("rmtree"), tmpl, true);
-        return std::filesystem::path(tmpl);
-    }();
-    std::string stem = pm.m.name;
-    for (char& c : stem)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
-    const std::filesystem::path file = dir / (stem + "-" + std::to_string(pm.m.fingerprint()) + ".toml");
-    if (!std::filesystem::exists(file)) base::write_file(file.string(), pm.toml);
-    return file.string();
+machine::StageMachine stage_machine(const py::handle& arg, const char* preset) {
+    if (arg.is_none()) return machine::StageMachine(preset);
+    if (py::isinstance<PyMachine>(arg)) {
+        const PyMachine& pm = arg.cast<const PyMachine&>();
+        return machine::StageMachine(pm.m, pm.toml.empty() ? pm.m.reference() : pm.m.name);
+    }
+    const std::string spec = py::str(arg).cast<std::string>();
+    PyMachine pm = make_machine(spec, "");
+    return machine::StageMachine(std::move(pm.m), pm.toml.empty() ? spec : pm.m.name);
 }
 
 void bind_machine(py::module_& m) {

@@ -187,9 +187,9 @@ void bind_render(py::module_& m) {
                                         "stages on one clock)");
               RenderArgs a{model, size, grid, threads, cutoff, {}, window.has_value(), ray_slots.has_value()};
               machine::Options& mo = a.mo;
-              mo.os_machine = machine_reference(os_machine);
-              mo.ic_machine = machine_reference(ic_machine);
-              mo.seq_machine = machine_reference(seq_machine);
+              mo.os_machine = stage_machine(os_machine, "os");
+              mo.ic_machine = stage_machine(ic_machine, "ic");
+              mo.seq_machine = stage_machine(seq_machine, "seq");
               mo.pes = pes;
               mo.dynamic_balance = balance == "dynamic";
               if (epoch) mo.epoch = *epoch;

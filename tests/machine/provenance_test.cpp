@@ -73,7 +73,7 @@ TEST_CASE("Provenance names the scene, kernels, the machines the model uses and 
     machine::Options user = v;
     user.os_machine = kData + "/os-3fpu.toml";
     const machine::Provenance pu = machine::provenance("tetra:1", 8, size(16), user);
-    CHECK(pu.at("machine.os").rfind(user.os_machine + " ", 0) == 0);
+    CHECK(pu.at("machine.os").rfind(user.os_machine.reference() + " ", 0) == 0);
     CHECK(pu.at("machine.os").substr(pu.at("machine.os").size() - 16) !=
           p.at("machine.os").substr(p.at("machine.os").size() - 16));
 }

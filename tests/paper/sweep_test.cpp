@@ -1,16 +1,28 @@
 // The sweep spec, its cells and its tidy outputs (the runs themselves are checked from the CLI).
 #include "paper/sweep.hpp"
 
+#include "base/write_file.hpp"
+#include "common/temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <string>
 
 using namespace nesshi;
 using namespace nesshi::paper;
+using nesshi::test::TempDir;
 
 namespace {
+
+// A machine description at `path` (a copy of ic), for a spec that names it; returns the path.
+std::string machine_file(const std::string& path) {
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+    base::write_file(path, fmt::format("inherits = \"ic\"\nname = \"{}\"\n", std::filesystem::path(path).stem().string()));
+    return path;
+}
 
 std::string error_of(const std::string& text) {
     try {
@@ -86,13 +98,19 @@ TEST_CASE("Sweep spec: an axis that changes nothing on a model it sweeps is a lo
 
 TEST_CASE("Sweep spec: file values are relative to the spec's folder, presets and built-in scenes are names",
           "[unit][sweep]") {
-    const SweepSpec s = parse_sweep_spec("[axes]\nscene = [\"tetra:1\", \"my.nff\"]\nos_machine = [\"os-real\", \"m/x.toml\", "
-                                         "\"/abs/y.toml\"]\nkernels = \"k\"\n",
-                                         "specs/s.toml");
+    const TempDir t; // the spec's machines load as it is parsed: they must exist
+    const std::string root = t.str(), relative = machine_file(root + "/specs/m/x.toml"), absolute = machine_file(root + "/abs/y.toml");
+    const SweepSpec s = parse_sweep_spec(fmt::format("[axes]\nscene = [\"tetra:1\", \"my.nff\"]\nos_machine = [\"os-real\", "
+                                                     "\"m/x.toml\", \"{}\"]\nkernels = \"k\"\n",
+                                                     absolute),
+                                         root + "/specs/s.toml");
     REQUIRE(s.axes.size() == 3);
-    CHECK(s.axes[0].values == std::vector<std::string>{"tetra:1", "specs/my.nff"});
-    CHECK(s.axes[1].values == std::vector<std::string>{"os-real", "specs/m/x.toml", "/abs/y.toml"});
-    CHECK(s.axes[2].values == std::vector<std::string>{"specs/k"});
+    CHECK(s.axes[0].values == std::vector<std::string>{"tetra:1", root + "/specs/my.nff"});
+    CHECK(s.axes[1].values == std::vector<std::string>{"os-real", relative, absolute});
+    CHECK(s.axes[2].values == std::vector<std::string>{root + "/specs/k"});
+    // A machine that does not load is the spec's error, at its axis.
+    CHECK_THAT(error_of("[axes]\nic_machine = [\"ic\", \"nosuch.toml\"]\n"),
+               Catch::StartsWith("s.toml:2:14: error: ic_machine = nosuch.toml: nosuch.toml: error: no such machine preset or file"));
 }
 
 // Findings S1-S3 of the robustness campaign (issue 24).
@@ -178,10 +196,12 @@ TEST_CASE("Sweep outputs: tidy rows typed as written, missing metrics empty, a c
 
 TEST_CASE("Sweep chart: machines as a categorical axis, series apart without colour, labels that do not collide",
           "[unit][sweep]") {
+    const TempDir t;
+    machine_file(t.str() + "/machines/ic-with-a-rather-long-file-name.toml");
     const SweepSpec s = parse_sweep_spec("[axes]\nscene = [\"balls:1\", \"tetra:1\"]\nic_machine = [\"ic\", "
                                          "\"machines/ic-with-a-rather-long-file-name.toml\", \"ic-real\"]\n"
                                          "[chart]\nx = \"ic_machine\"\n",
-                                         "s.toml");
+                                         t.str() + "/s.toml");
     const std::vector<SweepCell> cells = sweep_cells(s);
     REQUIRE(cells.size() == 6);
     std::vector<std::string> json;

@@ -128,11 +128,11 @@ struct KernelReport {
 
 // Runs every metric of kernel_metrics() on the kernels of `sources`. Throws std::runtime_error
 // when a kernel does not assemble or does not behave (machine::KernelRunner).
-// The machine each stage's rows are measured on: a preset name or a TOML file. A description
-// other than the preset gets the kernel's straight-line blocks scheduled for it (runner.hpp).
+// The machine each stage's rows are measured on. A description other than the preset gets the
+// kernel's straight-line blocks scheduled for it (runner.hpp).
 struct KernelMachines {
-    std::string os = "os", ic = "ic", seq = "seq";
-    const std::string& of(std::string_view role) const;
+    StageMachine os{"os"}, ic{"ic"}, seq{"seq"};
+    const StageMachine& of(std::string_view role) const;
 };
 
 KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines = {});

@@ -15,6 +15,7 @@
 #include "iss/stats.hpp"
 #include "kernels/abi.hpp"
 #include "machine/kernel_build.hpp"
+#include "machine/stage_machine.hpp"
 #include "rt/render.hpp"
 
 #include <cstdint>
@@ -64,11 +65,11 @@ struct Options {
     bool resident = true;
     bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
     std::string kernels_dir;          // a folder of kernel sources overriding the built-in ones ("" = built in)
-    // The stages' machine descriptions, each a preset name or a TOML file ("" = os, ic, seq): model
-    // V runs OS and IC on os_machine and ic_machine, models S and M both on seq_machine; the SC's
+    // The stages' machine descriptions, loaded where they are named (stage_machine.hpp): model V
+    // runs OS and IC on os_machine and ic_machine, models S and M both on seq_machine; the SC's
     // operation prices come from seq_machine. The kernels are assembled for them; a description
     // they cannot run on is an error that names the first problem.
-    std::string os_machine, ic_machine, seq_machine;
+    StageMachine os_machine{"os"}, ic_machine{"ic"}, seq_machine{"seq"};
     std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
     std::string timeline_svg;         // the same as a picture: stage busy fractions and FIFO words over time ("" = none)
     bool traced() const { return !trace_json.empty() || !timeline_svg.empty(); } // activity and FIFO samples kept
