@@ -4,7 +4,8 @@
 // also per CPU second of this process, which a busy shared machine does not inflate, with the
 // built-in kernels' compiled runs and again without them (the threaded interpreter).
 // --scenes LIST (or `all`: the paper's five) prints one row per scene instead, the table:
-// machine / native in CPU time and simulated bundles per CPU-second, compiled and interpreted.
+// machine / native in CPU time and simulated bundles per CPU-second, compiled and interpreted, and
+// (model V, no machine named) a row for the first scene with the IC on a user's description.
 // --os-machine / --ic-machine run the stages on a description of the user's (a preset name or a
 // TOML file), so its row can be set beside a preset's: its programs, which the build did not
 // compile, are compiled at run time during the untimed warm-up render (NESSHI_RUNTIME_COMPILE=wait
@@ -15,6 +16,7 @@
 //                             [--os-machine M] [--ic-machine M] [--paper DIR]
 #include "args.hpp"
 
+#include "base/write_file.hpp"
 #include "iss/compiled.hpp"
 #include "machine/machine.hpp"
 #include "paper/paper.hpp"
@@ -24,10 +26,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cstdlib>
 #include <ctime>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace {
 
@@ -152,15 +157,31 @@ int main(int argc, char** argv) {
             fmt::print("{:<8} {:>14} {:>16} {:>22} {:>24} {:>14} {:>9}\n", "scene", "machine/native", "sim. bundles",
                        "M bundles/cpu s, comp.", "M bundles/cpu s, interp.", "comp./interp.", "identical");
             double first_warmup = -1;
-            for (const std::string& sc : list) {
-                const Measured r = measure(prepare(load_scene(sc), grid), opt, mo);
+            auto row = [&](const std::string& label, const std::string& sc, const machine::Options& on) {
+                const Measured r = measure(prepare(load_scene(sc), grid), opt, on);
                 if (first_warmup < 0) first_warmup = r.warmup_s;
                 const machine::Stats& s = r.compiled.machine;
-                fmt::print("{:<8} {:>13.1f}x {:>16} {:>22.1f} {:>24.1f} {:>13.2f}x {:>9}\n", sc, r.machine_cpu / r.native_cpu,
+                fmt::print("{:<8} {:>13.1f}x {:>16} {:>22.1f} {:>24.1f} {:>13.2f}x {:>9}\n", label, r.machine_cpu / r.native_cpu,
                            s.simulated_bundles, double(s.simulated_bundles) / r.machine_cpu / 1e6,
                            double(r.interpreted.machine.simulated_bundles) / r.interp_cpu / 1e6, r.interp_cpu / r.machine_cpu,
                            r.same_image && r.same_cycles ? "yes" : "NO");
                 std::fflush(stdout);
+            };
+            for (const std::string& sc : list) row(sc, sc, mo);
+            // A user's description beside the presets (the table has this row): its kernels are
+            // scheduled for it and its runs compiled at run time (in the warm-up, under `wait`).
+            const bool user_row = mo.model == machine::Model::V && !args.values.count("--os-machine") &&
+                                  !args.values.count("--ic-machine") && !list.empty();
+            if (user_row) {
+                const std::string file = fmt::format("{}/bench-user-ic-{}.toml", std::filesystem::temp_directory_path().string(),
+                                                     ::getpid());
+                base::write_file(file, "inherits = \"ic\"\nname = \"user-ic\"\n[latency]\nfadd = 2\n");
+                machine::Options user = mo;
+                user.ic_machine = file;
+                std::filesystem::remove(file);
+                row(list.front() + "*", list.front(), user);
+                fmt::print("*: the IC on a user's description (ic with 2-cycle fadd): kernels scheduled for it, runs compiled at "
+                           "run time\n");
             }
             fmt::print("warm-up render of the first scene: {:.1f} s wall (kernels built, runs compiled at run time unless cached)\n",
                        first_warmup);
