@@ -26,10 +26,12 @@ base::SourceLoc where(const std::string& file, const toml::source_region& r) {
     return base::SourceLoc(file, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column));
 }
 
+bool machine_axis(const std::string& axis) { return axis == "os_machine" || axis == "ic_machine" || axis == "seq_machine"; }
+
 // A value of a file axis that names a file (not a preset or a built-in scene), relative to the
 // spec's folder as an include would be: the spec runs the same from any working directory.
 std::string from_spec_folder(const std::string& axis, const std::string& value, const std::string& spec_file) {
-    const bool file_axis = axis == "os_machine" || axis == "ic_machine" || axis == "seq_machine" || axis == "kernels" || axis == "scene";
+    const bool file_axis = machine_axis(axis) || axis == "kernels" || axis == "scene";
     if (!file_axis || value.empty() || value[0] == '/') return value;
     const bool named = axis == "scene" ? value.find('/') == std::string::npos && value.find(".nff") == std::string::npos
                                        : axis != "kernels" && value.find('/') == std::string::npos &&
@@ -39,14 +41,19 @@ std::string from_spec_folder(const std::string& axis, const std::string& value, 
     return folder.empty() ? value : (folder / value).lexically_normal().string();
 }
 
-// A machine axis's value, loaded (a description that does not load is the spec's error, located
-// at the axis by parse_sweep_spec).
-machine::StageMachine stage_machine(const std::string& axis, const std::string& value) {
+// A machine axis's value, loaded (a description that does not load is the spec's error).
+machine::StageMachine load_stage_machine(const std::string& axis, const std::string& value) {
     try {
         return machine::StageMachine(value);
     } catch (const std::exception& e) {
         throw PaperError(fmt::format("{} = {}: {}", axis, value, e.what()));
     }
+}
+
+// A cell's machine: the spec's, loaded when it was read (a spec built in code loads it here).
+machine::StageMachine stage_machine(const SweepSpec& s, const std::string& axis, const std::string& value) {
+    if (const auto it = s.machines.find(value); it != s.machines.end()) return it->second;
+    return load_stage_machine(axis, value);
 }
 
 bool is_axis(const std::string& name) {
@@ -195,6 +202,11 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file) {
                     if (!x) throw PaperError(where(file, v.source()), fmt::format("{}: a value must be a string, a whole number or a boolean", a.name));
                     if (std::find(a.values.begin(), a.values.end(), *x) != a.values.end()) // one cell, one file: twice would clash
                         throw PaperError(where(file, v.source()), fmt::format("{}: {} is listed twice", a.name, *x));
+                    if (machine_axis(a.name) && !s.machines.count(*x)) try {
+                            s.machines.emplace(*x, load_stage_machine(a.name, *x));
+                        } catch (const PaperError& e) {
+                            throw PaperError(where(file, v.source()), e.message());
+                        }
                     a.values.push_back(*x);
                 };
                 if (const toml::array* list = value.as_array()) {
@@ -335,9 +347,9 @@ SweepRunInputs sweep_inputs(const SweepSpec& s, const SweepCell& c) {
         else if (a == "cache_line") mo.cache.line = number<std::uint32_t>(a, v, 4, 4096);
         else if (a == "miss_cycles") mo.cache.miss_cycles = number<std::uint32_t>(a, v, 0, 1u << 20);
         else if (a == "resident") mo.resident = boolean(a, v);
-        else if (a == "os_machine") mo.os_machine = stage_machine(a, v);
-        else if (a == "ic_machine") mo.ic_machine = stage_machine(a, v);
-        else if (a == "seq_machine") mo.seq_machine = stage_machine(a, v);
+        else if (a == "os_machine") mo.os_machine = stage_machine(s, a, v);
+        else if (a == "ic_machine") mo.ic_machine = stage_machine(s, a, v);
+        else if (a == "seq_machine") mo.seq_machine = stage_machine(s, a, v);
         else if (a == "kernels") mo.kernels_dir = v;
         else if (a == "max_cycles") { mo.max_cycles = number<std::uint64_t>(a, v, 1, std::uint64_t{1} << 62); limit_named = true; }
     }

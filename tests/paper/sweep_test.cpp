@@ -108,9 +108,9 @@ TEST_CASE("Sweep spec: file values are relative to the spec's folder, presets an
     CHECK(s.axes[0].values == std::vector<std::string>{"tetra:1", root + "/specs/my.nff"});
     CHECK(s.axes[1].values == std::vector<std::string>{"os-real", relative, absolute});
     CHECK(s.axes[2].values == std::vector<std::string>{root + "/specs/k"});
-    // A machine that does not load is the spec's error, at its axis.
+    // A machine that does not load is the spec's error, at its value.
     CHECK_THAT(error_of("[axes]\nic_machine = [\"ic\", \"nosuch.toml\"]\n"),
-               Catch::StartsWith("s.toml:2:14: error: ic_machine = nosuch.toml: nosuch.toml: error: no such machine preset or file"));
+               Catch::StartsWith("s.toml:2:21: error: ic_machine = nosuch.toml: nosuch.toml: error: no such machine preset or file"));
 }
 
 // Findings S1-S3 of the robustness campaign (issue 24).

@@ -26,6 +26,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +46,9 @@ struct SweepSpec {
     std::string chart_x, chart_y;  // "" = none asked: x = the first swept numeric axis, y = cycles.total
     bool chart_log_y = false;      // y_scale = "log": a log y axis (series far apart in size stay readable)
     bool chart_scale_given = false; // y_scale written; else the chart goes log when values span 30x or more
+    // The machine axes' values (os_machine, ic_machine, seq_machine), each loaded once as the spec
+    // is read: every cell takes its machine from here.
+    std::map<std::string, machine::StageMachine> machines;
 };
 
 // The axes a spec may name (scene, size, grid, model, pes, balance, epoch, window, ray_slots,
