@@ -177,8 +177,13 @@ int main(int argc, char** argv) {
                                                      ::getpid());
                 base::write_file(file, "inherits = \"ic\"\nname = \"user-ic\"\n[latency]\nfadd = 2\n");
                 machine::Options user = mo;
-                user.ic_machine = file;
-                std::filesystem::remove(file);
+                try {
+                    user.ic_machine = file;
+                } catch (...) {
+                    std::filesystem::remove(file);
+                    throw;
+                }
+                std::filesystem::remove(file); // loaded: the run needs only the value
                 row(list.front() + "*", list.front(), user);
                 fmt::print("*: the IC on a user's description (ic with 2-cycle fadd): kernels scheduled for it, runs compiled at "
                            "run time\n");

@@ -96,7 +96,7 @@ struct DemoArgs {
     std::string out = "nesshi-demo.png";
     bool isa = false;
     std::string examples, detail = "saxpy_pipelined.s";
-    machine::Options machines; // --os-machine, --ic-machine, --seq-machine
+    StageMachineNames machine_names; // --os-machine, --ic-machine, --seq-machine
 };
 
 using base::seconds_since;
@@ -106,17 +106,18 @@ void run_machine_demo(const DemoArgs& a) {
     check_output(a.out);
     fmt::print("Nesshisen demo: SPD '{}' at {}x{} through model V (one PE: OS and IC VLIW kernels on the ISS)\n",
                a.scene, a.size, a.size);
-    if (a.machines.os_machine.reference() != "os" || a.machines.ic_machine.reference() != "ic" ||
-        a.machines.seq_machine.reference() != "seq")
-        fmt::print("machines: OS {}, IC {}, SC prices {}\n", a.machines.os_machine.reference(), a.machines.ic_machine.reference(),
-                   a.machines.seq_machine.reference());
+    machine::Options mo;
+    a.machine_names.load(mo);
+    const StageMachineNames& n = a.machine_names;
+    if (!n.os.empty() || !n.ic.empty() || !n.seq.empty())
+        fmt::print("machines: OS {}, IC {}, SC prices {}\n", mo.os_machine.reference(), mo.ic_machine.reference(),
+                   mo.seq_machine.reference());
     const auto t_prep = std::chrono::steady_clock::now();
     const rt::PreparedScene prep = rt::prepare(rt::load_scene(a.scene), 0); // grid: the paper's pre-pass choice
     fmt::print("{}grid chosen by the low-resolution pre-pass ({:.1f} s)\n",
                rt::format_grid(prep.grid) + machine::memory_report(prep.grid, prep.shapes.shapes.size()).text(), seconds_since(t_prep));
     rt::RenderOptions opt;
     opt.width = opt.height = a.size;
-    machine::Options mo = a.machines;
     mo.model = machine::Model::V;
     if (isatty(STDERR_FILENO)) {
         mo.progress = base::ProgressBar(stderr);
@@ -148,7 +149,7 @@ void add_demo(CLI::App& app) {
     auto* out = cmd->add_option("-o,--output", a->out, "PNG image")->capture_default_str();
     auto* isa = cmd->add_flag("--isa", a->isa, "instead: assemble and simulate the bundled examples, print ILP and utilisation");
     // Options of the other demo are errors, not ignored.
-    add_stage_machine_options(cmd, a->machines.os_machine, a->machines.ic_machine, a->machines.seq_machine);
+    add_stage_machine_options(cmd, a->machine_names);
     isa->excludes(scene)->excludes(size)->excludes(out);
     for (const char* name : {"--os-machine", "--ic-machine", "--seq-machine"}) isa->excludes(cmd->get_option(name));
     cmd->add_option("--examples", a->examples, "with --isa: folder of example .s files (default: examples/)")->needs(isa);

@@ -21,18 +21,20 @@ void add_kernels(CLI::App& app) {
     auto dir = std::make_shared<std::string>();
     cmd->add_option("--json", *json, "Also write the table as JSON to FILE ('-': the JSON on stdout, the table on stderr)");
     cmd->add_option("--kernels", *dir, "A folder of kernel sources to measure instead of the built-in ones");
-    auto machines = std::make_shared<machine::KernelMachines>();
-    add_stage_machine_options(cmd, machines->os, machines->ic, machines->seq, "Options",
+    auto names = std::make_shared<StageMachineNames>();
+    add_stage_machine_options(cmd, *names, "Options",
                               "measure the os rows on this machine: preset or TOML (default os)",
                               "measure the ic rows on this machine (default ic)", "measure the seq rows on this machine (default seq)");
     auto loops = std::make_shared<bool>(false);
     cmd->add_flag("--loops", *loops,
                   "After the table, the pipeliner's report of each loop scheduled for the machines (as nesshi pipeline prints it)");
-    cmd->callback([json, dir, machines, loops] {
+    cmd->callback([json, dir, names, loops] {
+        machine::KernelMachines machines;
+        names->load(machines.os, machines.ic, machines.seq);
         const bool json_on_stdout = stdout_output({{"--json", *json}});
         check_output(*json);
         const machine::KernelReport report =
-            machine::kernel_report(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir), *machines);
+            machine::kernel_report(dir->empty() ? kernels::embedded() : kernels::from_directory(*dir), machines);
         fmt::print(json_on_stdout ? stderr : stdout, "{}", report.text());
         if (*loops) fmt::print(json_on_stdout ? stderr : stdout, "{}", report.loops_text());
         if (!json->empty()) base::write_file(*json, report.json(*loops) + "\n");

@@ -38,6 +38,7 @@ struct PaperArgs {
     bool keep_other_builds = false;
     bool quiet = false;
     machine::Options machine; // the stages' machines and kernels
+    StageMachineNames machine_names; // loaded into `machine` when the command runs
 };
 
 std::vector<machine::Model> parse_models(const std::string& s) {
@@ -117,6 +118,7 @@ void run_paper_command(const PaperArgs& a) {
     if (!a.shard.empty()) std::tie(o.shard, o.shards) = parse_shard(a.shard);
     o.keep_other_builds = a.keep_other_builds;
     o.machine = a.machine;
+    a.machine_names.load(o.machine);
     try {
         paper::validate(o); // before any output
     } catch (const paper::PaperError& e) { // every check of validate is about the options
@@ -157,7 +159,7 @@ void add_paper(CLI::App& app) {
     cmd->add_option("--shard", a->shard, kShardHelp);
     cmd->add_flag("--keep-other-builds", a->keep_other_builds, kKeepOtherBuildsHelp);
     cmd->add_option("--kernels", a->machine.kernels_dir, "kernel source folder (default: built in)");
-    add_stage_machine_options(cmd, a->machine.os_machine, a->machine.ic_machine, a->machine.seq_machine);
+    add_stage_machine_options(cmd, a->machine_names);
     cmd->add_flag("-q,--quiet", a->quiet, "no progress, no report");
     add_paper_gaps(*cmd);
     add_paper_versus(*cmd);

@@ -41,6 +41,7 @@ struct RenderArgs {
     bool detail = false; // the OS's and IC's processor statistics after the summary
     // the simulated machine (models S, M, V)
     machine::Options mo;
+    StageMachineNames machines; // loaded into mo's when the command runs
     bool cache = false;
     std::string balance = "interleaved";
     // For checking combinations: every option of the machine group, and the ones that need another.
@@ -95,6 +96,7 @@ void run_render(const RenderArgs& a) {
     if (!native && !machine::parse_model(a.model, mo.model))
         throw UsageError(fmt::format("unknown model '{}' (available: {})", a.model, kModels));
     check_combinations(a, native, mo.model);
+    a.machines.load(mo);
     // One output may be stdout ('-'); the report then goes to stderr.
     const bool output_on_stdout = stdout_output({{"-o", a.out}, {"--stats-json", a.stats_json}, {"--id-buffer", a.id_buffer},
                                                  {"--t-buffer", a.t_buffer}, {"--trace", mo.trace_json}});
@@ -240,7 +242,7 @@ void add_render(CLI::App& app) {
                                                           "words over time")
         ->group(m);
     cmd->add_option("--kernels", a->mo.kernels_dir, "kernel source folder (default: built in)")->group(m);
-    add_stage_machine_options(cmd, a->mo.os_machine, a->mo.ic_machine, a->mo.seq_machine, m);
+    add_stage_machine_options(cmd, a->machines, m);
     for (const CLI::Option* o : cmd->get_options())
         if (o->get_group() == m) a->machine_only.push_back(o);
     for (const char* name : {"--cache-size", "--cache-ways", "--cache-line", "--miss-cycles"})

@@ -1,7 +1,9 @@
 // --os-machine, --ic-machine, --seq-machine: the stages' machine descriptions, the same three
-// options (and help) on every command that runs or measures the kernels. Each is loaded as it is
-// parsed (machine::StageMachine), once: a description that does not load is the command's error.
+// options (and help) on every command that runs or measures the kernels. The names given are
+// loaded once, when the command runs (after --help and the required arguments, which CLI11 checks
+// after option callbacks), into machine::StageMachine values that everything downstream shares.
 #pragma once
+#include "machine/machine.hpp"
 #include "machine/stage_machine.hpp"
 
 #include <CLI/CLI.hpp>
@@ -10,20 +12,27 @@
 
 namespace nesshi::cli {
 
-inline void add_stage_machine_options(CLI::App* cmd, machine::StageMachine& os, machine::StageMachine& ic,
-                                      machine::StageMachine& seq, const std::string& group = "Options",
+struct StageMachineNames {
+    std::string os, ic, seq; // as given; "" = not given (the preset stays)
+
+    // Loads the ones given into the three machines (a description that does not load throws, with
+    // its file and line).
+    void load(machine::StageMachine& os_machine, machine::StageMachine& ic_machine, machine::StageMachine& seq_machine) const {
+        if (!os.empty()) os_machine = machine::StageMachine(os);
+        if (!ic.empty()) ic_machine = machine::StageMachine(ic);
+        if (!seq.empty()) seq_machine = machine::StageMachine(seq);
+    }
+    void load(machine::Options& mo) const { load(mo.os_machine, mo.ic_machine, mo.seq_machine); }
+};
+
+inline void add_stage_machine_options(CLI::App* cmd, StageMachineNames& names, const std::string& group = "Options",
                                       const char* os_help = "machine of the OS stage, model V: preset or TOML (default os)",
                                       const char* ic_help = "machine of the IC stage, model V: preset or TOML (default ic)",
                                       const char* seq_help =
                                           "sequential machine of models S and M, and SC prices (default seq)") {
-    auto bind = [&](const char* name, machine::StageMachine& into, const char* help) {
-        cmd->add_option_function<std::string>(name, [&into](const std::string& v) { into = machine::StageMachine(v); }, help)
-            ->type_name("TEXT")
-            ->group(group);
-    };
-    bind("--os-machine", os, os_help);
-    bind("--ic-machine", ic, ic_help);
-    bind("--seq-machine", seq, seq_help);
+    cmd->add_option("--os-machine", names.os, os_help)->group(group);
+    cmd->add_option("--ic-machine", names.ic, ic_help)->group(group);
+    cmd->add_option("--seq-machine", names.seq, seq_help)->group(group);
 }
 
 } // namespace nesshi::cli

@@ -49,7 +49,8 @@ void trim_cache_files(const std::string& dir, std::string_view extension, std::u
     std::sort(files.begin(), files.end(), [](const File& a, const File& b) { return a.when < b.when; });
     for (const File& f : files) {
         if (total <= max_bytes) break;
-        if (fs::remove(f.path, ec)) total -= f.bytes;
+        fs::remove(f.path, ec);
+        if (!fs::exists(f.path, ec)) total -= f.bytes; // removed, by us or by another process trimming too
     }
 }
 

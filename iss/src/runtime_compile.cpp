@@ -215,6 +215,7 @@ bool load(RuntimeCompiled& e) {
     }
     void* h = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!h) {
+        if (::access(path.c_str(), F_OK) != 0) return false; // removed meanwhile (trim_cache_files elsewhere)
         warn_once("load", fmt::format("cannot load compiled runs {} ({}){}", path, ::dlerror(), kInterpreted));
         return false;
     }

@@ -28,9 +28,9 @@ namespace nesshi::machine {
 
 inline constexpr std::uint64_t kNever = ~std::uint64_t{0};
 
-// Per-class latencies of the machine SC runs on (`seq`).
 // The price of an operation of each class (isa::OpClass): the seq machine's latency of it
-// (sc_cost.hpp: a sequential shader waits on each result).
+// (sc_cost.hpp: a sequential shader waits on each result). All zero until set from the machine
+// (render_machine.cpp's build_setup).
 struct OpPrices {
     std::array<std::uint32_t, isa::kNumOpClasses> of{};
     std::uint64_t cycles(const OpMix& m) const {

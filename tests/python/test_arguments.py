@@ -1,5 +1,5 @@
 # Wrong arguments and misuse: each a Python exception with a message (never a crash, a hang, a
-# generic "Unable to cast" RuntimeError, or a file written outside the module's temporary folder).
+# generic "Unable to cast" RuntimeError, or a file written for a machine argument).
 import _thread
 import glob
 import threading
@@ -27,7 +27,7 @@ def test_a_machine_compares_with_anything():
     assert repr(text) == "<nesshi.Machine 'ic2' from TOML text>"
 
 
-def test_a_machine_name_cannot_lead_its_file_out_of_the_temporary_folder(tmp_path):
+def test_a_machine_named_like_a_path_renders_and_writes_no_file(tmp_path):
     name = f"../../../../../../{tmp_path}/escaped".replace("//", "/")
     m = nesshi.machine(f'inherits = "ic"\nname = "{name}"\n[latency]\nfmul = 3\n')
     image, _ = nesshi.render("balls:1", size=4, grid=3, ic_machine=m)
