@@ -27,7 +27,8 @@ void prune_cache_folders(const std::string& dir, const std::string& keep) {
     }
 }
 
-void trim_cache_files(const std::string& dir, std::string_view extension, std::uint64_t max_bytes, const std::string& keep) {
+void trim_cache_files(const std::string& dir, std::string_view extension, std::uint64_t max_bytes, const std::string& keep,
+                      const std::function<bool(const std::string&)>& busy) {
     namespace fs = std::filesystem;
     struct File {
         fs::path path;
@@ -49,6 +50,7 @@ void trim_cache_files(const std::string& dir, std::string_view extension, std::u
     std::sort(files.begin(), files.end(), [](const File& a, const File& b) { return a.when < b.when; });
     for (const File& f : files) {
         if (total <= max_bytes) break;
+        if (busy && busy(f.path.filename().string())) continue;
         fs::remove(f.path, ec);
         if (!fs::exists(f.path, ec)) total -= f.bytes; // removed, by us or by another process trimming too
     }

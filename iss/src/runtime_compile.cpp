@@ -379,7 +379,15 @@ void compile_and_load(RuntimeCompiled& e, const std::vector<std::string>& files,
         fmt::arg("inc", quoted(s.includes)), fmt::arg("so", quoted(so_path(e))), fmt::arg("log", quoted(log)));
     if (run_shell(script, fd, start) != 0 || !load(e))
         return warn_once("compile", fmt::format("compiling the runs of a program failed (see {}){}", log, kInterpreted));
-    base::trim_cache_files(s.build, ".so", kCacheLimit.bytes, e.name + ".so");
+    // An object whose lock another process holds is being compiled or loaded: it stays.
+    base::trim_cache_files(s.build, ".so", kCacheLimit.bytes, e.name + ".so", [&](const std::string& so) {
+        const std::string other = s.build + "/" + so.substr(0, so.size() - 3) + ".lock";
+        const int lfd = ::open(other.c_str(), O_RDWR | O_CLOEXEC);
+        if (lfd < 0) return false; // no lock file: nobody compiles it
+        const bool held = ::flock(lfd, LOCK_EX | LOCK_NB) != 0;
+        ::close(lfd);
+        return held;
+    });
 }
 
 } // namespace

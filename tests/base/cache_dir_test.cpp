@@ -1,5 +1,5 @@
 // base/cache_dir.hpp: trimming a cache folder to a size removes the least recently written files
-// of one kind first, never the one named to keep.
+// of one kind first, never the one named to keep nor one in use.
 #include "base/cache_dir.hpp"
 #include "base/write_file.hpp"
 
@@ -54,4 +54,16 @@ TEST_CASE("trim_cache_files leaves a folder within its limit alone, and a touche
     CHECK(fs::exists(d + "/a.so"));
     CHECK_FALSE(fs::exists(d + "/b.so"));
     trim_cache_files(d + "/missing", ".so", 0, ""); // no folder: nothing to do, no throw
+}
+
+TEST_CASE("trim_cache_files leaves a file in use, and goes on to the next", "[cache_dir]") {
+    TempDir t;
+    const std::string d = t.str();
+    put(d, "old.so", 100, 3); // the oldest, but being loaded elsewhere
+    put(d, "mid.so", 100, 2);
+    put(d, "new.so", 100, 1);
+    trim_cache_files(d, ".so", 100, "", [](const std::string& name) { return name == "old.so"; });
+    CHECK(fs::exists(d + "/old.so"));
+    CHECK_FALSE(fs::exists(d + "/mid.so"));
+    CHECK_FALSE(fs::exists(d + "/new.so")); // still over the limit without the busy one
 }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -17,9 +18,11 @@ std::string user_cache_dir(std::string_view kind);
 // (errors ignored: another run may be pruning too, and a cache only saves time).
 void prune_cache_folders(const std::string& dir, const std::string& keep);
 // Removes the files of `dir` whose names end in `extension`, least recently written first, until
-// they hold at most `max_bytes` together; never `keep` (a file name). A reader that loads a file
-// rewrites its time (touch_cache_file), so that the ones in use stay. Errors ignored, as above.
-void trim_cache_files(const std::string& dir, std::string_view extension, std::uint64_t max_bytes, const std::string& keep);
+// they hold at most `max_bytes` together; never `keep` (a file name) nor a file `busy` says is in
+// use (by its name). A reader that loads a file rewrites its time (touch_cache_file), so that the
+// ones in use stay. Errors ignored, as above.
+void trim_cache_files(const std::string& dir, std::string_view extension, std::uint64_t max_bytes, const std::string& keep,
+                      const std::function<bool(const std::string&)>& busy = {});
 void touch_cache_file(const std::string& path);
 
 } // namespace nesshi::base
