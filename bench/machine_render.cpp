@@ -16,7 +16,7 @@
 //                             [--os-machine M] [--ic-machine M] [--paper DIR]
 #include "args.hpp"
 
-#include "base/write_file.hpp"
+#include "isa/machine.hpp"
 #include "iss/compiled.hpp"
 #include "machine/machine.hpp"
 #include "paper/paper.hpp"
@@ -26,13 +26,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <cstdlib>
 #include <ctime>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 namespace {
 
@@ -173,17 +170,9 @@ int main(int argc, char** argv) {
             const bool user_row = mo.model == machine::Model::V && !args.values.count("--os-machine") &&
                                   !args.values.count("--ic-machine") && !list.empty();
             if (user_row) {
-                const std::string file = fmt::format("{}/bench-user-ic-{}.toml", std::filesystem::temp_directory_path().string(),
-                                                     ::getpid());
-                base::write_file(file, "inherits = \"ic\"\nname = \"user-ic\"\n[latency]\nfadd = 2\n");
                 machine::Options user = mo;
-                try {
-                    user.ic_machine = file;
-                } catch (...) {
-                    std::filesystem::remove(file);
-                    throw;
-                }
-                std::filesystem::remove(file); // loaded: the run needs only the value
+                user.ic_machine = machine::StageMachine(
+                    isa::parse_machine("inherits = \"ic\"\nname = \"user-ic\"\n[latency]\nfadd = 2\n", "user-ic.toml"), "user-ic");
                 row(list.front() + "*", list.front(), user);
                 fmt::print("*: the IC on a user's description (ic with 2-cycle fadd): kernels scheduled for it, runs compiled at "
                            "run time\n");

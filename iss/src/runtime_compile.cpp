@@ -27,6 +27,7 @@
 #include <fstream> // whole_elf reads the headers
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <spawn.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -58,6 +59,14 @@ namespace fs = std::filesystem;
 // About half a second of one processor on the interpreter: a run shorter than that is not worth a
 // compilation of 10-60 s, a longer one (a sweep's cells, the paper) gets faster from then on.
 constexpr uint64_t kHotCycles = uint64_t{1} << 26;
+// `s` as a whole decimal number, if it is one.
+std::optional<uint64_t> whole_number(std::string_view s) {
+    uint64_t n = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), n);
+    if (s.empty() || ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+    return n;
+}
+
 // The mode, and under Wait the cycles after which a program is compiled; `bad`: a value of
 // NESSHI_RUNTIME_COMPILE that means none of them (the default applies, with a warning).
 struct ModeSetting {
@@ -72,11 +81,8 @@ ModeSetting from_environment() {
     if (s == "0") return {RuntimeCompile::Off, 0};
     if (s == "1") return {};
     if (s == "wait") return {RuntimeCompile::Wait, 0};
-    if (s.starts_with("wait:")) {
-        uint64_t n = 0;
-        const auto [end, ec] = std::from_chars(s.data() + 5, s.data() + s.size(), n);
-        if (ec == std::errc() && end == s.data() + s.size()) return {RuntimeCompile::Wait, n};
-    }
+    if (s.starts_with("wait:"))
+        if (const std::optional<uint64_t> n = whole_number(s.substr(5))) return {RuntimeCompile::Wait, *n};
     return {RuntimeCompile::Background, 0, true};
 }
 const ModeSetting kEnvironment = from_environment();
@@ -91,11 +97,9 @@ struct CacheLimit {
 CacheLimit cache_limit_from_environment() {
     const char* v = std::getenv("NESSHI_COMPILED_CACHE_MB");
     if (!v) return {};
-    uint64_t mb = 0;
-    const std::string_view s(v);
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), mb);
-    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || mb > (uint64_t{1} << 40)) return {CacheLimit{}.bytes, true};
-    return {mb << 20, false};
+    const std::optional<uint64_t> mb = whole_number(v);
+    if (!mb || *mb > (uint64_t{1} << 40)) return {CacheLimit{}.bytes, true};
+    return {*mb << 20, false};
 }
 const CacheLimit kCacheLimit = cache_limit_from_environment();
 std::atomic<RuntimeCompile> mode{kEnvironment.mode};

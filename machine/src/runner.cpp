@@ -3,6 +3,7 @@
 #include "compiled_runs.hpp"
 
 #include "kernel_measure.hpp"
+#include "presets.hpp"
 #include "schedule_cache.hpp"
 
 #include "machine/scene_sample.hpp"
@@ -36,8 +37,8 @@ namespace {
 
 // Whether `m` is the machine the scheduled kernel `text` names on its first line (under any name).
 bool scheduled_for(std::string_view text, const isa::Machine& m) {
-    const std::string name = assembler::header_machine(text);
-    return !name.empty() && isa::is_preset(name) && isa::load_machine(name).same_as(m);
+    const isa::Machine* p = detail::preset(assembler::header_machine(text));
+    return p && p->same_as(m);
 }
 
 // Scheduling a kernel for another machine costs about 0.1 s, and a sweep or the paper asks for the
@@ -62,19 +63,10 @@ std::map<std::string, std::shared_ptr<const Candidates>>& schedule_cache() {
     return cache;
 }
 
-const std::vector<isa::Machine>& presets() {
-    static const std::vector<isa::Machine> all = [] {
-        std::vector<isa::Machine> v;
-        for (std::string_view name : isa::preset_names()) v.push_back(isa::load_machine(name));
-        return v;
-    }();
-    return all;
-}
-
 // The preset `m` is under another name (a file that only inherits it, a copy), else `m` itself: the
 // preset's kernels, compiled runs and statistics, byte for byte.
 const isa::Machine& canonical(const isa::Machine& m) {
-    for (const isa::Machine& p : presets())
+    for (const isa::Machine& p : detail::presets())
         if (p.same_as(m)) return p;
     return m;
 }
@@ -333,7 +325,7 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
     // machine never makes it slower (ic-real with a second IU, whose loops got schedules of fewer
     // stages but longer iterations than ic-real's). A preset's committed kernel is the first
     // candidate above.
-    for (const isa::Machine& p : presets())
+    for (const isa::Machine& p : detail::presets())
         if (!p.same_as(m) && at_least(m, p))
             for (const std::string& pk : pks) {
                 if (pk == pks.front() && scheduled_for(committed, p)) continue; // the committed kernel, above

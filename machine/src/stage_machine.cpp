@@ -1,28 +1,37 @@
 #include "machine/stage_machine.hpp"
 
-#include <map>
-#include <mutex>
+#include "presets.hpp"
 
 namespace nesshi::machine {
 
-namespace {
-// The presets, parsed once per process: every Options starts with three of them.
+namespace detail {
+const std::vector<isa::Machine>& presets() {
+    static const std::vector<isa::Machine> all = [] { // every Options starts with three of them
+        std::vector<isa::Machine> v;
+        for (std::string_view name : isa::preset_names()) v.push_back(isa::load_machine(name));
+        return v;
+    }();
+    return all;
+}
+
 const isa::Machine* preset(std::string_view name) {
-    if (!isa::is_preset(name)) return nullptr;
-    static std::mutex mutex;
-    static std::map<std::string, isa::Machine, std::less<>> loaded;
-    std::lock_guard lock(mutex);
-    auto it = loaded.find(name);
-    if (it == loaded.end()) it = loaded.emplace(std::string(name), isa::load_machine(name)).first;
-    return &it->second;
+    for (const isa::Machine& p : presets())
+        if (p.name == name) return &p;
+    return nullptr;
+}
+} // namespace detail
+
+namespace {
+isa::Machine load(std::string_view name_or_path) {
+    if (const isa::Machine* p = detail::preset(name_or_path)) return *p;
+    return isa::load_machine(name_or_path);
 }
 } // namespace
 
-StageMachine::StageMachine(std::string_view name_or_path)
-    : machine_(preset(name_or_path) ? *preset(name_or_path) : isa::load_machine(name_or_path)), reference_(name_or_path) {}
+StageMachine::StageMachine(std::string_view name_or_path) : machine_(load(name_or_path)), reference_(name_or_path) {}
 
 bool StageMachine::same_as_preset(std::string_view name) const {
-    const isa::Machine* p = preset(name);
+    const isa::Machine* p = detail::preset(name);
     return p && p->same_as(machine_);
 }
 
