@@ -98,7 +98,8 @@ void set_bounds(KernelRow& r, const iss::Program& p, const Ranges& ranges, doubl
     r.rec_binds = rec.binds.empty() ? "" : rec.binds + pass;
 }
 
-// The code labels from `first` up to (not including) the next `*_run` or `done` label after it.
+// The code labels from `first` up to (not including) the next `*_run` or `done*` label after it
+// (a hybrid kernel's loops end at done_loops).
 std::vector<std::string> run_labels(const iss::Program& p, const std::string& first) {
     const isa::Symbol* s = p.find_symbol(first);
     std::vector<std::pair<std::uint32_t, std::string>> code;
@@ -107,7 +108,7 @@ std::vector<std::string> run_labels(const iss::Program& p, const std::string& fi
     std::sort(code.begin(), code.end());
     std::vector<std::string> out;
     for (const auto& [pc, name] : code) {
-        const bool next_run = name != first && (name == "done" || (name.size() > 4 && name.compare(name.size() - 4, 4, "_run") == 0));
+        const bool next_run = name != first && (name.starts_with("done") || (name.size() > 4 && name.compare(name.size() - 4, 4, "_run") == 0));
         if (next_run) break;
         out.push_back(name);
     }

@@ -82,8 +82,12 @@ void intersect_metrics(std::vector<KernelMetric>& out, const std::string& m) {
     whole.note = "per ray, 40 triangles; processing only";
     if (ic) whole.note += "; " + paper_range("IC", kPaper.ic_ilp, kPaper.ic_util);
     out.push_back(whole);
-    out.push_back(metric("recv_ray", m, Workload::Triangles, {"next_ray"}, PerWhat::Entries, kPaper.fifo_ray));
-    out.push_back(metric("send_ray", m, Workload::Triangles, {"done", "hit", "return"}, PerWhat::Entries, kPaper.fifo_ray));
+    // A hybrid kernel's long lists also pass its entry to the loops and end at the loops' own labels.
+    KernelMetric recv = metric("recv_ray", m, Workload::Triangles, {"next_ray", "from_dispatch"}, PerWhat::EntriesOf, kPaper.fifo_ray);
+    recv.count_labels = {"next_ray"};
+    out.push_back(recv);
+    out.push_back(metric("send_ray", m, Workload::Triangles, {"done", "hit", "return", "done_loops", "hit_loops", "return_loops"},
+                         PerWhat::Entries, kPaper.fifo_ray));
     const std::string load = fmt::format("paper {:.0f} + {:.0f} load", kPaper.quadric, kPaper.quadric_load);
     out.push_back(primitive("quadric_hit", Workload::Spheres, {"ball1_A", "ball1_B"}, {"next_prim", "ball1", "quad_roots", "sph_root"},
                          quadric,

@@ -43,7 +43,7 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions&
             g.geom.n[0], g.geom.n[1], g.geom.n[2], abi::os_padded_map_bytes(g.geom.n[0], g.geom.n[1], g.geom.n[2]),
             abi::kOsOcc, abi::kOsOccLimit));
     s.os_image = kernels::os_image(g.geom, g.occupancy);
-    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes, mo.resident, lists_by_kind(*s.ic_prog));
+    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes, mo.resident, list_layout(*s.ic_prog));
     // The global memory's size is the IC machine's: its [[memory]] region at IC_GLOBAL.
     const isa::Machine& icm = s.ic_prog->machine();
     const isa::MemoryDesc* global = icm.memory_at(abi::kIcGlobal, 4);

@@ -1,6 +1,7 @@
 #include "machine/runner.hpp"
 
 #include "compiled_runs.hpp"
+#include "hybrid_kernel.hpp"
 
 #include "kernel_measure.hpp"
 #include "presets.hpp"
@@ -250,7 +251,42 @@ struct Candidate {
     std::string what;    // as the one chosen
     std::string against; // as one not chosen, after its cycles
     std::uint64_t cycles = 0;
+    bool main = false;  // the committed kernel or the main source's: a dispatch kernel a hybrid can start from
+    std::string origin; // the preset it was scheduled for, where not for this machine
 };
+
+// The list lengths from which a hybrid kernel runs a list through its loops, one candidate each:
+// on long-latency machines the best is 4-16 references, by scene (rings: none).
+constexpr std::uint32_t kLongListsFrom[] = {4, 8, 16};
+
+// `dispatch` (the main source's kernel) joined with `loops` (an alternative's) into the hybrid
+// kernel (hybrid_kernel.hpp) for lists from `from` references, its joins legalized for m. Named
+// "kernels/ic/intersect.pk+intersect.loops.pk" (a name in the sources' folder, for its .include).
+// Throws std::runtime_error when the result does not assemble.
+Candidate hybrid_candidate(const Candidate& dispatch, const Candidate& loops, const std::string& joined, std::uint32_t from,
+                           const isa::Machine& m, const assembler::AsmOptions& opts) {
+    Candidate k;
+    k.s.name = dispatch.s.name + "+" + loops.s.name.substr(loops.s.name.rfind('/') + 1);
+    auto assembles = [&](const std::string& t) -> std::optional<std::string> {
+        assembler::AsmResult a = assembler::assemble_string(t, k.s.name, m, opts);
+        if (a.ok) return std::nullopt;
+        return a.diagnostics;
+    };
+    try {
+        k.s.text = sched::legalize(joined, k.s.name, assembles).text;
+    } catch (const base::Error& e) {
+        throw std::runtime_error(e.what());
+    }
+    const assembler::AsmResult g = assembler::assemble_string(k.s.text, k.s.name, m, opts);
+    if (!g.ok) throw std::runtime_error(g.diagnostics);
+    k.s.build = loops.s.build;
+    k.s.build.blocks = dispatch.s.build.blocks;
+    k.s.build.blocks_shortest = dispatch.s.build.blocks_shortest;
+    k.prog = iss::load_program(g.object, m);
+    k.what = fmt::format("{}, with {} for lists of {} or more", dispatch.what, loops.s.name.substr(kPrefix.size()), from);
+    k.against = fmt::format("{} with the loops for lists of {} or more", dispatch.against, from);
+    return k;
+}
 
 // Every candidate kernel for m: the committed kernel where it is legal on m as written (its preset,
 // or a machine with more resources and the same latencies), then each source scheduled for m (for
@@ -282,6 +318,8 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         k.s.build.machine = m.name;
         k.prog = iss::load_program(c.object, m);
         k.what = fmt::format("the {} kernel as written", assembler::header_machine(committed));
+        k.main = true;
+        if (!preset) k.origin = assembler::header_machine(committed);
         k.against = "for " + k.what;
         all.push_back(std::move(k));
     }
@@ -317,6 +355,7 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         }
         k.prog = iss::load_program(g.object, m);
         k.what = main ? "scheduled for this machine" : pk + " scheduled for this machine";
+        k.main = main;
         k.against = k.what;
         all.push_back(std::move(k));
     }
@@ -341,18 +380,51 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
                 k.prog = iss::load_program(g.object, m);
                 k.what = fmt::format("{} scheduled for {}", pk, p.name);
                 k.against = k.what;
+                k.main = pk == pks.front();
+                k.origin = p.name;
                 all.push_back(std::move(k));
             }
-    if (all.size() > 1)
-        for (Candidate& k : all) {
+    auto measure = [&](Candidate& k) {
+        try {
+            k.cycles = workload_busy_cycles(k.prog, path);
+        } catch (const iss::LoadError& e) { // the workloads' data need the memory a scene's would
+            throw iss::LoadError(fmt::format("machine '{}' ({}): measuring the {} candidates on their workloads: {} (a "
+                                             "scene's data need as much)",
+                                             m.name, m.source, path, e.message()));
+        }
+    };
+    // Per machine the kernels were scheduled for (this one, a preset it is at least), the fastest
+    // dispatch kernel (the committed one or the main source's) joined with each alternative that
+    // says how (its `hybrid_start`): its bodies for short lists, the alternative's loops for long
+    // ones.
+    const std::size_t n = all.size();
+    if (n > 1)
+        for (Candidate& k : all)
+            if (k.main) measure(k);
+    std::map<std::string, std::size_t> dispatch; // origin -> its fastest main candidate
+    for (std::size_t d = 0; d < n; ++d)
+        if (all[d].main) {
+            const auto [at, fresh] = dispatch.emplace(all[d].origin, d);
+            if (!fresh && all[d].cycles < all[at->second].cycles) at->second = d;
+        }
+    for (std::size_t l = 0; l < n; ++l) {
+        const auto d = dispatch.find(all[l].origin);
+        if (all[l].main || d == dispatch.end()) continue;
+        for (std::uint32_t from : kLongListsFrom) {
+            const Candidate& k = all[d->second];
+            const std::optional<std::string> joined = detail::hybrid_kernel_text(k.s.text, all[l].s.text, from);
+            if (!joined) break;
             try {
-                k.cycles = workload_busy_cycles(k.prog, path);
-            } catch (const iss::LoadError& e) { // the workloads' data need the memory a scene's would
-                throw iss::LoadError(fmt::format("machine '{}' ({}): measuring the {} candidates on their workloads: {} (a "
-                                                 "scene's data need as much)",
-                                                 m.name, m.source, path, e.message()));
+                all.push_back(hybrid_candidate(k, all[l], *joined, from, m, opts));
+            } catch (const std::runtime_error& e) {
+                out.dropped.push_back(fmt::format("{} with the loops for lists of {} or more not assembled ({})", k.what, from,
+                                                  first_error(e.what())));
             }
         }
+    }
+    if (all.size() > 1)
+        for (Candidate& k : all)
+            if (!k.main || n == 1) measure(k);
     return out;
 }
 
@@ -473,6 +545,15 @@ std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& so
     std::lock_guard lock(mutex);
     built.emplace(key, prog);
     return prog;
+}
+
+kernels::ListLayout list_layout(const iss::Program& p) {
+    kernels::ListLayout out;
+    out.by_kind = p.find_symbol(kernels::abi::kListsByKindLabel) != nullptr;
+    for (const isa::Symbol& s : p.object().symbols)
+        if (s.kind == isa::SymbolKind::Code && s.name.starts_with(kernels::abi::kListsLongPrefix))
+            out.long_from = static_cast<std::uint32_t>(std::stoul(s.name.substr(kernels::abi::kListsLongPrefix.size())));
+    return out;
 }
 
 KernelRunner::KernelRunner(std::shared_ptr<const iss::Program> program, iss::Engine engine)

@@ -131,7 +131,7 @@ SceneSample sample_scene(const rt::PreparedScene& prep, const rt::RenderOptions&
 
 std::uint64_t sample_busy_cycles(const std::shared_ptr<const iss::Program>& prog, const SceneSample& s) {
     KernelRunner run(prog);
-    const kernels::IcImage im = kernels::ic_image_lists(s.lists, s.shapes, true, lists_by_kind(*prog));
+    const kernels::IcImage im = kernels::ic_image_lists(s.lists, s.shapes, true, list_layout(*prog));
     run.load(im.resident);
     run.load(im.global);
     run.run();

@@ -173,7 +173,7 @@ WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workl
     }
     WorkloadRun out{std::make_unique<KernelRunner>(prog), static_cast<double>(rays), tests, {}};
     KernelRunner& run = *out.run;
-    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, lists_by_kind(*prog));
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, list_layout(*prog));
     run.load(im.resident);
     run.load(im.global);
     run.run();

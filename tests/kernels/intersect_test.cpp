@@ -93,8 +93,10 @@ Expect reference(const std::vector<kernels::Shape>& shapes, const std::vector<st
     return best;
 }
 
-void run_ic(const std::string& file, const std::string& machine, iss::Engine engine, int scenes, int rays,
-            std::uint32_t seed) {
+// `prog` on random lists of `nshapes` shapes (each list holds about a third of them; one holds one).
+void run_ic(const std::shared_ptr<const iss::Program>& prog, iss::Engine engine, int scenes, int rays, std::uint32_t seed,
+            int nshapes = 30) {
+    const std::string machine = prog->machine().name;
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> pos(-4.0, 4.0), u01(0.0, 1.0);
     std::uniform_real_distribution<float> uf(0.0f, 1.0f);
@@ -102,7 +104,6 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
     for (int sc = 0; sc < scenes; ++sc) {
         std::vector<kernels::Shape> shapes;
         std::vector<std::array<Vec3d, 3>> verts;
-        const int nshapes = 30;
         const double quad_share = sc % 3 == 0 ? 0.0 : (sc % 3 == 1 ? 1.0 : 0.4);
         for (int i = 0; i < nshapes; ++i) {
             const std::uint32_t dup = i > 0 ? static_cast<std::uint32_t>(rng() % 12) : 12;
@@ -134,8 +135,8 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
                 if (u01(rng) < (v == 0 ? 0.0 : 0.35)) lists[v].push_back(i);
         }
         lists[5].resize(std::min<std::size_t>(lists[5].size(), 1));
-        test::Rig rig(file, machine, engine);
-        const IcImage im = ic_image_lists(lists, shapes, true, machine::lists_by_kind(*rig.prog));
+        test::Rig rig(prog, engine);
+        const IcImage im = ic_image_lists(lists, shapes, true, machine::list_layout(*rig.prog));
         rig.load(im.resident);
         rig.load(im.global);
         rig.run();
@@ -207,22 +208,39 @@ void run_ic(const std::string& file, const std::string& machine, iss::Engine eng
 } // namespace
 
 TEST_CASE("ic intersection kernel matches the twins (fast engine)", "[unit][kernels][intersect]") {
-    run_ic("ic/intersect.s", "ic", iss::Engine::Fast, 60, 400, 11);
+    run_ic(test::kernel_program("ic/intersect.s", "ic"), iss::Engine::Fast, 60, 400, 11);
 }
 
 TEST_CASE("ic intersection kernel matches the twins (checked engine)", "[unit][kernels][intersect]") {
-    run_ic("ic/intersect.s", "ic", iss::Engine::Checked, 12, 200, 12);
+    run_ic(test::kernel_program("ic/intersect.s", "ic"), iss::Engine::Checked, 12, 200, 12);
 }
 
 // ic-real: the kernel chosen for it (the per-kind loops of ic/intersect.loops.pk, lists by kind).
 TEST_CASE("ic intersection kernel scheduled for ic-real matches the twins", "[unit][kernels][intersect]") {
-    run_ic("ic/intersect.s", "ic-real", iss::Engine::Fast, 30, 300, 15);
+    run_ic(test::kernel_program("ic/intersect.s", "ic-real"), iss::Engine::Fast, 30, 300, 15);
+}
+
+// A machine whose long lists run fastest through the hybrid kernel (the dispatch bodies for short
+// lists, the per-kind loops after a LOOPS record for long ones): lists of about 20 shapes take the
+// loops, the list of one and the empty one the bodies.
+TEST_CASE("the hybrid ic kernel matches the twins on both paths", "[unit][kernels][intersect]") {
+    const isa::Machine m = isa::parse_machine("inherits = \"ic\"\nname = \"ic-long-alu\"\nbranch_penalty = 1\n"
+                                              "[latency]\nalu = 12\nmul = 2\nfadd = 2\nfmul = 2\nfdiv = 2\nload = 10\n"
+                                              "store = 8\nbranch = 11\nfifo = 6\nmisc = 2\n",
+                                              "ic-long-alu.toml");
+    machine::KernelBuild build;
+    const auto prog = machine::assemble_kernel(embedded(), "ic/intersect.s", m, &build);
+    INFO(build.choice);
+    REQUIRE(build.choice.find("for lists of") != std::string::npos);
+    REQUIRE(machine::list_layout(*prog).long_from > 0);
+    run_ic(prog, iss::Engine::Fast, 12, 300, 16, 60);
+    run_ic(prog, iss::Engine::Checked, 3, 100, 17, 60);
 }
 
 TEST_CASE("seq intersection kernel matches the twins (fast engine)", "[unit][kernels][intersect]") {
-    run_ic("seq/intersect.s", "seq", iss::Engine::Fast, 30, 400, 13);
+    run_ic(test::kernel_program("seq/intersect.s", "seq"), iss::Engine::Fast, 30, 400, 13);
 }
 
 TEST_CASE("seq intersection kernel matches the twins (checked engine)", "[unit][kernels][intersect]") {
-    run_ic("seq/intersect.s", "seq", iss::Engine::Checked, 8, 200, 14);
+    run_ic(test::kernel_program("seq/intersect.s", "seq"), iss::Engine::Checked, 8, 200, 14);
 }

@@ -40,6 +40,7 @@ inline std::shared_ptr<const iss::Program> kernel_program(const std::string& rel
 struct Rig : machine::KernelRunner {
     Rig(const std::string& rel, const std::string& machine, iss::Engine engine)
         : KernelRunner(kernel_program(rel, machine), engine) {}
+    Rig(std::shared_ptr<const iss::Program> prog, iss::Engine engine) : KernelRunner(std::move(prog), engine) {}
     // Runs until the kernel waits for input; fails the test on a fault or halt.
     void run() { REQUIRE_NOTHROW(KernelRunner::run(50'000'000)); }
     std::uint32_t peek32(std::uint32_t addr) const {

@@ -192,7 +192,7 @@ iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
     for (int v = 0; v < kIntersectLists; ++v)
         for (int i = 0; i < 24; ++i)
             if (i / 4 <= v % 6 || v == kIntersectLists - 1) lists[static_cast<std::size_t>(v)].push_back(static_cast<std::uint32_t>(i));
-    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, machine::lists_by_kind(*p.prog));
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, machine::list_layout(*p.prog));
     p.load(im.resident);
     p.load(im.global);
     p.run();

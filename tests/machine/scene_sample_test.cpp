@@ -60,7 +60,7 @@ TEST_CASE("The IC kernel is chosen on the scene: padded pipeline on short lists,
     };
     const machine::Result fine = run(40, ""); // 1.35 shapes per non-empty voxel
     CHECK(fine.machine.ic_kernel.source == "kernels/ic/intersect.pk");
-    CHECK(fine.machine.ic_kernel.candidates == 2);
+    CHECK(fine.machine.ic_kernel.candidates == 5); // the bodies, the loops, the hybrid of both for lists of 4, 8, 16 or more
     CHECK(fine.machine.ic_kernel.choice.find("on this scene's sample") != std::string::npos);
     const machine::Result coarse = run(2, ""); // 18.75
     CHECK(coarse.machine.ic_kernel.source == "kernels/ic/intersect.loops.pk");

@@ -32,9 +32,9 @@
 //   The voxel id sent to the IC is the padded index (address - OS_OCC).
 // IC memory (resident 0x00400000, 1 MB; global 0x10000000, cached; seq maps both):
 //   IC_HEADER (= resident base): word 0 address of the voxel table, word 1 address of the END
-//   record; IC_JUMPS_A/B: the kernel's dispatch tables. The host places the records, table and
-//   lists from IC_DATA (all resident when they fit; else the most-referenced records resident and
-//   the rest in global memory: kernels/image.hpp).
+//   record; IC_JUMPS_A/B: the kernel's dispatch tables (IC_JUMPS_L: a hybrid kernel's loops). The
+//   host places the records, table and lists from IC_DATA (all resident when they fit; else the
+//   most-referenced records resident and the rest in global memory: kernels/image.hpp).
 //   voxel table: one word per padded voxel: the byte address of its list. A list is the byte
 //   addresses of its shape records, ascending by shape index, closed by the END record's
 //   address (so the kernel needs no count and no end compare: END dispatches to `done`).
@@ -118,6 +118,7 @@ inline constexpr std::array kConstants = {
     Constant{"ICH_END_REC", 4, "word: address of the END record"},
     Constant{"IC_JUMPS_A", 0x400040, "8 words: the kernel's dispatch table A (written by the kernel)"},
     Constant{"IC_JUMPS_B", 0x400060, "8 words: dispatch table B"},
+    Constant{"IC_JUMPS_L", 0x400084, "8 words: a hybrid kernel's table of its loops (A + CODE_LOOPS is its entry)"},
     Constant{"IC_DATA", 0x400100, "first byte the host may use in resident memory"},
     Constant{"IC_RESIDENT_LIMIT", 0x500000, ""},
     Constant{"IC_GLOBAL", 0x10000000, ""},
@@ -134,6 +135,7 @@ inline constexpr std::array kConstants = {
     Constant{"CODE_SPH1", 20, "one-sided quadric without axis clip (a = 0, L = 0: spheres)"},
     Constant{"CODE_SPH2", 24, "two-sided quadric without axis clip"},
     Constant{"CODE_BALL1", 28, "one-sided unit-matrix sphere: A=B=C=1, D..I=0, J<0, no clip"},
+    Constant{"CODE_LOOPS", 64, "first entry of a long list for a hybrid kernel (kind by kind after it): past table B"},
 };
 
 // The value of an ABI constant, looked up at compile time: an unknown name is not a constant
@@ -168,7 +170,15 @@ inline constexpr std::uint32_t kIcJumpsB = get("IC_JUMPS_B");
 // kListReadAhead END entries (more than any loop's speculation depth).
 inline constexpr const char* kListsByKindLabel = "lists_by_kind";
 inline constexpr std::uint32_t kListReadAhead = 64;
+// A hybrid IC kernel (the dispatch bodies for short lists, the per-kind loops for long ones)
+// defines labels "lists_long_N": a list of at least N references starts with the LOOPS record
+// (code CODE_LOOPS, resident beside the END record) and is laid out kind by kind after it; a
+// shorter one stays in shape order. The last list is followed by kListReadAhead END entries.
+inline constexpr std::string_view kListsLongPrefix = "lists_long_";
 static_assert(get("OS_STATE") + get("OS_SLOTS") * get("OS_STATE_BYTES") <= get("OS_OCC"));
+// Table A's LOOPS slot lies between table B and table L, all below the host's data.
+static_assert(get("IC_JUMPS_A") + get("CODE_LOOPS") >= get("IC_JUMPS_B") + 32 &&
+              get("IC_JUMPS_A") + get("CODE_LOOPS") + 4 <= get("IC_JUMPS_L") && get("IC_JUMPS_L") + 32 <= get("IC_DATA"));
 
 // OS SRAM capacity, the one rule for it: the machine (machine::render, os_image
 // in image.hpp) and the memory report (machine::memory_report, `nesshi scene info`, the stats JSON's

@@ -92,14 +92,28 @@ struct IcImage {
     std::uint32_t end_record = 0;
 };
 
+// How an IC kernel wants its voxel lists laid out (machine::list_layout reads it off the program).
+struct ListLayout {
+    bool by_kind = false;        // every list kind by kind (stably, by dispatch code)
+    std::uint32_t long_from = 0; // hybrid: lists of at least this many references start with the
+                                 // LOOPS record and go kind by kind; 0: none
+    bool reads_ahead() const { return by_kind || long_from > 0; }
+    bool operator==(const ListLayout&) const = default;
+};
+
 // Writes the voxel table at `tab` and the END-terminated lists from `lists_at` into `d`;
-// addr[i] is the address of shape i's record.
+// addr[i] is the address of shape i's record. A list in `loops` starts with `loops_record`.
 inline void put_lists(MemImage& d, std::uint32_t tab, std::uint32_t lists_at,
                       const std::vector<std::vector<std::uint32_t>>& lists, const std::vector<std::uint32_t>& addr,
-                      std::uint32_t end_record, std::uint32_t read_ahead = 1) {
+                      std::uint32_t end_record, std::uint32_t read_ahead = 1, const std::vector<bool>& loops = {},
+                      std::uint32_t loops_record = 0) {
     std::uint32_t cursor = lists_at;
     for (std::size_t v = 0; v < lists.size(); ++v) {
         d.put32(tab + 4 * static_cast<std::uint32_t>(v), cursor);
+        if (v < loops.size() && loops[v]) {
+            d.put32(cursor, loops_record);
+            cursor += 4;
+        }
         for (std::uint32_t si : lists[v]) {
             d.put32(cursor, addr[si]);
             cursor += 4;
@@ -123,18 +137,26 @@ inline void put_record(MemImage& d, std::uint32_t r, const kernels::Shape& s, st
 // the number of voxel lists holding them, ties to the lower index) fill resident memory and the
 // rest of the records, the table and the lists go to global memory; without it, all to global.
 // The kernel follows addresses only, so placement changes timing (with a cache), never results.
-// `by_kind`: each list in order of dispatch code, stably (for a kernel that defines
+// `layout.by_kind`: each list in order of dispatch code, stably (for a kernel that defines
 // abi::kListsByKindLabel; it breaks ties on shape indices itself), followed by abi::kListReadAhead
-// END entries.
+// END entries; `layout.long_from`: only the lists that long, each after a LOOPS entry (a hybrid
+// kernel, abi::kListsLongPrefix).
 inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, const std::vector<kernels::Shape>& shapes,
-                              bool allow_resident = true, bool by_kind = false) {
-    if (by_kind)
-        for (auto& l : lists)
-            std::stable_sort(l.begin(), l.end(), [&](std::uint32_t a, std::uint32_t b) { return shape_code(shapes[a]) < shape_code(shapes[b]); });
-    std::size_t refs = 0;
-    for (const auto& l : lists) refs += l.size();
+                              bool allow_resident = true, ListLayout layout = {}) {
+    std::vector<bool> loops(lists.size(), layout.by_kind);
+    if (layout.long_from > 0)
+        for (std::size_t v = 0; v < lists.size(); ++v) loops[v] = lists[v].size() >= layout.long_from;
+    std::size_t refs = 0, marked = 0;
+    for (std::size_t v = 0; v < lists.size(); ++v) {
+        if (loops[v])
+            std::stable_sort(lists[v].begin(), lists[v].end(),
+                             [&](std::uint32_t a, std::uint32_t b) { return shape_code(shapes[a]) < shape_code(shapes[b]); });
+        refs += lists[v].size();
+        marked += layout.long_from > 0 && loops[v];
+    }
+    refs += marked; // each long list's LOOPS entry (its record is counted with the END record's)
     const std::uint32_t limit = static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
-    const bool all_resident = allow_resident && abi::ic_data_fit_resident(shapes.size(), lists.size(), refs);
+    const bool all_resident = allow_resident && abi::ic_data_fit_resident(shapes.size() + (layout.long_from > 0 ? 1 : 0), lists.size(), refs);
     IcImage im;
     im.resident.base = abi::kIcHeader;
     im.global.base = abi::kIcGlobal;
@@ -149,6 +171,14 @@ inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, con
                     static_cast<std::uint32_t>(abi::get("CODE_END")));
     end_image.put32(end_cursor + abi::kRecBytes - 4, 0);
     end_cursor += abi::kRecBytes;
+    std::uint32_t loops_record = 0; // beside END: a hybrid kernel prefetches its payload as a shape's
+    if (layout.long_from > 0) {
+        loops_record = end_cursor;
+        end_image.put32(end_cursor + static_cast<std::uint32_t>(abi::get("REC_CODE")),
+                        static_cast<std::uint32_t>(abi::get("CODE_LOOPS")));
+        end_image.put32(end_cursor + abi::kRecBytes - 4, 0);
+        end_cursor += abi::kRecBytes;
+    }
     std::vector<std::uint32_t> addr(shapes.size());
     if (allow_resident && !all_resident) { // hot records first
         std::vector<std::uint32_t> count(shapes.size(), 0), order(shapes.size());
@@ -173,7 +203,8 @@ inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, con
     im.records = shapes.empty() ? cursor : addr[0];
     const std::uint32_t tab = cursor;
     cursor += static_cast<std::uint32_t>(lists.size()) * 4;
-    put_lists(main, tab, cursor, lists, addr, im.end_record, by_kind ? abi::kListReadAhead : 1);
+    put_lists(main, tab, cursor, lists, addr, im.end_record, layout.reads_ahead() ? abi::kListReadAhead : 1,
+              layout.long_from > 0 ? loops : std::vector<bool>{}, loops_record);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_VOXTAB")), tab);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_END_REC")), im.end_record);
     return im;
@@ -182,7 +213,7 @@ inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, con
 // From rt/grid.hpp's unpadded offsets and shape-index lists.
 inline IcImage ic_image(const twins::GridGeom& g, const std::vector<std::uint32_t>& offsets,
                         const std::vector<std::uint32_t>& prims, const std::vector<kernels::Shape>& shapes,
-                        bool allow_resident = true, bool by_kind = false) {
+                        bool allow_resident = true, ListLayout layout = {}) {
     const PaddedGrid p = padded(g);
     std::vector<std::vector<std::uint32_t>> lists(p.voxels());
     for (int z = 0; z < p.n[2]; ++z)
@@ -191,7 +222,7 @@ inline IcImage ic_image(const twins::GridGeom& g, const std::vector<std::uint32_
                 const std::uint32_t u = p.unpadded(x, y, z);
                 lists[p.index(x, y, z)].assign(prims.begin() + offsets[u], prims.begin() + offsets[u + 1]);
             }
-    return ic_image_lists(std::move(lists), shapes, allow_resident, by_kind);
+    return ic_image_lists(std::move(lists), shapes, allow_resident, layout);
 }
 
 } // namespace nesshi::kernels

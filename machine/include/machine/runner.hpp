@@ -48,8 +48,9 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
 std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& sources, const std::string& pk,
                                                     const std::string& machine);
 
-// Whether an IC kernel wants its voxel lists laid out kind by kind (kernels::ic_image's by_kind).
-inline bool lists_by_kind(const iss::Program& p) { return p.find_symbol(kernels::abi::kListsByKindLabel) != nullptr; }
+// How an IC kernel wants its voxel lists laid out (kernels::ic_image's layout): kind by kind when
+// it defines abi::kListsByKindLabel, the long ones only when it defines "lists_long_N".
+kernels::ListLayout list_layout(const iss::Program& p);
 
 // A processor with the ABI's channels (kernels/abi.hpp): input CH_IN, outputs 1 and 2. Neither copyable nor movable:
 // the processor holds the channels' addresses.
