@@ -26,6 +26,7 @@
 #include <map>
 #include <mutex>
 #include <bit>
+#include <charconv>
 #include <optional>
 #include <regex>
 #include <stdexcept>
@@ -260,39 +261,53 @@ struct Candidate {
 constexpr std::uint32_t kLongListsFrom[] = {4, 8, 16};
 
 // `dispatch` (the main source's kernel) joined with `loops` (an alternative's) into the hybrid
-// kernel (hybrid_kernel.hpp) for lists from `from` references, its joins legalized for m. Named
-// "kernels/ic/intersect.pk+intersect.loops.pk" (a name in the sources' folder, for its .include).
-// Throws std::runtime_error when the result does not assemble.
-Candidate hybrid_candidate(const Candidate& dispatch, const Candidate& loops, const std::string& joined, std::uint32_t from,
-                           const isa::Machine& m, const assembler::AsmOptions& opts) {
-    Candidate k;
-    k.s.name = dispatch.s.name + "+" + loops.s.name.substr(loops.s.name.rfind('/') + 1);
+// kernels (hybrid_kernel.hpp), its joins legalized for m once, one for each list length of
+// kLongListsFrom. Named "kernels/ic/intersect.pk+intersect.loops.pk" (a name in the sources'
+// folder, for its .include). Throws std::runtime_error when the join is refused or does not
+// assemble.
+std::vector<Candidate> hybrid_candidates(const Candidate& dispatch, const Candidate& loops, const std::string& joined,
+                                         const isa::Machine& m, const assembler::AsmOptions& opts) {
+    const std::string name = dispatch.s.name + "+" + loops.s.name.substr(loops.s.name.rfind('/') + 1);
     auto assembles = [&](const std::string& t) -> std::optional<std::string> {
-        assembler::AsmResult a = assembler::assemble_string(t, k.s.name, m, opts);
+        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
         if (a.ok) return std::nullopt;
         return a.diagnostics;
     };
+    sched::Legalized legal;
     try {
-        k.s.text = sched::legalize(joined, k.s.name, assembles).text;
+        legal = sched::legalize(joined, name, assembles);
     } catch (const base::Error& e) {
         throw std::runtime_error(e.what());
     }
-    const assembler::AsmResult g = assembler::assemble_string(k.s.text, k.s.name, m, opts);
-    if (!g.ok) throw std::runtime_error(g.diagnostics);
-    k.s.build = loops.s.build;
-    k.s.build.blocks = dispatch.s.build.blocks;
-    k.s.build.blocks_shortest = dispatch.s.build.blocks_shortest;
-    k.prog = iss::load_program(g.object, m);
-    k.what = fmt::format("{}, with {} for lists of {} or more", dispatch.what, loops.s.name.substr(kPrefix.size()), from);
-    k.against = fmt::format("{} with the loops for lists of {} or more", dispatch.against, from);
-    return k;
+    std::vector<Candidate> out;
+    for (std::uint32_t from : kLongListsFrom) {
+        Candidate k;
+        k.s.name = name;
+        k.s.text = detail::with_long_from(legal.text, from);
+        const assembler::AsmResult g = assembler::assemble_string(k.s.text, name, m, opts);
+        if (!g.ok) throw std::runtime_error(g.diagnostics);
+        KernelBuild& b = k.s.build;
+        b = loops.s.build; // its loops
+        b.machine = m.name;
+        b.scheduled = dispatch.s.build.scheduled || loops.s.build.scheduled;
+        b.blocks = dispatch.s.build.blocks + loops.s.build.blocks;
+        b.blocks_shortest = dispatch.s.build.blocks_shortest + loops.s.build.blocks_shortest;
+        b.nops = dispatch.s.build.nops + loops.s.build.nops + legal.nops;
+        k.prog = iss::load_program(g.object, m);
+        k.origin = dispatch.origin;
+        k.what = fmt::format("{}, with {} for lists of {} or more", dispatch.what, loops.what, from);
+        k.against = fmt::format("{} with the loops for lists of {} or more", dispatch.against, from);
+        out.push_back(std::move(k));
+    }
+    return out;
 }
 
 // Every candidate kernel for m: the committed kernel where it is legal on m as written (its preset,
 // or a machine with more resources and the same latencies), then each source scheduled for m (for
-// the preset, its alternatives only), then the presets' kernels m can run as written;
-// `dropped` says which alternatives did not schedule or assemble, and why. With more than one,
-// each is measured on the kernel workloads.
+// the preset, its alternatives only), then the presets' kernels m can run as written, then the
+// hybrids (hybrid_kernel.hpp) of each of those machines' fastest dispatch kernel and its loops;
+// `dropped` says which alternatives or hybrids did not schedule or assemble, and why. With more
+// than one, each is measured on the kernel workloads.
 struct Candidates {
     std::vector<Candidate> all;
     std::vector<std::string> dropped;
@@ -410,17 +425,15 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
     for (std::size_t l = 0; l < n; ++l) {
         const auto d = dispatch.find(all[l].origin);
         if (all[l].main || d == dispatch.end()) continue;
-        for (std::uint32_t from : kLongListsFrom) {
-            const Candidate& k = all[d->second];
-            const std::optional<std::string> joined = detail::hybrid_kernel_text(k.s.text, all[l].s.text, from);
-            if (!joined) break;
-            try {
-                all.push_back(hybrid_candidate(k, all[l], *joined, from, m, opts));
+        const Candidate& k = all[d->second];
+        const detail::HybridText joined = detail::hybrid_kernel_text(k.s.text, all[l].s.text, kLongListsFrom[0]);
+        std::string why = joined.why;
+        if (joined.text) try {
+                for (Candidate& h : hybrid_candidates(k, all[l], *joined.text, m, opts)) all.push_back(std::move(h));
             } catch (const std::runtime_error& e) {
-                out.dropped.push_back(fmt::format("{} with the loops for lists of {} or more not assembled ({})", k.what, from,
-                                                  first_error(e.what())));
+                why = "not assembled: " + first_error(e.what());
             }
-        }
+        if (!why.empty()) out.dropped.push_back(fmt::format("the hybrid of {} and {} ({})", k.what, all[l].what, why));
     }
     if (all.size() > 1)
         for (Candidate& k : all)
@@ -550,9 +563,17 @@ std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& so
 kernels::ListLayout list_layout(const iss::Program& p) {
     kernels::ListLayout out;
     out.by_kind = p.find_symbol(kernels::abi::kListsByKindLabel) != nullptr;
-    for (const isa::Symbol& s : p.object().symbols)
-        if (s.kind == isa::SymbolKind::Code && s.name.starts_with(kernels::abi::kListsLongPrefix))
-            out.long_from = static_cast<std::uint32_t>(std::stoul(s.name.substr(kernels::abi::kListsLongPrefix.size())));
+    for (const isa::Symbol& s : p.object().symbols) {
+        if (s.kind != isa::SymbolKind::Code || !s.name.starts_with(kernels::abi::kListsLongPrefix)) continue;
+        const std::string_view n = std::string_view(s.name).substr(kernels::abi::kListsLongPrefix.size());
+        std::uint32_t from = 0;
+        const auto [end, ec] = std::from_chars(n.data(), n.data() + n.size(), from);
+        if (ec != std::errc() || end != n.data() + n.size() || from == 0 || (out.long_from && out.long_from != from) || out.by_kind)
+            throw std::runtime_error(fmt::format("the IC kernel's label '{}' asks for no layout the host knows (one label "
+                                                 "{}N with N > 0, and not {} too)",
+                                                 s.name, kernels::abi::kListsLongPrefix, kernels::abi::kListsByKindLabel));
+        out.long_from = from;
+    }
     return out;
 }
 

@@ -93,9 +93,10 @@ Expect reference(const std::vector<kernels::Shape>& shapes, const std::vector<st
     return best;
 }
 
-// `prog` on random lists of `nshapes` shapes (each list holds about a third of them; one holds one).
+// `prog` on random lists of `nshapes` shapes: each list holds about a third of them (one holds
+// one, one none), or with `any_length` from 0 to `nshapes` shapes.
 void run_ic(const std::shared_ptr<const iss::Program>& prog, iss::Engine engine, int scenes, int rays, std::uint32_t seed,
-            int nshapes = 30) {
+            int nshapes = 30, bool any_length = false) {
     const std::string machine = prog->machine().name;
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> pos(-4.0, 4.0), u01(0.0, 1.0);
@@ -129,12 +130,13 @@ void run_ic(const std::shared_ptr<const iss::Program>& prog, iss::Engine engine,
             }
             shapes.back().entity = i;
         }
-        std::vector<std::vector<std::uint32_t>> lists(6);
+        std::vector<std::vector<std::uint32_t>> lists(any_length ? 12 : 6);
         for (std::size_t v = 0; v < lists.size(); ++v) {
+            const double share = any_length ? u01(rng) : v == 0 ? 0.0 : 0.35;
             for (std::uint32_t i = 0; i < shapes.size(); ++i)
-                if (u01(rng) < (v == 0 ? 0.0 : 0.35)) lists[v].push_back(i);
+                if (u01(rng) < share) lists[v].push_back(i);
         }
-        lists[5].resize(std::min<std::size_t>(lists[5].size(), 1));
+        if (!any_length) lists[5].resize(std::min<std::size_t>(lists[5].size(), 1));
         test::Rig rig(prog, engine);
         const IcImage im = ic_image_lists(lists, shapes, true, machine::list_layout(*rig.prog));
         rig.load(im.resident);
@@ -215,14 +217,15 @@ TEST_CASE("ic intersection kernel matches the twins (checked engine)", "[unit][k
     run_ic(test::kernel_program("ic/intersect.s", "ic"), iss::Engine::Checked, 12, 200, 12);
 }
 
-// ic-real: the kernel chosen for it (the per-kind loops of ic/intersect.loops.pk, lists by kind).
+// ic-real: the kernel chosen for it on the kernel workloads (the hybrid of intersect.pk and
+// intersect.loops.pk; only its lists of 8 or more shapes take the loops: see the hybrid test below).
 TEST_CASE("ic intersection kernel scheduled for ic-real matches the twins", "[unit][kernels][intersect]") {
     run_ic(test::kernel_program("ic/intersect.s", "ic-real"), iss::Engine::Fast, 30, 300, 15);
 }
 
 // A machine whose long lists run fastest through the hybrid kernel (the dispatch bodies for short
-// lists, the per-kind loops after a LOOPS record for long ones): lists of about 20 shapes take the
-// loops, the list of one and the empty one the bodies.
+// lists, the per-kind loops after a LOOPS record for long ones): lists of 0 to 40 shapes of mixed
+// kinds, with ties, take either path, on both sides of its threshold.
 TEST_CASE("the hybrid ic kernel matches the twins on both paths", "[unit][kernels][intersect]") {
     const isa::Machine m = isa::parse_machine("inherits = \"ic\"\nname = \"ic-long-alu\"\nbranch_penalty = 1\n"
                                               "[latency]\nalu = 12\nmul = 2\nfadd = 2\nfmul = 2\nfdiv = 2\nload = 10\n"
@@ -233,8 +236,10 @@ TEST_CASE("the hybrid ic kernel matches the twins on both paths", "[unit][kernel
     INFO(build.choice);
     REQUIRE(build.choice.find("for lists of") != std::string::npos);
     REQUIRE(machine::list_layout(*prog).long_from > 0);
-    run_ic(prog, iss::Engine::Fast, 12, 300, 16, 60);
-    run_ic(prog, iss::Engine::Checked, 3, 100, 17, 60);
+    const std::uint32_t from = machine::list_layout(*prog).long_from;
+    INFO("lists of " << from << " or more take the loops");
+    run_ic(prog, iss::Engine::Fast, 16, 300, 16, 40, true);
+    run_ic(prog, iss::Engine::Checked, 4, 100, 17, 40, true);
 }
 
 TEST_CASE("seq intersection kernel matches the twins (fast engine)", "[unit][kernels][intersect]") {

@@ -9,6 +9,8 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 using namespace nesshi;
@@ -72,5 +74,29 @@ TEST_CASE("The IC kernel is chosen on the scene: padded pipeline on short lists,
     const machine::Result without = run(2, dir.string());
     CHECK(without.machine.ic_kernel.source == "kernels/ic/intersect.pk");
     CHECK(without.machine.ic.load() > coarse.machine.ic.load());
+    std::filesystem::remove_all(dir);
+}
+
+// The hybrid joins two kernels scheduled apart: a loops start that would change a register the
+// dispatch kernel set up once (here the voxel table's address) is refused, and the render says why.
+TEST_CASE("A hybrid whose parts would clobber each other's set-up is refused, with the reason", "[unit][machine]") {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "nesshi-hybrid-refused-test";
+    std::filesystem::remove_all(dir);
+    std::filesystem::copy(NESSHI_KERNELS_DIR, dir, std::filesystem::copy_options::recursive);
+    const std::filesystem::path loops = dir / "ic" / "intersect.loops.pk";
+    std::ifstream in(loops);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string once = "hybrid_start:\n#pack begin\n";
+    REQUIRE(text.find(once) != std::string::npos);
+    text.replace(text.find(once), once.size(), once + "        li r20, 0\n");
+    std::ofstream(loops) << text;
+    machine::Options mo = model(machine::Model::V);
+    mo.ic_machine = kData + "/ic-div-5.toml";
+    mo.kernels_dir = dir.string();
+    const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
+    const machine::Result r = machine::render(prep, small(16), mo);
+    CHECK(r.render.id_buffer == rt::render_native(prep, small(16)).id_buffer);
+    CHECK(r.machine.ic_kernel.candidates == 2); // the bodies and the loops; no hybrid
+    CHECK_THAT(r.machine.ic_kernel.choice, Catch::Contains("the loops' start sets r20 to another value than the dispatch kernel's"));
     std::filesystem::remove_all(dir);
 }

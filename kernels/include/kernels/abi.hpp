@@ -37,7 +37,9 @@
 //   most-referenced records resident and the rest in global memory: kernels/image.hpp).
 //   voxel table: one word per padded voxel: the byte address of its list. A list is the byte
 //   addresses of its shape records, ascending by shape index, closed by the END record's
-//   address (so the kernel needs no count and no end compare: END dispatches to `done`).
+//   address (so the kernel needs no count and no end compare: END dispatches to `done`); a
+//   kernel of per-kind loops wants them kind by kind, a hybrid one its long lists kind by kind
+//   after the LOOPS record's address (kernels/image.hpp's ListLayout).
 //   Shape record (20 words): rt/shapes.hpp's record, except word 0 = dispatch code (CODE_*,
 //   a byte offset into the dispatch table) and word 19 (unused payload) = the shape index.
 #pragma once
@@ -171,8 +173,8 @@ inline constexpr std::uint32_t kIcJumpsB = get("IC_JUMPS_B");
 inline constexpr const char* kListsByKindLabel = "lists_by_kind";
 inline constexpr std::uint32_t kListReadAhead = 64;
 // A hybrid IC kernel (the dispatch bodies for short lists, the per-kind loops for long ones)
-// defines labels "lists_long_N": a list of at least N references starts with the LOOPS record
-// (code CODE_LOOPS, resident beside the END record) and is laid out kind by kind after it; a
+// defines a label "lists_long_N": a list of at least N references starts with the LOOPS record
+// (code CODE_LOOPS, beside the END record) and is laid out kind by kind after it; a
 // shorter one stays in shape order. The last list is followed by kListReadAhead END entries.
 inline constexpr std::string_view kListsLongPrefix = "lists_long_";
 static_assert(get("OS_STATE") + get("OS_SLOTS") * get("OS_STATE_BYTES") <= get("OS_OCC"));

@@ -82,8 +82,9 @@ inline MemImage os_image(const twins::GridGeom& g, const std::vector<std::uint8_
     return m;
 }
 
-// IC memory image: header at IC_HEADER, then (from IC_DATA) the END record, the shape records,
-// the voxel table (one word per padded voxel) and the END-terminated lists. Everything goes to
+// IC memory image: header at IC_HEADER, then (from IC_DATA) the END record (and the LOOPS record
+// for a hybrid kernel), the shape records, the voxel table (one word per padded voxel) and the
+// END-terminated lists. Everything goes to
 // resident memory when it fits; else the most-referenced records do (ic_image_lists).
 // `offsets`/`prims` are rt/grid.hpp's unpadded offsets and shape-index lists.
 struct IcImage {
@@ -154,9 +155,15 @@ inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, con
         refs += lists[v].size();
         marked += layout.long_from > 0 && loops[v];
     }
-    refs += marked; // each long list's LOOPS entry (its record is counted with the END record's)
+    refs += marked; // each long list's LOOPS entry
     const std::uint32_t limit = static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
-    const bool all_resident = allow_resident && abi::ic_data_fit_resident(shapes.size() + (layout.long_from > 0 ? 1 : 0), lists.size(), refs);
+    const std::uint32_t read_ahead = layout.reads_ahead() ? abi::kListReadAhead : 1;
+    // Beyond abi::ic_data_bytes (which counts one read-ahead word): the other read-ahead words and
+    // the LOOPS record. (machine::memory_report counts without them: for a kernel that reads
+    // ahead it may say "fits resident" of data a few hundred bytes short of fitting.)
+    const std::uint64_t beyond = (read_ahead - 1) * 4ull + (layout.long_from > 0 ? abi::kRecBytes : 0);
+    const bool all_resident =
+        allow_resident && abi::kIcData + abi::ic_data_bytes(shapes.size(), lists.size(), refs) + beyond <= limit;
     IcImage im;
     im.resident.base = abi::kIcHeader;
     im.global.base = abi::kIcGlobal;
@@ -203,8 +210,8 @@ inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, con
     im.records = shapes.empty() ? cursor : addr[0];
     const std::uint32_t tab = cursor;
     cursor += static_cast<std::uint32_t>(lists.size()) * 4;
-    put_lists(main, tab, cursor, lists, addr, im.end_record, layout.reads_ahead() ? abi::kListReadAhead : 1,
-              layout.long_from > 0 ? loops : std::vector<bool>{}, loops_record);
+    put_lists(main, tab, cursor, lists, addr, im.end_record, read_ahead, layout.long_from > 0 ? loops : std::vector<bool>{},
+              loops_record);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_VOXTAB")), tab);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_END_REC")), im.end_record);
     return im;
