@@ -1,5 +1,6 @@
 #include "hybrid_kernel.hpp"
 
+#include "base/lines.hpp"
 #include "kernels/abi.hpp"
 
 #include <fmt/format.h>
@@ -15,18 +16,6 @@ namespace nesshi::machine::detail {
 namespace {
 
 using Lines = std::vector<std::string>;
-
-Lines lines_of(const std::string& text) {
-    Lines out;
-    std::size_t at = 0;
-    while (at < text.size()) {
-        const std::size_t eol = text.find('\n', at);
-        out.push_back(text.substr(at, eol == std::string::npos ? std::string::npos : eol - at));
-        if (eol == std::string::npos) break;
-        at = eol + 1;
-    }
-    return out;
-}
 
 // The label a line defines ("name:" alone, maybe before a comment), or "".
 std::string label_of(const std::string& line) {
@@ -120,7 +109,7 @@ std::string long_label(std::uint32_t long_from) {
 } // namespace
 
 HybridText hybrid_kernel_text(const std::string& dispatch, const std::string& loops, std::uint32_t long_from) {
-    const Lines d = lines_of(dispatch), l = lines_of(loops);
+    const Lines d = base::split_lines(dispatch), l = base::split_lines(loops);
     const auto l_hybrid = label_line(l, "hybrid_start");
     if (!l_hybrid) return {};
     const auto d_start = label_line(d, "start"), d_next = label_line(d, "next_ray");

@@ -22,6 +22,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <functional>
 #include <future>
 #include <map>
 #include <mutex>
@@ -113,6 +114,16 @@ std::string with_source_lines(const std::string& report, const std::vector<int>&
     return out;
 }
 
+// sched::legalize's check: the diagnostics of `text` assembled as `name` for m, none when it assembles.
+std::function<std::optional<std::string>(const std::string&)> assembles_as(const std::string& name, const isa::Machine& m,
+                                                                           const assembler::AsmOptions& opts) {
+    return [&name, &m, &opts](const std::string& t) -> std::optional<std::string> {
+        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
+        if (a.ok) return std::nullopt;
+        return a.diagnostics;
+    };
+}
+
 // The source `pk` ("ic/intersect.pk") scheduled for m: the hand-scheduled code between its
 // blocks first gets the nops m's latencies need (with its blocks written sequentially), then the
 // scheduled file once more (blocks may start earlier than written). Its `.pipeline` regions are
@@ -125,11 +136,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
     const std::string& name = out.name;
     KernelBuild& b = out.build;
     b.machine = m.name;
-    auto assembles = [&](const std::string& t) -> std::optional<std::string> {
-        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
-        if (a.ok) return std::nullopt;
-        return a.diagnostics;
-    };
+    const auto assembles = assembles_as(name, m, opts);
     const std::string src = sched::machine_sections(sources.text(pk), name, m);
     const bool region = src.find("\n        .pipeline") != std::string::npos;
     try {
@@ -251,7 +258,8 @@ struct Candidate {
     std::shared_ptr<const iss::Program> prog;
     std::string what;    // as the one chosen
     std::string against; // as one not chosen, after its cycles
-    std::uint64_t cycles = 0;
+    std::uint64_t cycles = 0; // on the kernel workloads, once measured
+    bool measured = false;
     bool main = false;  // the committed kernel or the main source's: a dispatch kernel a hybrid can start from
     std::string origin; // the preset it was scheduled for, where not for this machine
 };
@@ -268,11 +276,7 @@ constexpr std::uint32_t kLongListsFrom[] = {4, 8, 16};
 std::vector<Candidate> hybrid_candidates(const Candidate& dispatch, const Candidate& loops, const std::string& joined,
                                          const isa::Machine& m, const assembler::AsmOptions& opts) {
     const std::string name = dispatch.s.name + "+" + loops.s.name.substr(loops.s.name.rfind('/') + 1);
-    auto assembles = [&](const std::string& t) -> std::optional<std::string> {
-        assembler::AsmResult a = assembler::assemble_string(t, name, m, opts);
-        if (a.ok) return std::nullopt;
-        return a.diagnostics;
-    };
+    const auto assembles = assembles_as(name, m, opts);
     sched::Legalized legal;
     try {
         legal = sched::legalize(joined, name, assembles);
@@ -400,6 +404,8 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
                 all.push_back(std::move(k));
             }
     auto measure = [&](Candidate& k) {
+        if (k.measured) return;
+        k.measured = true;
         try {
             k.cycles = workload_busy_cycles(k.prog, path);
         } catch (const iss::LoadError& e) { // the workloads' data need the memory a scene's would
@@ -436,8 +442,7 @@ Candidates candidates_for(const kernels::SourceSet& sources, const std::string& 
         if (!why.empty()) out.dropped.push_back(fmt::format("the hybrid of {} and {} ({})", k.what, all[l].what, why));
     }
     if (all.size() > 1)
-        for (Candidate& k : all)
-            if (!k.main || n == 1) measure(k);
+        for (Candidate& k : all) measure(k);
     return out;
 }
 

@@ -3,6 +3,8 @@
 
 #include "isa/ops.hpp"
 
+#include "base/lines.hpp"
+
 #include <cctype>
 #include <string>
 #include <string_view>
@@ -23,21 +25,7 @@ inline std::string strip_comment(std::string_view s) {
     return trim(h == std::string_view::npos ? s : s.substr(0, h));
 }
 
-// The lines of `text` without their '\n'; a final line without one counts, an empty tail does not.
-inline std::vector<std::string> split_lines(std::string_view text) {
-    std::vector<std::string> lines;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t nl = text.find('\n', start);
-        if (nl == std::string_view::npos) {
-            if (start < text.size()) lines.emplace_back(text.substr(start));
-            break;
-        }
-        lines.emplace_back(text.substr(start, nl - start));
-        start = nl + 1;
-    }
-    return lines;
-}
+using base::split_lines; // base/lines.hpp
 
 // The comma-separated operands of an op, trimmed; commas inside parentheses do not split.
 inline std::vector<std::string> split_operands(const std::string& s) {

@@ -144,16 +144,16 @@ inline void put_record(MemImage& d, std::uint32_t r, const kernels::Shape& s, st
 // kernel, abi::kListsLongPrefix).
 inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, const std::vector<kernels::Shape>& shapes,
                               bool allow_resident = true, ListLayout layout = {}) {
-    std::vector<bool> loops(lists.size(), layout.by_kind);
+    std::vector<bool> kind_order(lists.size(), layout.by_kind); // the loops read the list kind by kind
     if (layout.long_from > 0)
-        for (std::size_t v = 0; v < lists.size(); ++v) loops[v] = lists[v].size() >= layout.long_from;
+        for (std::size_t v = 0; v < lists.size(); ++v) kind_order[v] = lists[v].size() >= layout.long_from;
     std::size_t refs = 0, marked = 0;
     for (std::size_t v = 0; v < lists.size(); ++v) {
-        if (loops[v])
+        if (kind_order[v])
             std::stable_sort(lists[v].begin(), lists[v].end(),
                              [&](std::uint32_t a, std::uint32_t b) { return shape_code(shapes[a]) < shape_code(shapes[b]); });
         refs += lists[v].size();
-        marked += layout.long_from > 0 && loops[v];
+        marked += layout.long_from > 0 && kind_order[v];
     }
     refs += marked; // each long list's LOOPS entry
     const std::uint32_t limit = static_cast<std::uint32_t>(abi::get("IC_RESIDENT_LIMIT"));
@@ -210,7 +210,7 @@ inline IcImage ic_image_lists(std::vector<std::vector<std::uint32_t>> lists, con
     im.records = shapes.empty() ? cursor : addr[0];
     const std::uint32_t tab = cursor;
     cursor += static_cast<std::uint32_t>(lists.size()) * 4;
-    put_lists(main, tab, cursor, lists, addr, im.end_record, read_ahead, layout.long_from > 0 ? loops : std::vector<bool>{},
+    put_lists(main, tab, cursor, lists, addr, im.end_record, read_ahead, layout.long_from > 0 ? kind_order : std::vector<bool>{},
               loops_record);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_VOXTAB")), tab);
     im.resident.put32(abi::kIcHeader + static_cast<std::uint32_t>(abi::get("ICH_END_REC")), im.end_record);
