@@ -54,12 +54,14 @@ double loads(const KernelRunner& run, const Ranges& ranges) {
     return steps;
 }
 
+// The ops of `ranges`, each with its bundle's place along them (the ranges one after another).
 std::vector<sched::BodyOp> ops_of(const iss::Program& p, const Ranges& ranges) {
     std::vector<sched::BodyOp> out;
+    std::uint32_t cycle = 0;
     for (auto [a, b] : ranges)
-        for (std::uint32_t pc = a; pc < b; ++pc)
+        for (std::uint32_t pc = a; pc < b; ++pc, ++cycle)
             for (const isa::Instr& in : p.bundle_instrs(pc))
-                if (in.info().kind != isa::Kind::Nop) out.push_back({in, pc});
+                if (in.info().kind != isa::Kind::Nop) out.push_back({in, cycle});
     return out;
 }
 

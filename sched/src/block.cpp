@@ -1,6 +1,8 @@
 // Critical-path list scheduling of straight-line blocks (see block.hpp).
 #include "sched/block.hpp"
 
+#include "sched/ddg.hpp"
+
 #include "exact_model.hpp"
 #include "text.hpp"
 
@@ -29,13 +31,12 @@ namespace nesshi::sched {
 
 namespace {
 
-// One op as the scheduler sees it.
+// One op as the scheduler sees it (its dependences are the block's Ddg, ddg.hpp).
 struct BlockOp {
     isa::OpClass cls;
     int latency = 1;
     std::optional<std::pair<int, int>> dst;  // (file, register)
     std::vector<std::pair<int, int>> srcs;   // every register read, repeats included
-    std::optional<std::uint32_t> channel;    // FIFO ops: both directions share the order
     bool barrier = false;                    // branch or halt: waits for every earlier op
     bool branch = false;
 };
@@ -50,7 +51,6 @@ BlockOp describe(const isa::Machine& m, const isa::Instr& in) {
         if (o.write) b.dst = reg;
         else b.srcs.push_back(reg);
     }
-    if (info.kind == isa::Kind::Recv || info.kind == isa::Kind::Send) b.channel = in.imm;
     b.branch = info.cls == isa::OpClass::Branch;
     b.barrier = b.branch || (info.cls == isa::OpClass::Misc && info.kind != isa::Kind::Nop);
     return b;
@@ -58,52 +58,16 @@ BlockOp describe(const isa::Machine& m, const isa::Instr& in) {
 
 struct Pred {
     int op;
-    int distance; // this op issues at least `distance` cycles after `op`
+    int after; // this op issues at least `after` cycles after `op` (negative: it may issue before)
 };
 
-// `grace`: cycles a result may land after the block's end (its final jump's bubble, when no code
-// of the block or of its target issues).
-std::vector<std::vector<Pred>> dependences(std::span<const BlockOp> ops, int grace) {
-    const int n = static_cast<int>(ops.size());
-    std::vector<std::vector<Pred>> preds(static_cast<std::size_t>(n));
-    std::map<std::pair<int, int>, int> last_write;
-    std::map<std::pair<int, int>, std::vector<int>> readers; // since the last write
-    std::optional<int> last_store;
-    std::vector<int> loads; // since the last store
-    std::map<std::uint32_t, int> channel_last;
-    for (int j = 0; j < n; ++j) {
-        const BlockOp& op = ops[static_cast<std::size_t>(j)];
-        auto& p = preds[static_cast<std::size_t>(j)];
-        for (const auto& s : op.srcs)
-            if (auto w = last_write.find(s); w != last_write.end())
-                p.push_back({w->second, ops[static_cast<std::size_t>(w->second)].latency});
-        if (op.dst) {
-            for (int i : readers[*op.dst])
-                if (i != j) p.push_back({i, 1 - op.latency});
-            if (auto w = last_write.find(*op.dst); w != last_write.end())
-                p.push_back({w->second, ops[static_cast<std::size_t>(w->second)].latency + 1 - op.latency});
-        }
-        if (op.cls == isa::OpClass::Load && last_store) p.push_back({*last_store, 1});
-        if (op.cls == isa::OpClass::Store) {
-            for (int i : loads) p.push_back({i, 0});
-            if (last_store) p.push_back({*last_store, 1});
-        }
-        if (op.channel)
-            if (auto c = channel_last.find(*op.channel); c != channel_last.end()) p.push_back({c->second, 0});
-        if (op.barrier)
-            for (int i = 0; i < j; ++i) p.push_back({i, std::max(ops[static_cast<std::size_t>(i)].latency - 1 - grace, 0)});
-        for (const auto& s : op.srcs) readers[s].push_back(j);
-        if (op.dst) {
-            last_write[*op.dst] = j;
-            readers[*op.dst].clear();
-        }
-        if (op.cls == isa::OpClass::Load) loads.push_back(j);
-        if (op.cls == isa::OpClass::Store) {
-            last_store = j;
-            loads.clear();
-        }
-        if (op.channel) channel_last[*op.channel] = j;
-    }
+// Each op's predecessors in the block's dependence graph. `grace`: cycles a result may land
+// after the block's end (its final jump's bubble, when no code of the block or of its target
+// issues).
+std::vector<std::vector<Pred>> dependences(const isa::Machine& m, std::span<const isa::Instr> instrs, int grace) {
+    const Ddg g = block_ddg(m, instrs, grace);
+    std::vector<std::vector<Pred>> preds(static_cast<std::size_t>(g.nodes));
+    for (const Dep& e : g.edges) preds[static_cast<std::size_t>(e.to)].push_back({e.from, e.latency});
     return preds;
 }
 
@@ -120,18 +84,18 @@ std::vector<int> priorities(const isa::Machine& m, std::span<const BlockOp> ops,
     const int n = static_cast<int>(ops.size());
     std::vector<std::vector<Pred>> succs(static_cast<std::size_t>(n));
     for (int j = 0; j < n; ++j)
-        for (const Pred& p : preds[static_cast<std::size_t>(j)]) succs[static_cast<std::size_t>(p.op)].push_back({j, p.distance});
+        for (const Pred& p : preds[static_cast<std::size_t>(j)]) succs[static_cast<std::size_t>(p.op)].push_back({j, p.after});
     std::vector<int> height(static_cast<std::size_t>(n)), prio(static_cast<std::size_t>(n));
     for (int i = n - 1; i >= 0; --i) {
         int h = ops[static_cast<std::size_t>(i)].latency;
-        for (const Pred& s : succs[static_cast<std::size_t>(i)]) h = std::max(h, s.distance + height[static_cast<std::size_t>(s.op)]);
+        for (const Pred& s : succs[static_cast<std::size_t>(i)]) h = std::max(h, s.after + height[static_cast<std::size_t>(s.op)]);
         height[static_cast<std::size_t>(i)] = h;
     }
     int remaining = 0;
     for (int i = n - 1; i >= 0; --i) {
         int p = height[static_cast<std::size_t>(i)];
         if (integer_only(m, ops[static_cast<std::size_t>(i)].cls)) p = std::max(p, ++remaining + 1);
-        for (const Pred& s : succs[static_cast<std::size_t>(i)]) p = std::max(p, s.distance + prio[static_cast<std::size_t>(s.op)]);
+        for (const Pred& s : succs[static_cast<std::size_t>(i)]) p = std::max(p, s.after + prio[static_cast<std::size_t>(s.op)]);
         prio[static_cast<std::size_t>(i)] = p;
     }
     return prio;
@@ -209,7 +173,7 @@ Described describe_block(const isa::Machine& m, std::span<const isa::Instr> inst
         const isa::Kind last = instrs.back().info().kind;
         if (last == isa::Kind::Jump || last == isa::Kind::JumpReg) d.grace = static_cast<int>(m.branch_penalty);
     }
-    d.preds = dependences(d.ops, d.grace);
+    d.preds = dependences(m, instrs, d.grace);
     return d;
 }
 
@@ -251,7 +215,7 @@ std::vector<std::vector<int>> list_schedule(const isa::Machine& m, std::span<con
             if (cycle_of[static_cast<std::size_t>(j)] >= 0) continue;
             const bool met = std::all_of(preds[static_cast<std::size_t>(j)].begin(), preds[static_cast<std::size_t>(j)].end(), [&](const Pred& p) {
                 const int at = cycle_of[static_cast<std::size_t>(p.op)];
-                return at >= 0 && at + p.distance <= c;
+                return at >= 0 && at + p.after <= c;
             });
             if (met && !(ops[static_cast<std::size_t>(j)].branch && done != n - 1)) ready.push_back(j);
         }
@@ -316,7 +280,7 @@ std::vector<int> latest_issue(const Described& d, int length) {
     if (barrier)
         for (const Pred& p : preds.back()) {
             int& l = latest[static_cast<std::size_t>(p.op)];
-            l = std::min(l, length - 1 - p.distance);
+            l = std::min(l, length - 1 - p.after);
         }
     return latest;
 }
@@ -339,7 +303,7 @@ BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> 
     std::vector<int> asap(ops.size(), 0);
     int shortest = 1;
     for (std::size_t j = 0; j < ops.size(); ++j) {
-        for (const Pred& p : preds[j]) asap[j] = std::max(asap[j], asap[static_cast<std::size_t>(p.op)] + std::max(p.distance, 0));
+        for (const Pred& p : preds[j]) asap[j] = std::max(asap[j], asap[static_cast<std::size_t>(p.op)] + std::max(p.after, 0));
         shortest = std::max(shortest, asap[j] + (ops[j].barrier ? 1 : std::max(ops[j].latency - d.grace, 1)));
     }
     pipe::ModelProblem p = pipe::machine_problem(m); // its bubble is unused: a block has no back edge
@@ -350,7 +314,7 @@ BlockSchedule block_schedule(const isa::Machine& m, std::span<const isa::Instr> 
     // As list_schedule places them: never before an op they depend on (the assembler refuses a
     // read of a register while a write of it is in flight, even one landing after the read).
     for (int j = 0; j < n; ++j)
-        for (const Pred& d : preds[static_cast<std::size_t>(j)]) p.edges.push_back({d.op, j, std::max(d.distance, 0), 0});
+        for (const Pred& d : preds[static_cast<std::size_t>(j)]) p.edges.push_back({d.op, j, std::max(d.after, 0), 0});
     auto at_length = [&](int length) {
         p.ii = length;
         p.latest = latest_issue(d, length);
@@ -698,7 +662,8 @@ PackResult pack_expanded(std::string_view text, std::string_view filename, const
                 for (int i : bundle) {
                     ops.push_back(instrs[static_cast<std::size_t>(i)]);
                     const BlockOp d = describe(m, ops.back());
-                    ordered = ordered || d.channel || (d.dst && !written.insert(*d.dst).second);
+                    const isa::Kind k = ops.back().info().kind;
+                    ordered = ordered || k == isa::Kind::Recv || k == isa::Kind::Send || (d.dst && !written.insert(*d.dst).second);
                 }
                 std::vector<std::string> texts;
                 if (ordered && bundle.size() > 1) { // pin the slots: the assembler takes slot order as program order

@@ -2,12 +2,14 @@
 // loop body (see bounds.hpp), each naming what binds.
 #include "sched/bounds.hpp"
 
+#include "sched/ddg.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <map>
+#include <string_view>
 
 namespace nesshi::sched {
 
@@ -15,19 +17,6 @@ namespace {
 
 // "4" for whole numbers, else two decimals: "3.50".
 std::string number(double x) { return x == std::floor(x) ? fmt::format("{:.0f}", x) : fmt::format("{:.2f}", x); }
-
-std::string flat_reg_name(int flat) { return fmt::format("{}{}", flat < isa::kMaxRegs ? 'r' : 'f', flat % isa::kMaxRegs); }
-
-// Register reads and the write of one op as flat indices (r0..r127: 0..127, f0..f127: 128..255).
-void regs_of(const isa::Instr& in, std::vector<int>& reads, int& write) {
-    reads.clear();
-    write = -1;
-    for (const isa::RegOperand& r : isa::register_operands(in)) {
-        const int flat = static_cast<int>(r.file) * isa::kMaxRegs + r.reg;
-        if (r.write) write = flat;
-        else reads.push_back(flat);
-    }
-}
 
 // Bundles needed when every bundle has `ports` reads of a file and op i reads sizes[i] of them:
 // Martello and Toth's bin-packing bound L2, which beats reads / ports when big readers cannot
@@ -123,58 +112,31 @@ ResBound res_mii(const isa::Machine& m, std::span<const isa::Instr> ops, std::sp
 }
 
 RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops) {
-    const std::size_t n = ops.size();
-    std::vector<std::vector<int>> reads(n);
-    std::vector<int> write(n), lat(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        regs_of(ops[i].instr, reads[i], write[i]);
-        lat[i] = static_cast<int>(m.latency_of(ops[i].instr.info()));
-    }
-    std::map<int, std::size_t> last_writer;
-    for (std::size_t i = 0; i < n; ++i)
-        if (write[i] >= 0) last_writer[write[i]] = i;
+    // A pass runs from the first op's bundle to the last's, then the bubble of the taken branch back.
+    std::vector<BodyOp> body;
+    for (const BodyOp& o : ops) body.push_back({o.instr, o.bundle - ops.front().bundle});
+    const int ii = static_cast<int>(ops.empty() ? 0 : ops.back().bundle - ops.front().bundle + 1) + static_cast<int>(m.branch_penalty);
+    const Ddg g = scheduled_loop_ddg(m, body, std::max(ii, 1));
+    std::vector<int> circuit = g.max_ratio_circuit();
     RecBound out;
-    for (std::size_t s = 0; s < n; ++s) {
-        for (int reg : reads[s]) {
-            // a live-in read: no earlier bundle writes reg
-            bool live_in = true;
-            for (std::size_t i = 0; i < n && ops[i].bundle < ops[s].bundle; ++i)
-                if (write[i] == reg) live_in = false;
-            if (!live_in || !last_writer.count(reg)) continue;
-            // longest path from op s (the value read at its issue) along the registers it feeds
-            std::vector<double> dist(n, -1);
-            std::vector<std::size_t> from(n, n); // the producer each op's longest path comes through
-            dist[s] = 0;
-            struct Value {
-                double ready;
-                std::size_t producer;
-            };
-            std::map<int, Value> val;
-            for (std::size_t i = s; i < n; ++i) {
-                if (i != s) {
-                    double d = -1;
-                    for (int x : reads[i]) {
-                        auto it = val.find(x);
-                        if (it != val.end() && it->second.ready > d) d = it->second.ready, from[i] = it->second.producer;
-                    }
-                    dist[i] = d;
-                }
-                if (dist[i] >= 0 && write[i] >= 0) val[write[i]] = {dist[i] + lat[i], i};
-                else if (write[i] >= 0) val.erase(write[i]);
-            }
-            auto it = val.find(reg);
-            if (it == val.end() || it->second.producer != last_writer[reg] || !(it->second.ready > out.cycles)) continue;
-            out.cycles = it->second.ready;
-            out.reg = flat_reg_name(reg);
-            out.chain.clear();
-            for (std::size_t i = it->second.producer; i != n; i = i == s ? n : from[i]) out.chain.push_back(i);
-            std::reverse(out.chain.begin(), out.chain.end());
-            std::string text;
-            for (std::size_t i : out.chain)
-                text += fmt::format("{}{} ({})", text.empty() ? "" : " -> ", ops[i].instr.info().mnemonic, lat[i]);
-            out.binds = fmt::format("{}: {} = {} cycle{}", out.reg, text, number(out.cycles), out.cycles == 1 ? "" : "s");
-        }
+    if (circuit.empty()) return out;
+    // From the op the carried edge enters (the read of the value the previous pass left) round
+    // to the op that writes it.
+    const auto carried = std::find_if(circuit.begin(), circuit.end(),
+                                      [&](int k) { return g.edges[static_cast<std::size_t>(k)].distance > 0; });
+    if (carried != circuit.end()) std::rotate(circuit.begin(), carried + 1, circuit.end());
+    const Dep& back = g.edges[static_cast<std::size_t>(circuit.back())];
+    out.reg = back.kind == DepKind::True ? back.why.substr(std::string_view("true ").size()) : back.why;
+    const CycleRatio ratio = g.ratio(circuit);
+    out.cycles = ratio.value();
+    std::string text;
+    for (const int k : circuit) {
+        const Dep& e = g.edges[static_cast<std::size_t>(k)];
+        out.chain.push_back(static_cast<std::size_t>(e.from));
+        text += fmt::format("{}{} ({})", text.empty() ? "" : " -> ", ops[static_cast<std::size_t>(e.from)].instr.info().mnemonic, e.latency);
     }
+    out.binds = fmt::format("{}: {} = {} cycle{}", out.reg, text, number(ratio.latency), ratio.latency == 1 ? "" : "s");
+    if (ratio.distance > 1) out.binds += fmt::format(" over {} passes", ratio.distance);
     return out;
 }
 

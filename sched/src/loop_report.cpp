@@ -1,9 +1,8 @@
 // The loop report for hand-written loops (see loop_report.hpp).
 #include "sched/loop_report.hpp"
 
-#include "circuits.hpp"
-
 #include "sched/bounds.hpp"
+#include "sched/ddg.hpp"
 
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
@@ -21,90 +20,7 @@ namespace nesshi::sched {
 
 namespace {
 
-struct LoopOp {
-    isa::Instr in;
-    int bundle = 0; // issue cycle within the body
-    int latency = 1;
-};
-
 std::string reg_name(isa::RegFile f, int r) { return fmt::format("{}{}", f == isa::RegFile::Int ? 'r' : 'f', r); }
-
-// True register dependences of the body run as a loop with period ii: a read sees the write that
-// landed last by its cycle, from this iteration or an earlier one (its distance).
-std::vector<DepEdge> true_dependences(const std::vector<LoopOp>& ops, int ii) {
-    std::vector<DepEdge> edges;
-    for (std::size_t u = 0; u < ops.size(); ++u)
-        for (const isa::RegOperand& r : isa::register_operands(ops[u].in)) {
-            if (r.write) continue;
-            int best = -1, best_dist = 0;
-            std::int64_t best_land = 0;
-            for (std::size_t w = 0; w < ops.size(); ++w)
-                for (const isa::RegOperand& o : isa::register_operands(ops[w].in)) {
-                    if (!o.write || o.file != r.file || o.reg != r.reg) continue;
-                    const std::int64_t land0 = ops[w].bundle + ops[w].latency;
-                    // the latest iteration d >= 0 back whose write has landed when u reads
-                    int d = 0;
-                    while (land0 - static_cast<std::int64_t>(d) * ii > ops[u].bundle) ++d;
-                    const std::int64_t land = land0 - static_cast<std::int64_t>(d) * ii;
-                    if (best < 0 || land > best_land) best = static_cast<int>(w), best_dist = d, best_land = land;
-                }
-            if (best >= 0) edges.push_back({best, static_cast<int>(u), ops[static_cast<std::size_t>(best)].latency, best_dist});
-        }
-    return edges;
-}
-
-// Memory true dependences of the body run as a loop: a store and a later load (this pass or a
-// later one) off the same base register, stepped by a constant `addi` once per pass or not at
-// all, that touch common bytes. Latency 1 (the load issues after the store); the smallest distance
-// up to kMaxMemoryDistance. Other pairs are not counted: their addresses are not known here.
-constexpr int kMaxMemoryDistance = 16;
-std::vector<DepEdge> memory_dependences(const std::vector<LoopOp>& ops) {
-    std::vector<DepEdge> edges;
-    auto step_of = [&](int base, int& step_op) -> std::optional<std::int64_t> {
-        std::optional<std::int64_t> step = 0;
-        step_op = -1;
-        for (std::size_t w = 0; w < ops.size(); ++w)
-            for (const isa::RegOperand& o : isa::register_operands(ops[w].in))
-                if (o.write && o.file == isa::RegFile::Int && o.reg == base) {
-                    const isa::Instr& in = ops[w].in;
-                    if (step_op >= 0 || in.info().mnemonic != "addi" || in.rs1 != in.rd) return std::nullopt;
-                    step_op = static_cast<int>(w);
-                    step = static_cast<std::int32_t>(in.imm);
-                }
-        return step;
-    };
-    // An op sees the base stepped when it issues after the step (ops are in issue order; a bundle
-    // reads its sources at issue, so the step's own bundle sees the old value).
-    auto address = [&](std::size_t op, int step_op, std::int64_t step, int pass) {
-        const bool after = step_op >= 0 && ops[op].bundle > ops[static_cast<std::size_t>(step_op)].bundle;
-        return step * (pass + (after ? 1 : 0)) + static_cast<std::int32_t>(ops[op].in.imm);
-    };
-    for (std::size_t st = 0; st < ops.size(); ++st) {
-        if (ops[st].in.info().kind != isa::Kind::Store) continue;
-        const int base = ops[st].in.rs1;
-        int step_op = -1;
-        const std::optional<std::int64_t> step = step_of(base, step_op);
-        if (!step) continue;
-        const int sw = ops[st].in.info().mem_bytes ? ops[st].in.info().mem_bytes : 4;
-        for (std::size_t ld = 0; ld < ops.size(); ++ld) {
-            const isa::Instr& l = ops[ld].in;
-            if (l.info().kind != isa::Kind::Load || l.rs1 != base) continue;
-            const int lw = l.info().mem_bytes ? l.info().mem_bytes : 4;
-            for (int d = ops[ld].bundle > ops[st].bundle ? 0 : 1; d <= kMaxMemoryDistance; ++d) {
-                const std::int64_t a = address(st, step_op, *step, 0), b = address(ld, step_op, *step, d);
-                if (a < b + lw && b < a + sw) {
-                    edges.push_back({static_cast<int>(st), static_cast<int>(ld), 1, d});
-                    break;
-                }
-            }
-        }
-    }
-    return edges;
-}
-
-} // namespace
-
-namespace {
 
 // The report of one pass over `path` (bundle indices in the order they issue) as a loop body.
 LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, const isa::ObjectFile& obj,
@@ -119,31 +35,28 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
     r.source = fmt::format("{}:{}", obj.files[obj.lines[r.first].file], obj.lines[r.first].line);
     r.bundles = static_cast<int>(path.size());
     r.ii = r.bundles + static_cast<int>(m.branch_penalty);
-    std::vector<LoopOp> ops;
+    std::vector<BodyOp> ops;
     for (std::size_t c = 0; c < path.size(); ++c)
-    for (const isa::Instr& in : bundles[path[c]])
-        if (in.info().kind != isa::Kind::Nop)
-            ops.push_back({in, static_cast<int>(c), static_cast<int>(m.latency_of(in.info()))});
+        for (const isa::Instr& in : bundles[path[c]])
+            if (in.info().kind != isa::Kind::Nop) ops.push_back({in, static_cast<std::uint32_t>(c)});
     r.ops = static_cast<int>(ops.size());
     std::vector<isa::Instr> instrs;
-    for (const LoopOp& o : ops) instrs.push_back(o.in);
+    for (const BodyOp& o : ops) instrs.push_back(o.instr);
     const ResBound res = res_mii(m, instrs); // the loop's own control ops are among them
     r.res_mii = res.ii();
     r.res_binding = res.binds;
-    std::vector<DepEdge> deps = true_dependences(ops, r.ii);
-    for (const DepEdge& e : memory_dependences(ops)) deps.push_back(e);
-    r.rec_mii = recurrence_mii(static_cast<int>(ops.size()), deps);
-    if (r.rec_mii > 1)
-        for (int k : positive_circuit(static_cast<int>(ops.size()), deps, r.rec_mii - 1)) {
-            const DepEdge& e = deps[static_cast<std::size_t>(k)];
-            r.critical.push_back(isa::format_instr(ops[static_cast<std::size_t>(e.from)].in));
-            r.critical_latency += e.latency;
-            r.critical_distance += e.distance;
-        }
+    const Ddg deps = scheduled_loop_ddg(m, ops, r.ii);
+    r.rec_mii = deps.rec_mii();
+    for (int k : deps.critical()) {
+        const Dep& e = deps.edges[static_cast<std::size_t>(k)];
+        r.critical.push_back(isa::format_instr(ops[static_cast<std::size_t>(e.from)].instr));
+        r.critical_latency += e.latency;
+        r.critical_distance += e.distance;
+    }
     // Resources per iteration against their capacity at the achieved II.
     for (std::size_t s = 0; s < m.slots.size(); ++s) {
         ResourceUse u{m.slots[s].name, 0, static_cast<std::uint32_t>(r.ii)};
-        for (const LoopOp& o : ops) u.used += o.in.slot == s;
+        for (const BodyOp& o : ops) u.used += o.instr.slot == s;
         r.resources.push_back(u);
     }
     for (int f = 0; f < 2; ++f) {
@@ -151,8 +64,8 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
                        static_cast<std::uint32_t>(r.ii) * m.regs[static_cast<std::size_t>(f)].read_ports};
         ResourceUse wr{fmt::format("{} writes", isa::kRegFileNames[static_cast<std::size_t>(f)]), 0,
                        static_cast<std::uint32_t>(r.ii) * m.regs[static_cast<std::size_t>(f)].write_ports};
-        for (const LoopOp& o : ops)
-            for (const isa::RegOperand& x : isa::register_operands(o.in))
+        for (const BodyOp& o : ops)
+            for (const isa::RegOperand& x : isa::register_operands(o.instr))
                 if (static_cast<int>(x.file) == f) ++(x.write ? wr.used : rd.used);
         r.resources.push_back(rd);
         r.resources.push_back(wr);
@@ -163,14 +76,15 @@ LoopReport analyse_region(const std::vector<std::vector<isa::Instr>>& bundles, c
     // Lifetimes: each register written in the body, from the write's issue to its last read.
     std::map<std::pair<int, int>, int> life;
     std::map<std::pair<int, int>, int> born;
-    for (const DepEdge& e : deps) {
-        const LoopOp& w = ops[static_cast<std::size_t>(e.from)];
-        for (const isa::RegOperand& o : isa::register_operands(w.in)) {
+    for (const Dep& e : deps.edges) {
+        const BodyOp& w = ops[static_cast<std::size_t>(e.from)];
+        const int issue = static_cast<int>(w.bundle);
+        for (const isa::RegOperand& o : isa::register_operands(w.instr)) {
             if (!o.write) continue;
             const auto key = std::make_pair(static_cast<int>(o.file), static_cast<int>(o.reg));
-            const int end_cycle = ops[static_cast<std::size_t>(e.to)].bundle + e.distance * r.ii;
-            life[key] = std::max(life[key], end_cycle - w.bundle);
-            born[key] = w.bundle;
+            const int end_cycle = static_cast<int>(ops[static_cast<std::size_t>(e.to)].bundle) + e.distance * r.ii;
+            life[key] = std::max(life[key], end_cycle - issue);
+            born[key] = issue;
         }
     }
     std::vector<int> live[2];

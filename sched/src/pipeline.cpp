@@ -460,7 +460,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     branch.opcode = isa::opcode("bnez");
     counter.opcode = isa::opcode("addi");
     counter.rd = counter.rs1 = 0; // register numbers do not matter for the resource checks
-    res.rec_mii = rec_mii(g);
+    res.rec_mii = g.ddg.rec_mii();
     // The loop control takes slots too; a while loop's exit test is its loop control.
     const ResBound res_bound = r.is_while ? res_mii(m, instrs) : res_mii(m, instrs, kLoopControl);
     res.res_mii = res_bound.ii();
@@ -572,7 +572,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     };
     // Each schedule found is first tried with its ops moved by whole stages to fewer stages and
     // shorter lifetimes (same reservation table), then as found if that one fails to assemble.
-    const std::vector<DepEdge> edges = dep_edges(g);
+    const std::vector<Dep>& edges = g.ddg.edges;
     const std::vector<StageValue> values = stage_values(g);
     const IterationBounds bounds = iteration_bounds(g, m);
     int scheduled_count = 0; // modulo schedules found, whether or not their code assembled
@@ -601,7 +601,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         const std::optional<Schedule> shorter = shortest_schedule(g, m, s, r.is_while ? r.exit_op : -1, kSolverBudget);
         return shorter ? shifted(*shorter) : std::vector<Schedule>{};
     };
-    // The caller has checked that the dependences admit stage numbers at this II (feasible_ii).
+    // The caller has checked that the dependences admit stage numbers at this II (Ddg::admits).
     auto try_ii = [&](int ii, std::optional<Clock::time_point> deadline) {
         if (r.is_while && !deadline) { // of every attempt's schedule, the fewest stages, then the smallest
             // unroll, is the cheapest to enter and to leave (a while loop does both often); the
@@ -771,7 +771,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     };
     for (int ii = lo, unscheduled = 0; ii <= hi; ++ii) {
         const int before_ii = scheduled_count;
-        const bool feasible = feasible_ii(g, ii);
+        const bool feasible = g.ddg.admits(ii);
         if (feasible && (by_trip ? try_ii_trip(ii) : try_ii(ii, std::nullopt))) break;
         int kind = !feasible ? 0 : scheduled_count == before_ii ? 1 : 2;
         if (kind == 1) kind = decide(ii);
@@ -795,7 +795,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         for (int ii = sched->ii + 1; ii <= std::min(hi, sequential); ++ii) {
             if (static_cast<std::int64_t>(trip.expected) * std::min(ii, sequential) >= choice->chosen.cycles) break;
             choice->ii_last = ii;
-            if (feasible_ii(g, ii)) try_ii_trip(ii);
+            if (g.ddg.admits(ii)) try_ii_trip(ii);
         }
     }
     // --exact: every modulo table at each II from the bound up to the one found (a constraint
@@ -817,7 +817,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
             int proven_below = res.mii; // every II in [res.mii, proven_below) has no modulo schedule
             std::string open;           // why the bound is not proven
             for (int ii = res.mii; ii < found; ++ii) {
-                if (!feasible_ii(g, ii)) {
+                if (!g.ddg.admits(ii)) {
                     if (open.empty()) proven_below = ii + 1;
                     continue;
                 }
@@ -885,7 +885,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     else
         rep += fmt::format("#   operations per iteration   {} (+ 2 for loop control in the kernel)\n", r.ops.size());
     rep += fmt::format("#   resource bound (ResMII)    {}  ({}, loop control included)\n", res.res_mii, res_bound.binds);
-    const std::vector<int> critical = critical_edges(g, res.rec_mii);
+    const std::vector<int> critical = res.rec_mii <= 1 ? std::vector<int>{} : g.ddg.circuit_above(res.rec_mii - 1);
     const std::string circuit = critical_circuit(g, r, critical);
     rep += fmt::format("#   recurrence bound (RecMII)  {}{}\n", res.rec_mii, circuit.empty() ? "" : "  (" + circuit + ")");
     if (const std::string hint = alias_hint(g, critical); !hint.empty()) rep += "#     " + hint + "\n";

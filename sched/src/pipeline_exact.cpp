@@ -29,7 +29,7 @@ ModelProblem problem_of(const Graph& g, const isa::Machine& m, int ii, const isa
     for (const Node& nd : g.nodes) p.ops.push_back(model_op(m, nd.instr));
     p.ops.push_back(model_op(m, counter));
     p.branch = model_op(m, branch);
-    for (const Edge& e : g.edges) p.edges.push_back({e.from, e.to, e.latency, e.distance});
+    for (const Edge& e : g.ddg.edges) p.edges.push_back({e.from, e.to, e.latency, e.distance});
     for (const Induction& ind : g.inductions) {
         ModelFlight fl{ind.op, g.nodes[static_cast<std::size_t>(ind.op)].latency, {}};
         if (fl.latency <= 1) continue;

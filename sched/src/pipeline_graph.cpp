@@ -102,15 +102,15 @@ bool side_effect(const Graph& g, int i, const std::function<bool(int, isa::RegFi
 void add_exit_edges(Graph& g, const Region& r, const std::function<bool(int, isa::RegFile, int)>& is_virtual) {
     for (int i = 0; i < static_cast<int>(g.nodes.size()); ++i) {
         if (i == r.exit_op || !side_effect(g, i, is_virtual)) continue;
-        g.edges.push_back({r.exit_op, i, 1, 1, "exit before a later side effect"});
-        if (i > r.exit_op) g.edges.push_back({r.exit_op, i, 1, 0, "exit before a side effect after it"});
+        g.ddg.edges.push_back({r.exit_op, i, 1, 1, DepKind::Exit, "exit before a later side effect"});
+        if (i > r.exit_op) g.ddg.edges.push_back({r.exit_op, i, 1, 0, DepKind::Exit, "exit before a side effect after it"});
     }
     // A value the exit path hands out (.carry, .liveout) has landed when the exit is taken: the
     // exiting iteration's when it is written before the test, else the previous iteration's.
     auto landed = [&](const std::string& name) {
         const int def = r.virtuals[static_cast<std::size_t>(r.virtual_index.at(name))].def;
-        g.edges.push_back({def, r.exit_op, g.nodes[static_cast<std::size_t>(def)].latency, def < r.exit_op ? 0 : 1,
-                           "live out " + name});
+        g.ddg.edges.push_back({def, r.exit_op, g.nodes[static_cast<std::size_t>(def)].latency, def < r.exit_op ? 0 : 1,
+                               DepKind::Exit, "live out " + name});
     };
     for (const auto& c : r.carry) landed(c.first);
     for (const auto& l : r.liveout) landed(l.first);
@@ -123,6 +123,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
     if (!r.is_while)
         if (const auto t = entry.find(r.trip_reg); t != entry.end()) g.trip = t->second;
     const int n = static_cast<int>(instrs.size());
+    g.ddg.nodes = n;
     for (int i = 0; i < n; ++i) {
         Node nd;
         nd.instr = instrs[static_cast<std::size_t>(i)];
@@ -202,7 +203,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
             for (std::size_t k = 0; k < ai; ++k)
                 if (acc[k].write) seen = acc[k].op;
             if (seen < 0) seen = writes.back(), dist = 1;
-            if (!(seen == a.op && dist == 0)) g.edges.push_back({seen, a.op, lat(seen), dist, "true " + name});
+            if (!(seen == a.op && dist == 0)) g.ddg.edges.push_back({seen, a.op, lat(seen), dist, DepKind::True, "true " + name});
             if (virt) continue; // renamed: its old value is never overwritten too early
             // The next write after it: must not issue before this read.
             int next = -1, ndist = 0;
@@ -212,7 +213,7 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
                     break;
                 }
             if (next < 0) next = writes.front(), ndist = 1;
-            if (next != a.op || ndist != 0) g.edges.push_back({a.op, next, 0, ndist, "anti " + name});
+            if (next != a.op || ndist != 0) g.ddg.edges.push_back({a.op, next, 0, ndist, DepKind::Anti, "anti " + name});
         }
         if (!virt)
             for (int k = 0; k < nw; ++k) { // output: writes land in program order
@@ -223,21 +224,21 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
                 // Landing after is not enough: the next write must also issue after (the
                 // assembler and the checked ISS order writes by issue, so a longer write hoisted
                 // above a dead shorter one would be the earlier write and land last).
-                g.edges.push_back({from, to, std::max(lat(from) - lat(to) + 1, 1), dist, "output " + name});
+                g.ddg.edges.push_back({from, to, std::max(lat(from) - lat(to) + 1, 1), dist, DepKind::Output, "output " + name});
             }
     }
     // Memory: between a store and any other access that may touch the same bytes, in both
-    // directions and at every distance up to kMaxDistance; one bundle apart at least.
+    // directions and at every distance up to kMaxMemoryDistance; one bundle apart at least.
     for (int x = 0; x < n; ++x)
         for (int y = 0; y < n; ++y) {
             const Node& a = g.nodes[static_cast<std::size_t>(x)];
             const Node& b = g.nodes[static_cast<std::size_t>(y)];
             if (!a.mem || !b.mem || (!a.store && !b.store)) continue;
-            for (int d = x < y ? 0 : 1; d <= kMaxDistance; ++d)
+            for (int d = x < y ? 0 : 1; d <= kMaxMemoryDistance; ++d)
                 if (may_alias(g, r, x, y, d)) {
                     std::string why = a.store ? (b.store ? "memory output" : "memory true") : "memory anti";
                     if (a.base != b.base) why += fmt::format(", bases r{} and r{} may alias", a.base, b.base);
-                    g.edges.push_back({x, y, 1, d, why});
+                    g.ddg.edges.push_back({x, y, 1, d, DepKind::Memory, why});
                     break; // the smallest distance binds most
                 }
         }
@@ -252,28 +253,21 @@ Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const 
         for (std::size_t k = 0; k < ops.size(); ++k) {
             const bool wrap = k + 1 == ops.size();
             if (wrap && ops.size() == 1) {
-                g.edges.push_back({ops[k], ops[k], 1, 1, "fifo order"});
+                g.ddg.edges.push_back({ops[k], ops[k], 1, 1, DepKind::Fifo, "fifo order"});
                 continue;
             }
-            g.edges.push_back({ops[k], ops[(k + 1) % ops.size()], 1, wrap ? 1 : 0, "fifo order"});
+            g.ddg.edges.push_back({ops[k], ops[(k + 1) % ops.size()], 1, wrap ? 1 : 0, DepKind::Fifo, "fifo order"});
         }
     if (r.is_while) add_exit_edges(g, r, is_virtual);
     return g;
 }
 
-// ---- bounds (ResMII is bounds.hpp; the RecMII over this graph stays here) ----------------------
-
-std::vector<DepEdge> dep_edges(const Graph& g) {
-    std::vector<DepEdge> d;
-    for (const Edge& e : g.edges) d.push_back({e.from, e.to, e.latency, e.distance});
-    return d;
-}
 // The values the virtual and physical registers carry from op to op (the true edges, one value
 // per writer and register), for stage scheduling.
 std::vector<StageValue> stage_values(const Graph& g) {
     std::map<std::pair<int, std::string>, StageValue> by;
-    for (const Edge& e : g.edges) {
-        if (e.why.rfind("true ", 0) != 0) continue;
+    for (const Edge& e : g.ddg.edges) {
+        if (e.kind != DepKind::True) continue;
         StageValue& v = by[{e.from, e.why}];
         v.def = e.from;
         v.latency = g.nodes[static_cast<std::size_t>(e.from)].latency;
@@ -284,15 +278,6 @@ std::vector<StageValue> stage_values(const Graph& g) {
     return out;
 }
 
-bool feasible_ii(const Graph& g, int ii) { return ii_feasible(static_cast<int>(g.nodes.size()), dep_edges(g), ii); }
-int rec_mii(const Graph& g) { return recurrence_mii(static_cast<int>(g.nodes.size()), dep_edges(g)); }
-
-// The edges (indices into g.edges) of a circuit that sets the RecMII `rec`; none when rec <= 1.
-std::vector<int> critical_edges(const Graph& g, int rec) {
-    if (rec <= 1) return {};
-    return positive_circuit(static_cast<int>(g.nodes.size()), dep_edges(g), rec - 1);
-}
-
 // The circuit that sets the RecMII, op by op with each edge's latency and why it is there, e.g.
 // "flw (line 11) -[2: true %x]-> fmul (line 12) ... : 9 cycles over 1 iteration"; "" when no
 // circuit binds above 1.
@@ -301,13 +286,13 @@ std::string critical_circuit(const Graph& g, const Region& r, const std::vector<
     std::string out;
     int latency = 0, distance = 0;
     for (int k : circuit) {
-        const Edge& e = g.edges[static_cast<std::size_t>(k)];
+        const Edge& e = g.ddg.edges[static_cast<std::size_t>(k)];
         const SrcOp& op = r.ops[static_cast<std::size_t>(e.from)];
         out += fmt::format("{} (line {}) -[{}: {}]-> ", op.mnemonic, op.line, e.latency, e.why);
         latency += e.latency;
         distance += e.distance;
     }
-    const SrcOp& first = r.ops[static_cast<std::size_t>(g.edges[static_cast<std::size_t>(circuit.front())].from)];
+    const SrcOp& first = r.ops[static_cast<std::size_t>(g.ddg.edges[static_cast<std::size_t>(circuit.front())].from)];
     return out + fmt::format("{} (line {}): {} cycles over {} iteration{}", first.mnemonic, first.line, latency, distance,
                              distance == 1 ? "" : "s");
 }
@@ -317,49 +302,25 @@ std::string critical_circuit(const Graph& g, const Region& r, const std::vector<
 // arrays never overlap) removes it: RecMII 1"; "" otherwise.
 std::string alias_hint(const Graph& g, const std::vector<int>& circuit) {
     std::set<std::pair<int, int>> pairs;
-    auto apart = [](const Edge& e) { return e.why.find(" may alias") != std::string::npos; };
+    auto apart = [](const Edge& e) { return e.kind == DepKind::Memory && e.why.find(" may alias") != std::string::npos; };
     for (int k : circuit) {
-        const Edge& e = g.edges[static_cast<std::size_t>(k)];
+        const Edge& e = g.ddg.edges[static_cast<std::size_t>(k)];
         if (!apart(e)) continue;
         const int a = g.nodes[static_cast<std::size_t>(e.from)].base, b = g.nodes[static_cast<std::size_t>(e.to)].base;
         pairs.insert({std::min(a, b), std::max(a, b)});
     }
     if (pairs.empty()) return "";
-    const std::vector<DepEdge> edges = dep_edges(g);
-    std::vector<DepEdge> kept; // every edge but the memory ones between those bases
-    for (std::size_t k = 0; k < g.edges.size(); ++k) {
-        const Edge& e = g.edges[k];
+    Ddg kept{g.ddg.nodes, {}}; // every edge but the memory ones between those bases
+    for (const Edge& e : g.ddg.edges) {
         const int a = g.nodes[static_cast<std::size_t>(e.from)].base, b = g.nodes[static_cast<std::size_t>(e.to)].base;
-        if (!(apart(e) && pairs.count({std::min(a, b), std::max(a, b)}))) kept.push_back(edges[k]);
+        if (!(apart(e) && pairs.count({std::min(a, b), std::max(a, b)}))) kept.edges.push_back(e);
     }
     std::vector<std::string> lines;
     for (auto [a, b] : pairs) lines.push_back(fmt::format(".noalias r{}, r{}", a, b));
     return fmt::format("the circuit's memory edge{} may alias: `{}` (if those arrays never overlap) give{} RecMII {}",
                        pairs.size() == 1 ? "" : "s", fmt::join(lines, "` and `"), pairs.size() == 1 ? "s" : "",
-                       recurrence_mii(static_cast<int>(g.nodes.size()), kept));
+                       kept.rec_mii());
 }
 
-
-// Each op's longest path at this II (latency - distance x II per edge, self edges left out): out
-// of it to any op (`out`, its height) or into it from any op (its depth). n + 1 rounds at most:
-// the fixed point when the II admits the recurrences.
-std::vector<int> longest_paths(const Graph& g, int ii, bool out) {
-    const int n = static_cast<int>(g.nodes.size());
-    std::vector<int> len(static_cast<std::size_t>(n), 0);
-    for (int iter = 0; iter < n + 1; ++iter) {
-        bool changed = false;
-        for (const Edge& e : g.edges) {
-            if (e.from == e.to) continue;
-            const std::size_t near = static_cast<std::size_t>(out ? e.from : e.to), far = static_cast<std::size_t>(out ? e.to : e.from);
-            const int l = len[far] + e.latency - e.distance * ii;
-            if (l > len[near]) {
-                len[near] = l;
-                changed = true;
-            }
-        }
-        if (!changed) break;
-    }
-    return len;
-}
 
 } // namespace nesshi::sched::pipe

@@ -3,9 +3,10 @@
 // circuit, and the longest paths the schedulers order and bound their ops by.
 #pragma once
 
-#include "circuits.hpp"
 #include "pipeline_region.hpp"
 #include "stages.hpp"
+
+#include "sched/ddg.hpp"
 
 #include "isa/encoding.hpp"
 
@@ -19,14 +20,7 @@
 
 namespace nesshi::sched::pipe {
 
-constexpr int kMaxDistance = 16;  // memory dependences are looked for up to this many iterations apart
-
-struct Edge {
-    int from, to;
-    int latency;  // to issues >= from's issue + latency - distance * II
-    int distance; // iterations
-    std::string why;
-};
+using Edge = Dep; // ddg.hpp
 
 struct Node {
     isa::Instr instr;
@@ -46,7 +40,7 @@ struct Induction {
 
 struct Graph {
     std::vector<Node> nodes;
-    std::vector<Edge> edges;
+    Ddg ddg; // its nodes are `nodes`
     std::vector<Induction> inductions;
     // What the code before the region leaves: integer registers holding known constants, and the
     // trip count when it is one of them (constants_at).
@@ -84,32 +78,18 @@ void add_exit_edges(Graph& g, const Region& r, const std::function<bool(int, isa
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,
                   const std::vector<OpVirtuals>& op_virtuals, const std::map<int, std::int64_t>& entry = {});
 
-// The edges as the bound and circuit routines take them (circuits.hpp).
-std::vector<DepEdge> dep_edges(const Graph& g);
-
 // The values the virtual and physical registers carry from op to op (the true edges, one value
 // per writer and register), for stage scheduling.
 std::vector<StageValue> stage_values(const Graph& g);
 
-// The edges (indices into g.edges) of a circuit that sets the RecMII `rec`; none when rec <= 1.
-std::vector<int> critical_edges(const Graph& g, int rec);
-
-// That circuit, op by op with each edge's latency and why it is there, e.g. "flw (line 11)
-// -[2: true %x]-> fmul (line 12) ... : 9 cycles over 1 iteration"; "" when none binds above 1.
+// That circuit (edge indices into g.ddg.edges), op by op with each edge's latency and why it is
+// there, e.g. "flw (line 11) -[2: true %x]-> fmul (line 12) ... : 9 cycles over 1 iteration"; ""
+// when none binds above 1.
 std::string critical_circuit(const Graph& g, const Region& r, const std::vector<int>& circuit);
 
 // When the RecMII's circuit runs through memory edges between two base registers that may alias
 // (no `.noalias` for them), what declaring them apart would give: "`.noalias r1, r2` (if the
 // arrays never overlap) removes it: RecMII 1"; "" otherwise.
 std::string alias_hint(const Graph& g, const std::vector<int>& circuit);
-
-// Each op's longest path at this II (latency - distance x II per edge, self edges left out): out
-// of it to any op (`out`, its height) or into it from any op (its depth). n + 1 rounds at most:
-// the fixed point when the II admits the recurrences.
-std::vector<int> longest_paths(const Graph& g, int ii, bool out);
-
-// Whether the recurrences admit `ii`, and the smallest II they admit (the RecMII).
-bool feasible_ii(const Graph& g, int ii);
-int rec_mii(const Graph& g);
 
 } // namespace nesshi::sched::pipe

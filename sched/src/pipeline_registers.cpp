@@ -106,7 +106,7 @@ Allocation allocate(const Region& r, const Graph& g, const Schedule& s, const st
     for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
         const int def = r.virtuals[v].def;
         int last = s.time[static_cast<std::size_t>(def)] + g.nodes[static_cast<std::size_t>(def)].latency;
-        for (const Edge& e : g.edges)
+        for (const Edge& e : g.ddg.edges)
             if (e.from == def && e.why.rfind("true ", 0) == 0 && e.why.substr(5) == r.virtuals[v].name)
                 last = std::max(last, s.time[static_cast<std::size_t>(e.to)] + e.distance * s.ii);
         if (r.is_while) { // a value the exit path reads must outlive the exit test that may hand it out

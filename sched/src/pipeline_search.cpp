@@ -216,7 +216,7 @@ class ModuloScheduler {
                     op = i;
             if (op < 0) break;
             int estart = 0;
-            for (const Edge& e : g_.edges)
+            for (const Edge& e : g_.ddg.edges)
                 if (e.to == op && time_[static_cast<std::size_t>(e.from)] >= 0 && e.from != op)
                     estart = std::max(estart, time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_);
             const int latest = latest_[static_cast<std::size_t>(op)];
@@ -234,14 +234,14 @@ class ModuloScheduler {
                 if (!fits(op, chosen)) return std::nullopt;
             }
             place(op, chosen);
-            for (const Edge& e : g_.edges) // successors now too early
+            for (const Edge& e : g_.ddg.edges) // successors now too early
                 if (e.from == op && e.to != op && time_[static_cast<std::size_t>(e.to)] >= 0 &&
                     chosen + e.latency - e.distance * ii_ > time_[static_cast<std::size_t>(e.to)])
                     unplace(e.to);
         }
         for (int i = 0; i < n; ++i)
             if (time_[static_cast<std::size_t>(i)] < 0) return std::nullopt;
-        for (const Edge& e : g_.edges) // self edges and the final state
+        for (const Edge& e : g_.ddg.edges) // self edges and the final state
             if (time_[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_ > time_[static_cast<std::size_t>(e.to)])
                 return std::nullopt;
         Schedule s;
@@ -272,7 +272,7 @@ class ModuloScheduler {
             if (!fits(op, s.time[static_cast<std::size_t>(op)])) return false;
             place(op, s.time[static_cast<std::size_t>(op)]);
         }
-        for (const Edge& e : g_.edges)
+        for (const Edge& e : g_.ddg.edges)
             if (s.time[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii_ > s.time[static_cast<std::size_t>(e.to)])
                 return false;
         return true;
@@ -384,7 +384,7 @@ class ModuloScheduler {
     // Each op's slack: the critical path (issue to issue) less the longest paths into it and out
     // of it, at this II; 0 on a critical path.
     std::vector<int> slacks() const {
-        const std::vector<int> depth = longest_paths(g_, ii_, false);
+        const std::vector<int> depth = g_.ddg.longest_paths(ii_, false);
         int cp = 0;
         for (std::size_t i = 0; i < depth.size(); ++i) cp = std::max(cp, depth[i] + height_[i]);
         std::vector<int> slack(depth.size());
@@ -392,7 +392,7 @@ class ModuloScheduler {
         return slack;
     }
 
-    void heights() { height_ = longest_paths(g_, ii_, true); }
+    void heights() { height_ = g_.ddg.longest_paths(ii_, true); }
 
     const Graph& g_;
     const isa::Machine& m_;

@@ -66,7 +66,7 @@ Paths paths_of(const Graph& g, const isa::Machine& m) {
     for (const Node& nd : g.nodes) p.tail.push_back(static_cast<int>(m.latency_of(nd.instr.info())));
     for (std::size_t round = 0; round <= n; ++round) {
         bool changed = false;
-        for (const Edge& e : g.edges) {
+        for (const Edge& e : g.ddg.edges) {
             if (e.distance != 0 || e.from == e.to) continue;
             const auto f = static_cast<std::size_t>(e.from), t = static_cast<std::size_t>(e.to);
             if (p.earliest[f] + e.latency > p.earliest[t]) p.earliest[t] = p.earliest[f] + e.latency, changed = true;
@@ -196,7 +196,7 @@ class Encoding {
     }
 
     void dependences() {
-        for (const Edge& e : g_.edges) {
+        for (const Edge& e : g_.ddg.edges) {
             if (e.from == e.to) continue; // the heuristic's schedule keeps these (latency <= distance x II)
             const int d = e.latency - e.distance * ii_;
             const auto a = static_cast<std::size_t>(e.from), b = static_cast<std::size_t>(e.to);
@@ -405,7 +405,7 @@ std::string search_key(const Graph& g, const isa::Machine& m, const Schedule& fo
         instr(found.branch);
         instr(found.counter);
     }
-    for (const Edge& e : g.edges) key += fmt::format("\n{} {} {} {}", e.from, e.to, e.latency, e.distance);
+    for (const Edge& e : g.ddg.edges) key += fmt::format("\n{} {} {} {}", e.from, e.to, e.latency, e.distance);
     for (const Induction& i : g.inductions) key += fmt::format("\ni {} {}", i.op, reg(static_cast<int>(isa::RegFile::Int), i.reg));
     key += fmt::format("\n{}", fmt::join(found.time, " "));
     return key;

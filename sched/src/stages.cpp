@@ -40,7 +40,7 @@ int stage_registers(const std::vector<StageValue>& values, const std::vector<int
     return regs;
 }
 
-std::vector<int> shift_stages(const std::vector<DepEdge>& edges, const std::vector<StageValue>& values,
+std::vector<int> shift_stages(const std::vector<Dep>& edges, const std::vector<StageValue>& values,
                               std::vector<int> time, int ii) {
     constexpr int kMaxShift = 8;   // stages an op may move at once
     constexpr int kMaxRounds = 32; // passes over the ops (each improves the cost, so this rarely binds)
@@ -58,12 +58,12 @@ std::vector<int> shift_stages(const std::vector<DepEdge>& edges, const std::vect
             const int t = time[static_cast<std::size_t>(x)];
             int lo = -kMaxShift, hi = kMaxShift; // shifts in whole IIs that keep every edge
             for (int k : in[static_cast<std::size_t>(x)]) {
-                const DepEdge& e = edges[static_cast<std::size_t>(k)];
+                const Dep& e = edges[static_cast<std::size_t>(k)];
                 const int need = time[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii - t;
                 lo = std::max(lo, -floor_div(-need, ii)); // ceil(need / ii)
             }
             for (int k : out[static_cast<std::size_t>(x)]) {
-                const DepEdge& e = edges[static_cast<std::size_t>(k)];
+                const Dep& e = edges[static_cast<std::size_t>(k)];
                 hi = std::min(hi, floor_div(time[static_cast<std::size_t>(e.to)] - t - e.latency + e.distance * ii, ii));
             }
             int chosen = 0;

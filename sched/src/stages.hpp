@@ -6,7 +6,7 @@
 // scheduling.
 #pragma once
 
-#include "circuits.hpp"
+#include "sched/ddg.hpp"
 
 #include <utility>
 #include <vector>
@@ -28,7 +28,7 @@ int stage_registers(const std::vector<StageValue>& values, const std::vector<int
 // `time` with ops moved by whole IIs wherever every edge still holds: to fewer stages first,
 // fewer registers (stage_registers) second, shorter lifetimes in cycles third; never worse than
 // `time` on any of them. One op moves at a time, as long as a move improves.
-std::vector<int> shift_stages(const std::vector<DepEdge>& edges, const std::vector<StageValue>& values,
+std::vector<int> shift_stages(const std::vector<Dep>& edges, const std::vector<StageValue>& values,
                               std::vector<int> time, int ii);
 
 } // namespace nesshi::sched

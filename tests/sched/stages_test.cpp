@@ -18,8 +18,8 @@ int stages(const std::vector<int>& time, int ii) {
     return fl(*hi) - fl(*lo) + 1;
 }
 
-bool holds(const std::vector<DepEdge>& edges, const std::vector<int>& time, int ii) {
-    for (const DepEdge& e : edges)
+bool holds(const std::vector<Dep>& edges, const std::vector<int>& time, int ii) {
+    for (const Dep& e : edges)
         if (time[static_cast<std::size_t>(e.from)] + e.latency - e.distance * ii > time[static_cast<std::size_t>(e.to)]) return false;
     return true;
 }
@@ -29,7 +29,7 @@ bool holds(const std::vector<DepEdge>& edges, const std::vector<int>& time, int 
 TEST_CASE("a load issued stages before its use moves next to it", "[unit][sched][stages]") {
     // II 2: op 0 loads (latency 2) what op 3 reads at cycle 6; ops 1 and 2 form a chain to op 3.
     const int ii = 2;
-    const std::vector<DepEdge> edges = {{0, 3, 2, 0}, {1, 2, 2, 0}, {2, 3, 4, 0}};
+    const std::vector<Dep> edges = {{0, 3, 2, 0}, {1, 2, 2, 0}, {2, 3, 4, 0}};
     const std::vector<StageValue> values = {{0, 2, {{3, 0}}}, {1, 2, {{2, 0}}}, {2, 4, {{3, 0}}}};
     const std::vector<int> before = {0, 0, 2, 6};
     const std::vector<int> after = shift_stages(edges, values, before, ii);
@@ -43,7 +43,7 @@ TEST_CASE("a loop-carried read keeps its writer in range", "[unit][sched][stages
     // A recurrence: op 1 reads op 0's value of the previous iteration (distance 1) and op 0
     // reads op 1's: neither may move a whole II away from the other, so nothing moves.
     const int ii = 4;
-    const std::vector<DepEdge> edges = {{0, 1, 3, 1}, {1, 0, 1, 0}};
+    const std::vector<Dep> edges = {{0, 1, 3, 1}, {1, 0, 1, 0}};
     const std::vector<StageValue> values = {{0, 3, {{1, 1}}}, {1, 1, {{0, 0}}}};
     REQUIRE(holds(edges, {1, 0}, ii));
     CHECK(shift_stages(edges, values, {1, 0}, ii) == std::vector<int>{1, 0});
@@ -56,7 +56,7 @@ TEST_CASE("stage scheduling keeps every edge and never costs stages or registers
         std::vector<int> time(static_cast<std::size_t>(n));
         for (int& t : time) t = static_cast<int>(rng() % 40);
         // Edges that the times satisfy: latency at most the gap (plus II per iteration of distance).
-        std::vector<DepEdge> edges;
+        std::vector<Dep> edges;
         std::vector<StageValue> values;
         for (int from = 0; from < n; ++from) {
             StageValue v;

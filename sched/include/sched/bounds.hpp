@@ -5,8 +5,7 @@
 // file's reads and writes over its read and write ports; and the bundles the ops' reads need when
 // packed into bundles of that many read ports (ops reading more than half of them never share a
 // bundle: on 3 ports, 48 ops reading 2 floats each need 48 bundles, not 98/3). RecMII of a region taken as a loop
-// body: the longest latency chain from a live-in read of a register to the region's last write
-// of it (the value goes round once per pass). The modulo scheduler (pipeline.hpp) and the kernel
+// body: the circuit of its dependence graph (ddg.hpp) with the most latency per pass. The modulo scheduler (pipeline.hpp) and the kernel
 // report (machine/kernel_report.hpp) use these; neither restates the machine's rules.
 //
 //   const isa::Machine m = isa::load_machine("os");
@@ -21,6 +20,7 @@
 #include "isa/encoding.hpp"
 #include "isa/machine.hpp"
 #include "isa/ops.hpp"
+#include "sched/ddg.hpp"
 
 #include <array>
 #include <cstddef>
@@ -56,24 +56,17 @@ struct ResBound {
 // in mask order, then IRF reads, IRF writes, FPRF reads, FPRF writes.
 ResBound res_mii(const isa::Machine& m, std::span<const isa::Instr> ops, std::span<const ExtraOps> extra = {});
 
-// One operation of a measured region and the bundle it issues in; a region lists its ops in
-// bundle order.
-struct BodyOp {
-    isa::Instr instr;
-    std::uint32_t bundle = 0;
-};
-
 struct RecBound {
-    double cycles = 0;              // latency of the longest carried chain; 0 when none
-    std::string reg;                // the register it carries: "r4"
-    std::vector<std::size_t> chain; // indices into the ops: the live-in read first, the last write last
+    double cycles = 0;              // the recurrence's latency per pass (over its passes); 0 when none
+    std::string reg;                // the register it carries: "r4" (or "memory true r5")
+    std::vector<std::size_t> chain; // indices into the ops: the read of the carried value first, its write last
     std::string binds;              // "r4: add (1) -> lbu (1) = 2 cycles"; "" when none
 };
 
-// RecMII of a region as a loop body (distance 1: one pass is one iteration of the region): for
-// each register read before any bundle writes it and written later, the longest latency path
-// along register reads from that read to the region's last write of it. Control dependences
-// (a branch deciding the next pass) are not edges.
+// RecMII of a region as a loop body: its ops (in issue order, `bundle` the cycle each issues in)
+// repeated from the first op's cycle to the last's, then the taken branch's bubble, the bound of scheduled_loop_ddg (ddg.hpp) on its
+// circuit of the largest latency per pass. Control dependences (a branch deciding the next pass)
+// are not edges.
 RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops);
 
 } // namespace nesshi::sched
