@@ -117,6 +117,7 @@ std::vector<Token> lex_line(std::string_view s) {
     std::vector<Token> out;
     size_t i = 0;
     while (i < s.size()) {
+        if (!out.empty() && out.back().end == 0) out.back().end = int(i) + 1;
         char c = s[i];
         if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
             ++i;
@@ -151,7 +152,8 @@ std::vector<Token> lex_line(std::string_view s) {
             if (ok) out.push_back({Tok::String, std::move(text), 0, col});
             else {
                 out.push_back({Tok::Bad, "unterminated or malformed string", 0, col});
-                return out;
+                i = s.size();
+                break;
             }
             continue;
         }
@@ -164,7 +166,8 @@ std::vector<Token> lex_line(std::string_view s) {
                                uint64_t(static_cast<unsigned char>(ch)), col});
             } else {
                 out.push_back({Tok::Bad, "malformed character literal", 0, col});
-                return out;
+                i = s.size();
+                break;
             }
             continue;
         }
@@ -182,6 +185,7 @@ std::vector<Token> lex_line(std::string_view s) {
         out.push_back({Tok::Bad, "unexpected character '" + std::string(1, c) + "'", 0, col});
         ++i;
     }
+    if (!out.empty() && out.back().end == 0) out.back().end = int(i) + 1;
     return out;
 }
 

@@ -22,6 +22,7 @@ struct Token {
     std::string text; // spelling (for Punct the operator; for Int/Float the literal)
     uint64_t value = 0;
     int col = 1; // 1-based column of the first character
+    int end = 0; // 1-based column just past its last character in the source
     bool is(std::string_view punct) const { return kind == Tok::Punct && text == punct; }
 };
 

@@ -7,6 +7,7 @@
 #include "text.hpp"
 
 #include "assembler/assembler.hpp"
+#include "assembler/op_text.hpp"
 #include "base/error.hpp"
 #include "isa/object.hpp"
 #include "isa/ops.hpp"
@@ -404,13 +405,13 @@ using Pools = std::array<std::vector<int>, isa::kNumRegFiles>;
 void declare_pool(Pools& pools, std::string_view line, std::string_view filename, int ln) {
     const std::string range = strip_comment(trim(line).substr(std::string_view("#pack virtual").size()));
     const std::size_t dash = range.find('-');
-    isa::RegFile fa, fb;
-    int a = 0, b = 0;
-    if (dash == std::string::npos || !parse_reg(trim(range.substr(0, dash)), fa, a) ||
-        !parse_reg(trim(range.substr(dash + 1)), fb, b) || fa != fb || a > b || b >= isa::kMaxRegs)
+    const auto lo = dash == std::string::npos ? std::nullopt : assembler::register_named(trim(range.substr(0, dash)));
+    const auto hi = dash == std::string::npos ? std::nullopt : assembler::register_named(trim(range.substr(dash + 1)));
+    if (!lo || !hi || lo->first != hi->first || lo->second > hi->second)
         throw base::Error(base::SourceLoc(filename, ln),
                           fmt::format("'#pack virtual' takes one register range of one file, e.g. f71-f127; not '{}'", range));
-    std::vector<int>& pool = pools[static_cast<std::size_t>(fa)];
+    const int a = lo->second, b = hi->second;
+    std::vector<int>& pool = pools[static_cast<std::size_t>(lo->first)];
     pool.clear();
     for (int r = a; r <= b; ++r) pool.push_back(r);
 }
@@ -438,17 +439,16 @@ std::vector<std::string> allocate_virtuals(const std::vector<std::string>& ops, 
     for (std::size_t i = 0; i < ops.size(); ++i) {
         const std::string& op = ops[i];
         if (op.find('%') == std::string::npos) continue;
-        const std::size_t sp = op.find_first_of(" \t");
-        const std::string mnemonic = op.substr(0, sp);
+        const assembler::OperationText split = assembler::split_operation(op);
+        const std::string& mnemonic = split.mnemonic;
         const auto opc = isa::find_opcode(mnemonic);
         if (!opc) fail(i, fmt::format("'{}': virtual registers go in the operands of a machine operation", mnemonic));
         const isa::OpInfo& info = isa::kOps[*opc];
-        const std::vector<std::string> operands = split_operands(sp == std::string::npos ? "" : op.substr(sp));
+        std::vector<std::string> operands;
+        for (const assembler::OperandText& o : split.operands) operands.push_back(o.text);
         if (operands.size() != info.num_operands) fail(i, fmt::format("'{}' takes {} operands", mnemonic, info.num_operands));
-        std::size_t at = sp; // where the next operand's text starts
         for (std::size_t k = 0; k < operands.size(); ++k) {
-            const std::size_t start = op.find(operands[k], at);
-            at = start + operands[k].size();
+            const std::size_t start = split.operands[k].col;
             const std::size_t pct = operands[k].find('%');
             if (pct == std::string::npos) continue;
             std::size_t e = pct + 1;

@@ -3,6 +3,7 @@
 
 #include "text.hpp"
 
+#include "assembler/op_text.hpp"
 #include "base/error.hpp"
 #include "isa/ops.hpp"
 
@@ -48,11 +49,9 @@ std::optional<std::pair<std::string, std::string>> split_off(const std::string& 
     }
     if (ops.size() < 2) return std::nullopt;
     const std::string op = ops[moved];
-    const std::size_t prefix = op.find(':');
-    const std::string bare = trim(prefix == std::string::npos ? op : op.substr(prefix + 1));
-    const std::size_t space = bare.find_first_of(" \t");
-    const auto opcode = isa::find_opcode(bare.substr(0, space));
-    if (!opcode || space == std::string::npos) return std::nullopt;
+    const assembler::OperationText split = assembler::split_operation(op);
+    const auto opcode = isa::find_opcode(split.mnemonic);
+    if (!opcode || split.operands.empty()) return std::nullopt;
     const isa::OpInfo& info = isa::kOps[*opcode];
     switch (info.kind) {
     case isa::Kind::Store: case isa::Kind::Send: case isa::Kind::Recv: case isa::Kind::Branch: case isa::Kind::Jump:
@@ -60,8 +59,7 @@ std::optional<std::pair<std::string, std::string>> split_off(const std::string& 
     default: break;
     }
     if (info.num_operands == 0 || !info.operands[0].is_dest) return std::nullopt;
-    const std::vector<std::string> operands = split_operands(bare.substr(space));
-    const std::regex named("(^|[^A-Za-z0-9_])" + operands.at(0) + "([^0-9A-Za-z_]|$)");
+    const std::regex named("(^|[^A-Za-z0-9_])" + split.operands[0].text + "([^0-9A-Za-z_]|$)");
     ops.erase(ops.begin() + static_cast<std::ptrdiff_t>(moved));
     std::string rest;
     for (const std::string& o : ops) {

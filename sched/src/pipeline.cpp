@@ -15,6 +15,7 @@
 #include "sched/loop_report.hpp"
 
 #include "assembler/assembler.hpp"
+#include "assembler/op_text.hpp"
 #include "base/error.hpp"
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
@@ -993,9 +994,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
         reports = step.res.report + reports;
         loops.insert(loops.begin(), step.res.loops.begin(), step.res.loops.end());
         for (const std::string& reg : step.res.scratch) {
-            isa::RegFile f;
-            int num = 0;
-            if (parse_reg(reg, f, num)) t.reusable.insert({static_cast<int>(f), num});
+            if (const auto named = assembler::register_named(reg)) t.reusable.insert({static_cast<int>(named->first), named->second});
         }
         std::vector<std::string> spliced(lines.begin(), lines.begin() + static_cast<std::ptrdiff_t>(step.span.first));
         for (const std::string& l : split_lines(step.emitted)) spliced.push_back(l);

@@ -3,6 +3,7 @@
 #include "text.hpp"
 
 #include "assembler/assembler.hpp"
+#include "assembler/op_text.hpp"
 #include "base/error.hpp"
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
@@ -292,15 +293,12 @@ class Emitter {
     }
     // The operation of a move's text, for the slot and port checks.
     static isa::Instr move_instr(const std::string& text) {
-        const auto regs = split_operands(text.substr(text.find(' ')));
-        isa::RegFile f = isa::RegFile::Int;
-        int d = 0, src = 0;
-        parse_reg(regs[0], f, d);
-        parse_reg(regs[1], f, src);
+        const assembler::OperationText op = assembler::split_operation(text);
+        const auto d = assembler::register_named(op.operands.at(0).text), src = assembler::register_named(op.operands.at(1).text);
         isa::Instr in;
-        in.opcode = f == isa::RegFile::Float ? isa::opcode("fmov") : isa::opcode("addi");
-        in.rd = static_cast<std::uint8_t>(d);
-        in.rs1 = static_cast<std::uint8_t>(src);
+        in.opcode = src.value().first == isa::RegFile::Float ? isa::opcode("fmov") : isa::opcode("addi");
+        in.rd = static_cast<std::uint8_t>(d.value().second);
+        in.rs1 = static_cast<std::uint8_t>(src.value().second);
         return in;
     }
     // The moves packed into as few bundles as the machine takes (isa::assign_slots and

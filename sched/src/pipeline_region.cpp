@@ -3,6 +3,7 @@
 #include "text.hpp"
 
 #include "assembler/assembler.hpp"
+#include "assembler/op_text.hpp"
 #include "base/error.hpp"
 #include "isa/bundle_check.hpp"
 #include "isa/encoding.hpp"
@@ -61,6 +62,15 @@ std::vector<Span> region_spans(const std::vector<std::string>& lines, std::strin
     return spans;
 }
 
+namespace {
+// The operands of an operation or directive line, as the assembler splits them.
+std::vector<std::string> operands_of(const std::string& code) {
+    std::vector<std::string> out;
+    for (const assembler::OperandText& o : assembler::split_operation(code).operands) out.push_back(o.text);
+    return out;
+}
+} // namespace
+
 Region parse_region(const std::vector<std::string>& lines, std::string_view file, Span span) {
     Region r;
     bool found = false, closed = false;
@@ -77,9 +87,10 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
                 r.trip_reg = -1;
                 continue;
             }
-            isa::RegFile f;
-            if (!parse_reg(r.trip, f, r.trip_reg) || f != isa::RegFile::Int)
+            const auto reg = assembler::register_named(r.trip);
+            if (!reg || reg->first != isa::RegFile::Int)
                 fail(file, ln, fmt::format(".pipeline takes the integer register holding the trip count, not '{}'", r.trip));
+            r.trip_reg = reg->second;
             continue;
         }
         if (code == ".endpipeline") {
@@ -90,33 +101,31 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
         }
         if (!found || closed || code.empty()) continue;
         if (code.rfind(".noalias", 0) == 0) {
-            const auto regs = split_operands(code.substr(8));
-            isa::RegFile fa, fb;
-            int a = 0, b = 0;
-            if (regs.size() != 2 || !parse_reg(regs[0], fa, a) || !parse_reg(regs[1], fb, b) ||
-                fa != isa::RegFile::Int || fb != isa::RegFile::Int)
+            const auto regs = operands_of(code);
+            const auto a = regs.size() == 2 ? assembler::register_named(regs[0]) : std::nullopt;
+            const auto b = regs.size() == 2 ? assembler::register_named(regs[1]) : std::nullopt;
+            if (!a || !b || a->first != isa::RegFile::Int || b->first != isa::RegFile::Int)
                 fail(file, ln, ".noalias takes two integer base registers: .noalias rA, rB");
-            r.noalias.emplace_back(a, b);
+            r.noalias.emplace_back(a->second, b->second);
             continue;
         }
         if (code.rfind(".trip", 0) == 0 && (code.size() == 5 || std::isspace(static_cast<unsigned char>(code[5])))) {
             if (r.is_while) fail(file, ln, ".trip belongs in a counted .pipeline region (a while loop has no trip count)");
             if (r.trip_count.min > 0) fail(file, ln, fmt::format(".trip given twice (first at line {})", r.trip_count.line));
-            r.trip_count = parse_trip(code, lines[i], file, ln);
+            r.trip_count = parse_trip(lines[i], file, ln);
             continue;
         }
         if (code.rfind(".speculate", 0) == 0) {
             if (!r.is_while) fail(file, ln, ".speculate belongs in a .pipeline while region");
-            for (const std::string& reg : split_operands(code.substr(10))) {
-                isa::RegFile f;
-                int b = 0;
+            for (const std::string& reg : operands_of(code)) {
                 if (!reg.empty() && reg[0] == '%') { // a base computed or loaded in the loop: checked once the region is read
                     r.speculate_virtual.insert(reg);
                     continue;
                 }
-                if (!parse_reg(reg, f, b) || f != isa::RegFile::Int)
+                const auto b = assembler::register_named(reg);
+                if (!b || b->first != isa::RegFile::Int)
                     fail(file, ln, ".speculate takes integer base registers: .speculate rA[, %p ...]");
-                r.speculate.insert(b);
+                r.speculate.insert(b->second);
             }
             r.line_of_speculate = ln;
             continue;
@@ -126,15 +135,12 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             if (!r.is_while)
                 fail(file, ln, fmt::format("{} belongs in a .pipeline while region (not yet in counted loops)",
                                            carry ? ".carry" : ".liveout"));
-            const auto args = split_operands(code.substr(carry ? 6 : 8));
+            const auto args = operands_of(code);
             if (args.empty() || args[0].empty() || args[0][0] != '%' || args.size() < 2 || args.size() > (carry ? 4u : 2u))
                 fail(file, ln, carry ? ".carry takes a virtual register and its registers: .carry %v, IN[, OUT[, OLD]]"
                                      : ".liveout takes a virtual register and where it ends: .liveout %v, REG");
-            for (std::size_t k = 1; k < args.size(); ++k) {
-                isa::RegFile f;
-                int reg = 0;
-                if (!parse_reg(args[k], f, reg)) fail(file, ln, fmt::format("'{}' is not a register", args[k]));
-            }
+            for (std::size_t k = 1; k < args.size(); ++k)
+                if (!assembler::register_named(args[k])) fail(file, ln, fmt::format("'{}' is not a register", args[k]));
             if (r.carry.count(args[0]) || r.liveout.count(args[0])) fail(file, ln, fmt::format("{} is declared twice", args[0]));
             if (carry) r.carry[args[0]] = {args[1], args.size() > 2 ? args[2] : args[1], args.size() > 3 ? args[3] : ""};
             else r.liveout[args[0]] = args[1];
@@ -146,9 +152,8 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
         if (code.find(':') != std::string::npos) fail(file, ln, "no labels or slot prefixes inside a .pipeline region");
         SrcOp op;
         op.line = ln;
-        const std::size_t sp = code.find_first_of(" \t");
-        op.mnemonic = code.substr(0, sp);
-        op.operands = split_operands(sp == std::string::npos ? "" : code.substr(sp));
+        op.mnemonic = assembler::split_operation(code).mnemonic;
+        op.operands = operands_of(code);
         const auto opc = isa::find_opcode(op.mnemonic);
         if (!opc) fail(file, ln, fmt::format("unknown operation '{}'", op.mnemonic));
         op.opcode = *opc;
@@ -216,9 +221,8 @@ Region parse_region(const std::vector<std::string>& lines, std::string_view file
             fail(file, r.line_of_directives, fmt::format("{} is declared but never written in the region", name));
         const Virtual& v = r.virtuals[static_cast<std::size_t>(it->second)];
         for (const std::string& reg : regs) {
-            isa::RegFile f;
-            int n = 0;
-            if (!reg.empty() && parse_reg(reg, f, n) && f != v.file)
+            const auto named = assembler::register_named(reg);
+            if (named && named->first != v.file)
                 fail(file, r.line_of_directives, fmt::format("{} and {} are not in the same register file", name, reg));
         }
         return v;

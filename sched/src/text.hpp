@@ -1,4 +1,5 @@
-// Internal: the line handling of the schedulers' input texts (linear assembly, .pk blocks).
+// Internal: the line handling of the schedulers' input texts (linear assembly, .pk blocks). An
+// operation's own text is split by the assembler (assembler/op_text.hpp).
 #pragma once
 
 #include "isa/ops.hpp"
@@ -26,39 +27,5 @@ inline std::string strip_comment(std::string_view s) {
 }
 
 using base::split_lines; // base/lines.hpp
-
-// The comma-separated operands of an op, trimmed; commas inside parentheses do not split.
-inline std::vector<std::string> split_operands(const std::string& s) {
-    std::vector<std::string> out;
-    if (trim(s).empty()) return out;
-    int depth = 0;
-    std::string cur;
-    for (char c : s) {
-        if (c == '(') ++depth;
-        if (c == ')') --depth;
-        if (c == ',' && depth == 0) {
-            out.push_back(trim(cur));
-            cur.clear();
-        } else {
-            cur += c;
-        }
-    }
-    out.push_back(trim(cur));
-    return out;
-}
-
-// A register name ("r5", "f71") into its file and number.
-inline bool parse_reg(std::string_view s, isa::RegFile& f, int& r) {
-    if (s.size() < 2 || (s[0] != 'r' && s[0] != 'f')) return false;
-    int v = 0;
-    for (char c : s.substr(1)) {
-        if (!std::isdigit(static_cast<unsigned char>(c))) return false;
-        v = v * 10 + (c - '0');
-        if (v > 1000) return false;
-    }
-    f = s[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float;
-    r = v;
-    return true;
-}
 
 } // namespace nesshi::sched

@@ -5,6 +5,7 @@
 #include "text.hpp"
 #include "sched/pipeline.hpp"
 
+#include "assembler/op_text.hpp"
 #include "base/error.hpp"
 
 #include <fmt/format.h>
@@ -31,18 +32,16 @@ std::string kernel_copies(const TripChoice::Option& o) {
 
 } // namespace
 
-TripDirective parse_trip(const std::string& code, const std::string& text, std::string_view file, int line) {
-    const std::vector<std::string> args = split_operands(code.substr(5));
+TripDirective parse_trip(const std::string& text, std::string_view file, int line) {
+    const std::vector<assembler::OperandText> args = assembler::split_operation(text).operands;
     const std::size_t directive = text.find(".trip");
     if (args.empty() || args.size() > 2)
         fail_at(file, line, text, directive, ".trip takes the minimum trip count and, optionally, the expected one: "
                                              ".trip MIN[, EXPECTED]");
     int value[2] = {0, 0};
-    std::size_t from = directive + 5;
     for (std::size_t k = 0; k < args.size(); ++k) {
-        const std::string& a = args[k];
-        const std::size_t at = text.find(a, from);
-        from = at == std::string::npos ? from : at + a.size();
+        const std::string& a = args[k].text;
+        const std::size_t at = args[k].col;
         bool digits = !a.empty() && a.size() <= 10;
         for (char c : a) digits = digits && c >= '0' && c <= '9';
         const long long v = digits ? std::stoll(a) : 0;
@@ -52,7 +51,7 @@ TripDirective parse_trip(const std::string& code, const std::string& text, std::
         value[k] = static_cast<int>(v);
     }
     if (args.size() == 2 && value[1] < value[0])
-        fail_at(file, line, text, text.find(args[1], directive + 5),
+        fail_at(file, line, text, args[1].col,
                 fmt::format("the expected trip count {} is below the minimum {}", value[1], value[0]));
     return {value[0], args.size() == 2 ? value[1] : value[0], line};
 }

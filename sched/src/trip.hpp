@@ -19,9 +19,9 @@ struct TripDirective {
     int line = 0;
 };
 
-// Parses the operands of a `.trip` line (`code`: the line without its comment; `text`: as
-// written, for the caret). Throws base::Error at the offending operand.
-TripDirective parse_trip(const std::string& code, const std::string& text, std::string_view file, int line);
+// Parses the operands of a `.trip` line as written (split as the assembler reads operands; the
+// columns place the caret). Throws base::Error at the offending operand.
+TripDirective parse_trip(const std::string& text, std::string_view file, int line);
 
 // The bundles of each part of a counted loop's code (Emitter::code), in program order:
 //   [nops]                                              lead (without the guard)

@@ -1,0 +1,52 @@
+#include "assembler/op_text.hpp"
+
+#include "lexer.hpp"
+
+#include <charconv>
+
+namespace nesshi::assembler {
+
+OperationText split_operation(std::string_view text) {
+    const std::vector<Token> toks = lex_line(text);
+    OperationText out;
+    std::size_t i = 0;
+    if (toks.size() >= 2 && toks[0].kind == Tok::Ident && toks[1].is(":")) {
+        out.slot = toks[0].text;
+        i = 2;
+    }
+    if (i >= toks.size()) return out;
+    out.mnemonic = toks[i].text;
+    out.mnemonic_col = static_cast<std::size_t>(toks[i].col - 1);
+    ++i;
+    if (i >= toks.size()) return out;
+    int depth = 0;
+    std::size_t first = static_cast<std::size_t>(toks[i].col - 1), last_end = first;
+    bool empty = true;
+    auto close = [&](std::size_t at) {
+        out.operands.push_back({empty ? "" : std::string(text.substr(first, last_end - first)), empty ? at : first});
+        empty = true;
+    };
+    for (; i < toks.size(); ++i) {
+        const Token& t = toks[i];
+        if (t.is("(")) ++depth;
+        if (t.is(")")) --depth;
+        if (t.is(",") && depth == 0) {
+            close(static_cast<std::size_t>(t.col - 1));
+            continue;
+        }
+        if (empty) first = static_cast<std::size_t>(t.col - 1), empty = false;
+        last_end = static_cast<std::size_t>(t.end - 1);
+    }
+    close(text.size());
+    return out;
+}
+
+std::optional<std::pair<isa::RegFile, int>> register_named(std::string_view name) {
+    if (!is_register_name(name)) return std::nullopt;
+    int n = 0;
+    const auto [end, ec] = std::from_chars(name.data() + 1, name.data() + name.size(), n);
+    if (ec != std::errc{} || end != name.data() + name.size() || n >= isa::kMaxRegs) return std::nullopt;
+    return std::pair{name[0] == 'r' ? isa::RegFile::Int : isa::RegFile::Float, n};
+}
+
+} // namespace nesshi::assembler
