@@ -1,12 +1,15 @@
 // Software pipelining from linear assembly (see pipeline.hpp), the driver: parse the region
-// (pipeline_region), assemble its sequential meaning to get exact operations, build the
-// dependence graph (pipeline_graph), modulo-schedule it II by II (pipeline_search), allocate
-// registers (pipeline_registers) and emit prologue, kernel and epilogue as assembly text
-// (pipeline_emit); choose among schedules, verify, and report.
+// (pipeline_region), write and assemble its sequential meaning to get exact operations
+// (pipeline_sequential), build the dependence graph (pipeline_graph), modulo-schedule it II by II
+// (pipeline_search, pipeline_exact, pipeline_solver), allocate registers (pipeline_registers) and
+// emit prologue, kernel and epilogue as assembly text (pipeline_emit); choose among schedules,
+// verify, and report (pipeline_report draws the table and the picture).
 #include "sched/pipeline.hpp"
 
 #include "pipeline_emit.hpp"
 #include "pipeline_exact.hpp"
+#include "pipeline_report.hpp"
+#include "pipeline_sequential.hpp"
 #include "pipeline_solver.hpp"
 #include "text.hpp"
 #include "trip.hpp"
@@ -34,7 +37,6 @@
 #include <map>
 #include <numeric>
 #include <random>
-#include <regex>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -44,64 +46,6 @@ namespace nesshi::sched {
 using namespace pipe;
 
 namespace {
-
-// ---- the sequential meaning -------------------------------------------------------------------
-
-std::string linear_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
-                        const std::string& uid) {
-    const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
-    std::string o;
-    o += fmt::format("        beqz {}, {}_lin_end\n", r.trip, uid);
-    o += uid + "_lin:\n";
-    for (const SrcOp& op : r.ops) {
-        o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
-        for (std::uint32_t k = 1; k < m.latency_of(isa::kOps[op.opcode]); ++k) o += "        nop\n";
-    }
-    o += fmt::format("        addi {}, {}, -1\n", r.trip, r.trip);
-    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
-    o += fmt::format("        bnez {}, {}_lin\n", r.trip, uid);
-    o += uid + "_lin_end:\n";
-    return o;
-}
-
-// A while loop's sequential meaning: the body up to its exit test, the test branching out, the
-// rest; `count` counts the iterations that do not exit (verification reads it, never compares it).
-std::string linear_while_loop(const Region& r, const std::vector<std::string>& placeholder_name, const isa::Machine& m,
-                              const std::string& count, const std::string& uid) {
-    const int alu_lat = static_cast<int>(m.latency[static_cast<std::size_t>(isa::OpClass::Alu)]);
-    auto mv = [&](const std::string& to, const std::string& from) { // one copy, landed before the next op
-        const bool f = from[0] == 'f';
-        std::string t = f ? fmt::format("        fmov {}, {}\n", to, from) : fmt::format("        addi {}, {}, 0\n", to, from);
-        for (std::uint32_t k = 1; k < m.latency[static_cast<std::size_t>(f ? isa::OpClass::FAdd : isa::OpClass::Alu)]; ++k)
-            t += "        nop\n";
-        return t;
-    };
-    auto placeholder_of = [&](const std::string& name) {
-        return placeholder_name[static_cast<std::size_t>(r.virtual_index.at(name))];
-    };
-    std::string o;
-    for (const auto& [name, c] : r.carry) o += mv(placeholder_of(name), c.in);
-    for (const auto& [name, c] : r.carry) // OLD: the value each iteration starts with
-        if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
-    o += fmt::format("        li {}, 0\n", count);
-    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
-    o += uid + "_lin:\n";
-    for (std::size_t k = 0; k < r.ops.size(); ++k) {
-        SrcOp op = r.ops[k];
-        if (static_cast<int>(k) == r.exit_op) op.operands.back() = uid + "_lin_end";
-        o += "        " + op_text(op, r, placeholder_name, 0) + "\n";
-        for (std::uint32_t j = 1; j < m.latency_of(isa::kOps[op.opcode]); ++j) o += "        nop\n";
-    }
-    o += fmt::format("        addi {0}, {0}, 1\n", count);
-    for (int k = 1; k < alu_lat; ++k) o += "        nop\n";
-    for (const auto& [name, c] : r.carry)
-        if (!c.old.empty()) o += mv(c.old, placeholder_of(name));
-    o += fmt::format("        jmp {}_lin\n", uid);
-    o += uid + "_lin_end:\n";
-    for (const auto& [name, c] : r.carry) o += mv(c.out, placeholder_of(name));
-    for (const auto& [name, reg] : r.liveout) o += mv(reg, placeholder_of(name));
-    return o;
-}
 
 assembler::AsmOptions asm_options(const PipelineOptions& opts = {}) {
     assembler::AsmOptions a;
@@ -144,212 +88,6 @@ isa::ObjectFile assemble_or_fail(const std::string& text, std::string_view file,
     if (!res.ok || res.warnings > 0)
         throw base::Error(base::SourceLoc(file), fmt::format("the {} does not assemble cleanly:\n{}", what, res.diagnostics));
     return res.object;
-}
-
-// Each row of the II as data: its ops with the slots they issue in (isa::assign_slots, as the
-// emitter bundles them), mnemonic, class and stage; the loop control (counter, branch) in no stage.
-// The report's table and the picture are both drawn from it.
-std::vector<TableRow> schedule_rows(const Graph& g, const Region& r, const Schedule& s, const isa::Machine& m) {
-    std::vector<TableRow> rows(static_cast<std::size_t>(s.ii));
-    for (int row = 0; row < s.ii; ++row) {
-        std::vector<isa::Instr> ops;
-        std::vector<std::pair<std::string, int>> names; // mnemonic, stage
-        for (std::size_t k = 0; k < g.nodes.size(); ++k)
-            if (s.time[k] % s.ii == row) ops.push_back(g.nodes[k].instr), names.push_back({r.ops[k].mnemonic, s.time[k] / s.ii});
-        if (s.loop_control && row == s.counter_row) ops.push_back(s.counter), names.push_back({"addi", -1});
-        if (s.loop_control && row == s.ii - 1) ops.push_back(s.branch), names.push_back({"bnez", -1});
-        std::vector<int> pinned(ops.size(), -1);
-        isa::assign_slots(m, ops, pinned);
-        for (std::size_t k = 0; k < ops.size(); ++k)
-            rows[static_cast<std::size_t>(row)].ops.push_back(
-                {m.slots[ops[k].slot].name, names[k].first,
-                 std::string(isa::kOpClassNames[static_cast<std::size_t>(ops[k].info().cls)]), names[k].second});
-    }
-    return rows;
-}
-
-std::string mrt_text(const std::vector<TableRow>& rows) {
-    std::string o = "#   modulo reservation table (cycle mod II: operations [stage])\n";
-    for (std::size_t row = 0; row < rows.size(); ++row) {
-        std::string cells;
-        for (const TableRow::Op& op : rows[row].ops)
-            cells += op.stage >= 0 ? fmt::format(" {}:{}[{}]", op.slot, op.op, op.stage)
-                                   : fmt::format(" {}:{}({})", op.slot, op.op, op.op == "bnez" ? "loop" : "counter");
-        o += fmt::format("#   {:>3} |{}\n", row, cells);
-    }
-    return o;
-}
-
-// The schedule as LoopReport draws it: each row of the II with its ops (slot, mnemonic, class,
-// stage; loop control in no stage) and the register ports they use (reads at issue, writes where
-// they land, mod II), and each virtual register's lifetime from its definition.
-LoopReport schedule_picture(const Graph& g, const Region& r, const Schedule& s, std::vector<TableRow> rows,
-                            const std::vector<int>& lifetime, const isa::Machine& m, std::string_view filename,
-                            const std::string& verdict) {
-    LoopReport p;
-    p.label = r.is_while ? "software-pipelined while" : "software-pipelined";
-    p.source = fmt::format("{}:{}", filename, r.begin + 1);
-    p.machine = m.name;
-    p.ii = s.ii;
-    p.verdict = verdict;
-    for (const isa::SlotDesc& d : m.slots) p.slots.push_back(d.name);
-    for (int f = 0; f < 2; ++f) {
-        p.read_ports[f] = m.regs[static_cast<std::size_t>(f)].read_ports;
-        p.write_ports[f] = m.regs[static_cast<std::size_t>(f)].write_ports;
-        p.file_size[f] = m.regs[static_cast<std::size_t>(f)].count;
-    }
-    p.table = std::move(rows);
-    auto land = [&](const isa::Instr& in, int issue) { // reads at issue, writes where they land, mod II
-        for (const isa::RegOperand& o : isa::register_operands(in))
-            ++(o.write ? p.table[static_cast<std::size_t>((issue + static_cast<int>(m.latency_of(in.info()))) % s.ii)].writes
-                       : p.table[static_cast<std::size_t>(issue % s.ii)].reads)[static_cast<int>(o.file)];
-    };
-    for (std::size_t k = 0; k < g.nodes.size(); ++k) land(g.nodes[k].instr, s.time[k]);
-    if (s.loop_control) {
-        land(s.counter, s.counter_row);
-        land(s.branch, s.ii - 1);
-    }
-    p.ops = static_cast<int>(g.nodes.size()) + (s.loop_control ? 2 : 0);
-    std::vector<int> live[2] = {std::vector<int>(static_cast<std::size_t>(s.ii), 0), std::vector<int>(static_cast<std::size_t>(s.ii), 0)};
-    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
-        const int born = r.virtuals[v].def >= 0 ? s.time[static_cast<std::size_t>(r.virtuals[v].def)] : 0;
-        const int f = static_cast<int>(r.virtuals[v].file);
-        p.lifetimes.push_back({r.virtuals[v].name, lifetime[v], born, f});
-        for (int c = 0; c < std::max(1, lifetime[v]); ++c) ++live[f][static_cast<std::size_t>((born + c) % s.ii)];
-    }
-    for (int f = 0; f < 2; ++f) p.max_live[f] = *std::max_element(live[f].begin(), live[f].end());
-    return p;
-}
-
-// The report lines of a while loop: how far iterations run ahead of the exit test, what they may
-// do there, and the exit paths.
-std::string while_report(const Graph& g, const Region& r, const Schedule& s, const PipelineResult& res) {
-    const int tb = s.time[static_cast<std::size_t>(r.exit_op)];
-    std::string o = fmt::format("#   exit test in stage {}: {} later iteration{} start{} before it is decided, with no side effect "
-                                "(stores, FIFO words, loads not .speculate, physical registers but inductions wait for it)\n",
-                                res.exit_stage, res.exit_stage, res.exit_stage == 1 ? "" : "s", res.exit_stage == 1 ? "s" : "");
-    std::map<std::pair<bool, std::string>, int> load_ahead; // base (physical first) -> iterations past the exit its loads may run
-    for (std::size_t k = 0; k < g.nodes.size(); ++k)
-        if (g.nodes[k].instr.info().kind == isa::Kind::Load && g.nodes[k].speculative) {
-            int ahead = tb >= s.time[k] ? (tb - s.time[k]) / s.ii : 0;
-            if (static_cast<int>(k) > r.exit_op) ahead += 1; // the exiting iteration's own load after its test
-            const SrcOp& op = r.ops[k];
-            const std::string& mem = op.operands.back(); // `off(base)`: the name as written
-            const std::string base = mem.substr(mem.find('(') + 1, mem.rfind(')') - mem.find('(') - 1);
-            int& a = load_ahead[{base[0] == '%', base}];
-            a = std::max(a, ahead);
-        }
-    for (const auto& [base, n] : load_ahead)
-        o += fmt::format("#   speculative loads on {}: up to {} iteration{} past the exit (those addresses must be mapped)\n",
-                         base.second, n, n == 1 ? "" : "s");
-    const int prologue_exits = std::max(0, res.stages - 1 - res.exit_stage);
-    o += fmt::format("#   exit paths: {} from the prologue, {} from the kernel (one per copy); no trip count, no "
-                     "sequential fallback\n", prologue_exits, res.unroll);
-    return o;
-}
-
-// The virtuals each op of the region names, in operand order.
-std::vector<std::vector<int>> virtuals_of_ops(const Region& r) {
-    static const std::regex name(R"(%[A-Za-z_][A-Za-z0-9_]*)");
-    std::vector<std::vector<int>> out;
-    for (const SrcOp& op : r.ops) {
-        std::vector<int>& vs = out.emplace_back();
-        for (const std::string& operand : op.operands)
-            for (auto it = std::sregex_iterator(operand.begin(), operand.end(), name); it != std::sregex_iterator(); ++it)
-                if (const auto v = r.virtual_index.find(it->str()); v != r.virtual_index.end()) vs.push_back(v->second);
-    }
-    return out;
-}
-
-// The placeholder register of each virtual in the sequential meaning (`uses`: virtuals_of_ops):
-// a free register of its own (the highest the file does not name) while there are enough; else virtuals whose lifetimes in
-// one iteration do not meet share one (a virtual read before its definition, carried or live
-// out is live throughout; the op of a last read never also defines the next owner, so the
-// registers of one op stand for one virtual each).
-std::vector<int> placeholder_registers(const Region& r, const std::vector<std::vector<int>>& uses,
-                                       const std::set<std::pair<int, int>>& named, const isa::Machine& m,
-                                       std::string_view filename) {
-    std::vector<std::vector<int>> free(2);
-    for (int f = 0; f < 2; ++f)
-        for (int reg = static_cast<int>(m.regs[static_cast<std::size_t>(f)].count) - 1; reg >= 0; --reg)
-            if (!named.count({f, reg})) free[static_cast<std::size_t>(f)].push_back(reg);
-    const std::size_t nv = r.virtuals.size();
-    std::vector<int> out(nv, -1);
-    std::array<std::size_t, 2> need{};
-    for (const Virtual& v : r.virtuals) ++need[static_cast<std::size_t>(v.file)];
-    if (need[0] <= free[0].size() && need[1] <= free[1].size()) { // one each, as always
-        std::array<std::size_t, 2> next{};
-        for (std::size_t v = 0; v < nv; ++v) {
-            const auto f = static_cast<std::size_t>(r.virtuals[v].file);
-            out[v] = free[f][next[f]++];
-        }
-        return out;
-    }
-    const int n = static_cast<int>(r.ops.size());
-    std::vector<int> first(nv, n), last(nv, -1);
-    for (int i = 0; i < n; ++i)
-        for (int v : uses[static_cast<std::size_t>(i)]) {
-            first[static_cast<std::size_t>(v)] = std::min(first[static_cast<std::size_t>(v)], i);
-            last[static_cast<std::size_t>(v)] = std::max(last[static_cast<std::size_t>(v)], i);
-        }
-    for (std::size_t v = 0; v < nv; ++v) {
-        const Virtual& x = r.virtuals[v];
-        if (first[v] < x.def || r.carry.count(x.name) || r.liveout.count(x.name)) first[v] = -1, last[v] = n;
-        else first[v] = x.def;
-    }
-    std::vector<std::size_t> order(nv);
-    for (std::size_t v = 0; v < nv; ++v) order[v] = v;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return first[a] < first[b]; });
-    std::vector<std::vector<std::pair<int, int>>> busy(2); // (last op, register)
-    std::vector<std::vector<int>> pool = free;
-    for (auto& p : pool) std::reverse(p.begin(), p.end()); // taken from the back: the highest first
-    for (std::size_t v : order) {
-        const auto f = static_cast<std::size_t>(r.virtuals[v].file);
-        auto& b = busy[f];
-        for (auto it = b.begin(); it != b.end();)
-            if (it->first < first[v]) pool[f].push_back(it->second), it = b.erase(it);
-            else ++it;
-        if (pool[f].empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
-        out[v] = pool[f].back();
-        pool[f].pop_back();
-        b.push_back({last[v], out[v]});
-    }
-    return out;
-}
-
-// A region's sequential meaning: each virtual on its placeholder register (placeholder_registers),
-// a while loop's iterations counted in the lowest free register.
-struct Sequential {
-    std::vector<std::string> placeholder_name;      // per virtual
-    std::set<std::pair<int, int>> placeholders;     // (file, reg) of every placeholder
-    std::vector<OpVirtuals> op_virtuals;            // per op: its operands' placeholders -> virtual
-    std::string iteration_register;                 // a while loop's
-    std::string loop;                               // the text
-};
-
-Sequential sequential_meaning(const Region& r, const std::set<std::pair<int, int>>& named, const isa::Machine& m,
-                              std::string_view filename, const std::string& uid) {
-    if (r.trip_reg >= static_cast<int>(m.regs[0].count)) fail(filename, static_cast<int>(r.begin + 1), "no such register");
-    Sequential q;
-    const std::vector<std::vector<int>> uses = virtuals_of_ops(r);
-    const std::vector<int> regs = placeholder_registers(r, uses, named, m, filename);
-    for (std::size_t v = 0; v < r.virtuals.size(); ++v) {
-        const int f = static_cast<int>(r.virtuals[v].file);
-        q.placeholders.insert({f, regs[v]});
-        q.placeholder_name.push_back(reg_name(r.virtuals[v].file, regs[v]));
-    }
-    for (const std::vector<int>& vs : uses) {
-        OpVirtuals& ov = q.op_virtuals.emplace_back();
-        for (int v : vs) ov[{static_cast<int>(r.virtuals[static_cast<std::size_t>(v)].file), regs[static_cast<std::size_t>(v)]}] = v;
-    }
-    if (r.is_while) { // the lowest register neither named nor a placeholder counts iterations
-        for (int reg = 1; reg < static_cast<int>(m.regs[0].count) && q.iteration_register.empty(); ++reg)
-            if (!named.count({0, reg}) && !q.placeholders.count({0, reg})) q.iteration_register = reg_name(isa::RegFile::Int, reg);
-        if (q.iteration_register.empty()) fail(filename, static_cast<int>(r.begin + 1), "too many virtual registers");
-    }
-    q.loop = r.is_while ? linear_while_loop(r, q.placeholder_name, m, q.iteration_register, uid)
-                        : linear_loop(r, q.placeholder_name, m, uid);
-    return q;
 }
 
 // The labels of the region with this ordinal in its file: __sa_... for the first (as with one).
