@@ -28,6 +28,7 @@ struct PipelineArgs {
     std::string input, machine, out, sequential, json, svg;
     int ii = 0;
     double exact = 0;
+    bool shorten = false;
     bool no_verify = false, quiet = false;
 };
 
@@ -41,6 +42,7 @@ void run_pipeline(const PipelineArgs& a) {
     sched::PipelineOptions po;
     po.ii = a.ii;
     po.exact_seconds = a.exact;
+    if (a.shorten) po.shorten = sched::PipelineOptions::Shorten::Always;
     const sched::PipelineResult r = sched::pipeline_source(text, a.input, m, po);
     // Verified before anything is written: code that differs from its meaning is never output.
     const std::string verdict =
@@ -85,6 +87,9 @@ void add_pipeline(CLI::App& app) {
     cmd->add_option("--exact", a->exact, "When the II is above the MII, search every table at the smaller IIs for up to SECONDS; "
                                          "the report says whether the II is proven optimal")
         ->check(between(0.0, 86400.0));
+    cmd->add_flag("--shorten", a->shorten, "Search for the shortest iteration at the II found with the solver (up to about "
+                                           "a second per loop) whatever the trip count; by default only where .trip says "
+                                           "runs are short enough for the fill and drain to matter");
     cmd->add_flag("--no-verify", a->no_verify, "Skip the verification: by default the sequential and pipelined code run on "
                                                "random data (memory, FIFO words) for several trip counts and must agree in "
                                                "memory, registers and words sent, or nothing is written")

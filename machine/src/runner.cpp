@@ -162,6 +162,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
             region_nops = seq.nops;
             sched::PipelineOptions po;
             po.read_file = opts.read_file;
+            po.shorten = sched::PipelineOptions::Shorten::Always; // the kernels' runs are short
             if (alternative) {
                 po.max_ii_search = kAlternativeIiSearch;
                 po.max_unscheduled_iis = kAlternativeUnscheduled;

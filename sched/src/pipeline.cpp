@@ -331,10 +331,27 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
     // gain a few cycles at most, and the search costs up to its budget). Once per region, at
     // the first schedule worth it: at a larger II the stages fall anyway, and a region whose IIs
     // fail to assemble would pay the search at each.
+    // Whether runs are short enough for it (PipelineOptions::shorten): the trips `.trip` expects,
+    // else those the trip register holds on entry when known; "" when worth it, else why not.
+    const std::int64_t runs_of = trip.min > 0 ? trip.expected : g.trip.value_or(0);
+    auto why_not_shorten = [&](const Schedule& s) -> std::string {
+        switch (opts.shorten) {
+        case PipelineOptions::Shorten::Always: return "";
+        case PipelineOptions::Shorten::Never: return "not asked for";
+        case PipelineOptions::Shorten::Auto: break;
+        }
+        if (r.is_while) return "a while loop's runs are taken to be long";
+        if (runs_of <= 0) return "runs of unknown length are taken to be long (.trip N says how long)";
+        const std::int64_t length = iteration_length(g, s), gain = length - bounds.length;
+        const std::int64_t run = (runs_of - 1) * s.ii + length;
+        if (gain * 100 >= kShortenWorthPercent * run) return "";
+        return fmt::format("at {} trips it would gain at most {} of {} cycles a run, under {}%", runs_of, gain, run,
+                           kShortenWorthPercent);
+    };
     bool solver_ran = false;
     auto shortest = [&](const Schedule& s) {
         if (solver_ran || iteration_length(g, s) < bounds.length + (s.ii + 1) / 2 ||
-            s.stages() <= bounds.fewest_stages(s.ii))
+            s.stages() <= bounds.fewest_stages(s.ii) || !why_not_shorten(s).empty())
             return std::vector<Schedule>{};
         solver_ran = true;
         const std::optional<Schedule> shorter = shortest_schedule(g, m, s, r.is_while ? r.exit_op : -1, kSolverBudget);
@@ -635,6 +652,9 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                                                  : fmt::format(" ({} above the MII)", res.ii - res.mii));
     rep += fmt::format("#   one iteration {} cycles from its first issue to its last landing (its longest path: {})\n",
                        res.iteration_cycles, res.iteration_lower);
+    if (!solver_ran && res.iteration_cycles >= bounds.length + (sched->ii + 1) / 2 && sched->stages() > bounds.fewest_stages(sched->ii))
+        if (const std::string why = why_not_shorten(*sched); !why.empty())
+            rep += fmt::format("#   not shortened by the solver: {} (--shorten searches anyway)\n", why);
     if (!tried.empty()) {
         std::string why;
         for (const Tried& t : tried) {

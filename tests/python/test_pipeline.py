@@ -26,6 +26,15 @@ def test_pipeline_at_a_given_ii(source):
     assert r.ii == 5 and r.verification.startswith("not run")
 
 
+def test_shorten_asks_the_solver_whatever_the_trip_count(source):
+    sa = source / "examples/linear/livermore1.sa"
+    default, shortened = nesshi.pipeline(sa), nesshi.pipeline(sa, shorten=True)
+    status, out, _ = cli("pipeline", sa, "--shorten")
+    assert status == 0 and shortened.code == out
+    assert "not shortened by the solver" in default.code and "not shortened" not in shortened.code
+    assert shortened.stages < default.stages and shortened.ii == default.ii
+
+
 def test_a_bad_region_is_an_error():
     with pytest.raises(nesshi.Error) as e:
         nesshi.pipeline("        .pipeline f1\n        fadd %a, %a, f0\n        .endpipeline\n")

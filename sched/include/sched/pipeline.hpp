@@ -75,7 +75,18 @@ struct PipelineOptions {
     // A file with several regions: only this one (0-based) is pipelined, the others are written as
     // their sequential meanings (verification checks one region at a time). Default: every one.
     std::optional<int> region;
+    // The solver's search for the shortest iteration at the II found (z3, up to about 0.7 s a
+    // region). Every run of the loop pays the iteration's length once, to fill and drain, so it
+    // pays where runs are short. Auto: when the region's `.trip` says its runs are short enough
+    // that the most it could gain is kShortenWorthPercent of a run or more (a loop without `.trip`,
+    // and a while loop, is taken to run long: the II is what counts); Always: whenever the
+    // iteration is half an II or more above its longest path (the kernel build: voxel lists are
+    // short); Never.
+    enum class Shorten { Auto, Always, Never };
+    Shorten shorten = Shorten::Auto;
 };
+
+inline constexpr int kShortenWorthPercent = 10;
 
 // `.trip MIN[, EXPECTED]` in a counted region: the schedule is the one whose whole run (prologue,
 // kernel passes with their branch bubbles, epilogue; the sequential copy below the pipeline's minimum)
