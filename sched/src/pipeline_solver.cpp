@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <array>
+#include <exception>
+#include <future>
 #include <map>
 #include <mutex>
 #include <string>
@@ -384,8 +386,8 @@ namespace {
 
 // What the encoding reads of a search, with registers numbered by first use: two regions that
 // differ only in their registers (the kernels' loops for two shape codes: `bne %code, r54` against
-// r55) are the same search, so it runs once per process (the solver is deterministic; two
-// threads asking at once may both run it, for the same result).
+// r55) are the same search, so it runs once per process (the solver is deterministic; a thread
+// asking while another runs it waits for that answer).
 std::string search_key(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node, std::uint64_t budget) {
     std::map<std::pair<int, int>, int> number;
     auto reg = [&](int file, int r) { return number.emplace(std::pair{file, r}, static_cast<int>(number.size())).first->second; };
@@ -411,9 +413,10 @@ std::string search_key(const Graph& g, const isa::Machine& m, const Schedule& fo
     return key;
 }
 
+using Found = std::optional<std::vector<int>>; // the times found, if any
 std::mutex searches_mutex;
-std::map<std::string, std::optional<std::vector<int>>>& searches() { // key -> the times found, if any
-    static std::map<std::string, std::optional<std::vector<int>>> done;
+std::map<std::string, std::shared_future<Found>>& searches() { // key -> its answer, once there
+    static std::map<std::string, std::shared_future<Found>> done;
     return done;
 }
 
@@ -467,22 +470,32 @@ std::optional<Schedule> search(const Graph& g, const isa::Machine& m, const Sche
 std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m, const Schedule& found, int exit_node,
                                           std::uint64_t budget) {
     const std::string key = search_key(g, m, found, exit_node, budget);
-    std::optional<std::optional<std::vector<int>>> known;
+    std::promise<Found> mine;
+    std::shared_future<Found> answer;
+    bool run = false;
     {
         std::lock_guard lock(searches_mutex);
-        if (const auto hit = searches().find(key); hit != searches().end()) known = hit->second;
+        const auto [it, fresh] = searches().emplace(key, std::shared_future<Found>());
+        if (fresh) it->second = mine.get_future().share();
+        answer = it->second;
+        run = fresh;
     }
-    if (known) {
-        if (!*known) return std::nullopt;
-        Schedule s = found;
-        s.time = **known;
-        if (table_admits(g, m, s, exit_node)) return s;
-        return std::nullopt;
+    if (run) {
+        try {
+            std::optional<Schedule> out = search(g, m, found, exit_node, budget);
+            mine.set_value(out ? Found(out->time) : std::nullopt);
+            return out;
+        } catch (...) {
+            mine.set_exception(std::current_exception());
+            throw;
+        }
     }
-    std::optional<Schedule> out = search(g, m, found, exit_node, budget);
-    std::lock_guard lock(searches_mutex);
-    searches().emplace(key, out ? std::optional<std::vector<int>>(out->time) : std::nullopt);
-    return out;
+    const Found& known = answer.get();
+    if (!known) return std::nullopt;
+    Schedule s = found;
+    s.time = *known;
+    if (table_admits(g, m, s, exit_node)) return s;
+    return std::nullopt;
 }
 
 
