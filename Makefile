@@ -18,7 +18,9 @@ deps-test:
 
 # The compiled runs of the built-in kernels (NESSHI_COMPILED_RUNS) are a fifth of a first build of
 # the command line (about 145 CPU-s with their generator) and save the demo half a second: a first
-# `make demo` configures without them; `make` and `make test` turn them on.
+# `make demo` configures without them, `make` and CI's `make test` turn them on, and a developer's
+# `make test` keeps what the build has (so `make demo` then `make test` tests the threaded engine
+# on the presets' kernels, and CI the compiled runs too).
 FULL := -DNESSHI_COMPILED_RUNS=ON
 
 configure: deps
@@ -38,7 +40,7 @@ test: deps-test
 ifeq ($(CI),true)
 	@cmake --preset ci $(FULL) >/dev/null
 else
-	@cmake --preset $(PRESET) $(FULL) >/dev/null
+	@cmake --preset $(PRESET) >/dev/null
 endif
 	@cmake --build $(BUILD) -j $(JOBS)
 	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
