@@ -15,9 +15,12 @@ OperationText split_operation(std::string_view text) {
         i = 2;
     }
     if (i >= toks.size()) return out;
-    out.mnemonic = toks[i].text;
+    // The mnemonic as written: up to the first blank (tokens that touch it are part of it, so a
+    // misspelt `@foo` is quoted whole in a message).
     out.mnemonic_col = static_cast<std::size_t>(toks[i].col - 1);
-    ++i;
+    int end = toks[i].end;
+    for (++i; i < toks.size() && toks[i].col == end && !toks[i].is(","); ++i) end = toks[i].end;
+    out.mnemonic = std::string(text.substr(out.mnemonic_col, static_cast<std::size_t>(end - 1) - out.mnemonic_col));
     if (i >= toks.size()) return out;
     int depth = 0;
     std::size_t first = static_cast<std::size_t>(toks[i].col - 1), last_end = first;
@@ -37,7 +40,7 @@ OperationText split_operation(std::string_view text) {
         if (empty) first = static_cast<std::size_t>(t.col - 1), empty = false;
         last_end = static_cast<std::size_t>(t.end - 1);
     }
-    close(text.size());
+    close(static_cast<std::size_t>(toks.back().end - 1)); // an empty last operand: just after its comma
     return out;
 }
 

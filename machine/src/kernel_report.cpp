@@ -90,7 +90,9 @@ void set_bounds(KernelRow& r, const iss::Program& p, const Ranges& ranges, doubl
     std::vector<isa::Instr> instrs;
     for (const sched::BodyOp& o : ops) instrs.push_back(o.instr);
     const sched::ResBound res = sched::res_mii(p.machine(), instrs);
-    const sched::RecBound rec = sched::region_rec_mii(p.machine(), ops);
+    std::uint32_t bundles = 0;
+    for (auto [a, b] : ranges) bundles += b - a;
+    const sched::RecBound rec = sched::region_rec_mii(p.machine(), ops, bundles);
     if (counts)
         if (const auto n = std::count_if(instrs.begin(), instrs.end(), counts); n > 0) iterations = static_cast<double>(n);
     r.res_mii = res.cycles / iterations;

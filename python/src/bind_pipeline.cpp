@@ -25,7 +25,7 @@ struct Pipelined {
     }
 };
 
-Pipelined pipeline(const py::object& source, const py::object& machine, int ii, double exact, bool shorten, bool verify) {
+Pipelined pipeline(const py::object& source, const py::object& machine, int ii, double exact, bool verify, bool shorten) {
     if (ii < 0 || ii > 4096) throw py::value_error(fmt::format("ii must be 0 (search) or an integer between 1 and 4096 (got {})", ii));
     if (!(exact >= 0 && exact <= 86400))
         throw py::value_error(fmt::format("exact must be a number of seconds between 0 and 86400 (got {})", exact));
@@ -88,7 +88,7 @@ void bind_pipeline(py::module_& m) {
             return out;
         }, "The assembled code's loops: II, resources, lifetimes and the modulo reservation table (nesshi loop).");
     m.def("pipeline", &pipeline, py::arg("source"), py::arg("machine") = py::none(), py::arg("ii") = 0,
-          py::arg("exact") = 0.0, py::arg("shorten") = false, py::arg("verify") = true,
+          py::arg("exact") = 0.0, py::arg("verify") = true, py::arg("shorten") = false,
           "Software-pipeline the .pipeline region(s) of linear assembly (text or a file) for a machine (default: the "
           "file's '# machine:' line, else os). ii: this II only; exact: seconds of exact search (Gecode) below the II found; "
           "shorten: the solver's shortest iteration at that II whatever the trip count (by default only where .trip says runs are short). "

@@ -111,12 +111,12 @@ ResBound res_mii(const isa::Machine& m, std::span<const isa::Instr> ops, std::sp
     return out;
 }
 
-RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops) {
-    // A pass runs from the first op's bundle to the last's, then the bubble of the taken branch back.
-    std::vector<BodyOp> body;
-    for (const BodyOp& o : ops) body.push_back({o.instr, o.bundle - ops.front().bundle});
-    const int ii = static_cast<int>(ops.empty() ? 0 : ops.back().bundle - ops.front().bundle + 1) + static_cast<int>(m.branch_penalty);
-    const Ddg g = scheduled_loop_ddg(m, body, std::max(ii, 1));
+RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops, std::uint32_t bundles) {
+    // A pass lasts its bundles, then the bubble of the taken branch back.
+    std::uint32_t length = bundles;
+    for (const BodyOp& o : ops) length = std::max(length, o.bundle + 1);
+    const int ii = static_cast<int>(length) + static_cast<int>(m.branch_penalty);
+    const Ddg g = scheduled_loop_ddg(m, ops, std::max(ii, 1));
     std::vector<int> circuit = g.max_ratio_circuit();
     RecBound out;
     if (circuit.empty()) return out;

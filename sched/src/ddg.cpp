@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 namespace nesshi::sched {
@@ -62,8 +63,14 @@ std::vector<int> positive_circuit(const Ddg& g, std::int64_t num, std::int64_t d
 bool Ddg::admits(int ii) const { return relax(*this, ii, 1, nullptr) < 0; }
 
 int Ddg::rec_mii() const {
+    // No II admits a circuit of positive latency over distance 0; the builders never make one
+    // (its ops would each wait for the other in one iteration), so this bound is a safeguard.
+    std::int64_t most = 1;
+    for (const Dep& e : edges) most += std::max(e.latency, 0);
     int ii = 1;
-    while (!admits(ii)) ++ii;
+    while (!admits(ii)) {
+        if (++ii > most) throw std::logic_error("Ddg::rec_mii: a circuit of positive latency over no iteration");
+    }
     return ii;
 }
 
@@ -259,6 +266,7 @@ void add_memory_dependences(Ddg& g, std::span<const BodyOp> ops) {
 } // namespace
 
 Ddg scheduled_loop_ddg(const isa::Machine& m, std::span<const BodyOp> ops, int ii) {
+    if (ii < 1) throw std::invalid_argument("scheduled_loop_ddg: the II must be at least 1");
     Ddg g;
     g.nodes = static_cast<int>(ops.size());
     std::vector<int> latency;

@@ -341,7 +341,8 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         case PipelineOptions::Shorten::Auto: break;
         }
         if (r.is_while) return "a while loop's runs are taken to be long";
-        if (runs_of <= 0) return "runs of unknown length are taken to be long (.trip N says how long)";
+        if (trip.min <= 0 && !g.trip) return "runs of unknown length are taken to be long (.trip N says how long)";
+        if (runs_of <= 0) return fmt::format("the trip register holds {} on entry: no run to shorten", runs_of);
         const std::int64_t length = iteration_length(g, s), gain = length - bounds.length;
         const std::int64_t run = (runs_of - 1) * s.ii + length;
         if (gain * 100 >= kShortenWorthPercent * run) return "";

@@ -1,6 +1,7 @@
 // Internal to the pipeliner: the dependence graph of a region's operations (registers, memory
-// with the region's aliasing rules, a while loop's exit), its recurrence bounds and critical
-// circuit, and the longest paths the schedulers order and bound their ops by.
+// with the region's aliasing rules, a while loop's exit) as a Ddg (ddg.hpp: its recurrence
+// bounds, circuits and longest paths), the values stage scheduling moves, and the report's
+// critical circuit and alias hint.
 #pragma once
 
 #include "pipeline_region.hpp"
@@ -72,7 +73,7 @@ bool side_effect(const Graph& g, int i, const std::function<bool(int, isa::RegFi
 void add_exit_edges(Graph& g, const Region& r, const std::function<bool(int, isa::RegFile, int)>& is_virtual);
 
 // The region's dependences: registers (true, anti and output, across iterations for carried
-// values), memory (by base, offset and induction, within kMaxDistance iterations, unless
+// values), memory (by base, offset and induction, within kMaxMemoryDistance iterations, unless
 // `.noalias`) and, for a while loop, its exit (add_exit_edges). `entry`: the constants the code
 // before the region leaves in integer registers.
 Graph build_graph(const Region& r, const std::vector<isa::Instr>& instrs, const isa::Machine& m,

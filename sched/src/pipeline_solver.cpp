@@ -485,7 +485,11 @@ std::optional<Schedule> shortest_schedule(const Graph& g, const isa::Machine& m,
             std::optional<Schedule> out = search(g, m, found, exit_node, budget);
             mine.set_value(out ? Found(out->time) : std::nullopt);
             return out;
-        } catch (...) {
+        } catch (...) { // not an answer: a later ask runs it again
+            {
+                std::lock_guard lock(searches_mutex);
+                searches().erase(key);
+            }
             mine.set_exception(std::current_exception());
             throw;
         }

@@ -37,3 +37,14 @@ TEST_CASE("register_named: r and f below the register limit, nothing else", "[un
     CHECK_FALSE(assembler::register_named("r1a"));
     CHECK_FALSE(assembler::register_named("%v"));
 }
+
+TEST_CASE("split_operation keeps the text as written, for messages and carets", "[unit][assembler]") {
+    // A mnemonic the lexer cannot read is still the source's text, not the lexer's complaint.
+    CHECK(assembler::split_operation("@foo r1, r2").mnemonic == "@foo");
+    // An empty last operand sits just after its comma, not after a comment.
+    const std::string text = ".trip 5,   # expected count missing";
+    const auto op = assembler::split_operation(text);
+    REQUIRE(op.operands.size() == 2);
+    CHECK(op.operands[1].text.empty());
+    CHECK(op.operands[1].col == text.find(',') + 1);
+}

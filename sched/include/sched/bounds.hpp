@@ -63,10 +63,11 @@ struct RecBound {
     std::string binds;              // "r4: add (1) -> lbu (1) = 2 cycles"; "" when none
 };
 
-// RecMII of a region as a loop body: its ops (in issue order, `bundle` the cycle each issues in)
-// repeated from the first op's cycle to the last's, then the taken branch's bubble, the bound of scheduled_loop_ddg (ddg.hpp) on its
+// RecMII of a region as a loop body: its ops (in issue order, `bundle` the cycle each issues in
+// from the pass's first, 0) repeated every `bundles` cycles (at least up to the last op's) and the
+// taken branch's bubble, the bound of scheduled_loop_ddg (ddg.hpp) on its
 // circuit of the largest latency per pass. Control dependences (a branch deciding the next pass)
 // are not edges.
-RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops);
+RecBound region_rec_mii(const isa::Machine& m, std::span<const BodyOp> ops, std::uint32_t bundles = 0);
 
 } // namespace nesshi::sched

@@ -75,8 +75,8 @@ struct PipelineOptions {
     // A file with several regions: only this one (0-based) is pipelined, the others are written as
     // their sequential meanings (verification checks one region at a time). Default: every one.
     std::optional<int> region;
-    // The solver's search for the shortest iteration at the II found (z3, up to about 0.7 s a
-    // region). Every run of the loop pays the iteration's length once, to fill and drain, so it
+    // The solver's search for the shortest iteration at the II found (z3, a fixed budget of work:
+    // up to about a second a region on this project's machine). Every run of the loop pays the iteration's length once, to fill and drain, so it
     // pays where runs are short. Auto: when the region's `.trip` says its runs are short enough
     // that the most it could gain is kShortenWorthPercent of a run or more (a loop without `.trip`,
     // and a while loop, is taken to run long: the II is what counts); Always: whenever the
