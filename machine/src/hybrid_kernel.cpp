@@ -1,6 +1,8 @@
 #include "hybrid_kernel.hpp"
 
+#include "assembler/op_text.hpp"
 #include "base/lines.hpp"
+#include "isa/ops.hpp"
 #include "kernels/abi.hpp"
 
 #include <fmt/format.h>
@@ -50,15 +52,14 @@ std::vector<std::string> ops_of(const Lines& lines, std::size_t from, std::size_
     return out;
 }
 
-// The register an operation writes ("r0" of "li r0, 0"), or "" (stores, branches, sends, nop).
+// The register an operation writes ("r0" of "li r0, 0", "r2" of "iu0: recv r2, CH_IN"), or ""
+// (stores, branches, sends, nop): its first operand where the operation table says it is one.
 std::string written(const std::string& op) {
-    static const std::regex dest(R"(^([a-z.]+)\s+([rf][0-9]+)\b)");
-    static const std::set<std::string> no_dest = {"sw", "sh", "sb", "fsw", "send", "fsend"};
-    std::smatch m;
-    if (!std::regex_search(op, m, dest)) return "";
-    const std::string mnemonic = m[1];
-    if (no_dest.count(mnemonic) || mnemonic[0] == 'b' || mnemonic[0] == 'j') return "";
-    return m[2];
+    const assembler::OperationText t = assembler::split_operation(op);
+    const auto opcode = isa::find_opcode(t.mnemonic);
+    if (!opcode || t.operands.empty()) return "";
+    const isa::OpInfo& info = isa::kOps[*opcode];
+    return info.num_operands > 0 && info.operands[0].is_dest ? t.operands[0].text : "";
 }
 
 std::set<std::string> mentioned(const std::vector<std::string>& ops) {
