@@ -78,25 +78,32 @@ TEST_CASE("The IC kernel is chosen on the scene: padded pipeline on short lists,
 }
 
 // The hybrid joins two kernels scheduled apart: a loops start that would change a register the
-// dispatch kernel set up once (here the voxel table's address) is refused, and the render says why.
+// dispatch kernel set up once (here the voxel table's address) is refused, and the render says why;
+// so is one written as a hand bundle with its slot named.
 TEST_CASE("A hybrid whose parts would clobber each other's set-up is refused, with the reason", "[unit][machine]") {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "nesshi-hybrid-refused-test";
-    std::filesystem::remove_all(dir);
-    std::filesystem::copy(NESSHI_KERNELS_DIR, dir, std::filesystem::copy_options::recursive);
-    const std::filesystem::path loops = dir / "ic" / "intersect.loops.pk";
-    std::ifstream in(loops);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string once = "hybrid_start:\n#pack begin\n";
-    REQUIRE(text.find(once) != std::string::npos);
-    text.replace(text.find(once), once.size(), once + "        li r20, 0\n");
-    std::ofstream(loops) << text;
-    machine::Options mo = model(machine::Model::V);
-    mo.ic_machine = kData + "/ic-div-5.toml";
-    mo.kernels_dir = dir.string();
-    const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
-    const machine::Result r = machine::render(prep, small(16), mo);
-    CHECK(r.render.id_buffer == rt::render_native(prep, small(16)).id_buffer);
-    CHECK(r.machine.ic_kernel.candidates == 2); // the bodies and the loops; no hybrid
-    CHECK_THAT(r.machine.ic_kernel.choice, Catch::Contains("the loops' start sets r20 to another value than the dispatch kernel's"));
-    std::filesystem::remove_all(dir);
+    const std::string once = "hybrid_start:\n#pack begin\n", entry = "#pack end\nfrom_dispatch:\n";
+    for (const auto& [at, insert] : {std::pair{once, std::string("        li r20, 0\n")},
+                                     std::pair{entry, std::string("        { iu0: li r20, 0 }\n")}}) {
+        INFO(insert);
+        const std::filesystem::path dir = std::filesystem::temp_directory_path() / "nesshi-hybrid-refused-test";
+        std::filesystem::remove_all(dir);
+        std::filesystem::copy(NESSHI_KERNELS_DIR, dir, std::filesystem::copy_options::recursive);
+        const std::filesystem::path loops = dir / "ic" / "intersect.loops.pk";
+        std::ifstream in(loops);
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        REQUIRE(text.find(at) != std::string::npos);
+        // after the block's opening, or before the entry label
+        if (at == once) text.replace(text.find(at), at.size(), at + insert);
+        else text.replace(text.find(at), at.size(), "#pack end\n" + insert + "from_dispatch:\n");
+        std::ofstream(loops) << text;
+        machine::Options mo = model(machine::Model::V);
+        mo.ic_machine = kData + "/ic-div-5.toml";
+        mo.kernels_dir = dir.string();
+        const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
+        const machine::Result r = machine::render(prep, small(16), mo);
+        CHECK(r.render.id_buffer == rt::render_native(prep, small(16)).id_buffer);
+        CHECK(r.machine.ic_kernel.candidates == 2); // the bodies and the loops; no hybrid
+        CHECK_THAT(r.machine.ic_kernel.choice, Catch::Contains("the loops' start sets r20 to another value than the dispatch kernel's"));
+        std::filesystem::remove_all(dir);
+    }
 }
