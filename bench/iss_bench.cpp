@@ -16,7 +16,7 @@
 #include "kernels/sources.hpp"
 #include "kernels/twins/dda.hpp"
 #include "kernels/twins/quadric.hpp"
-#include "machine/runner.hpp"
+#include "kbuild/runner.hpp"
 
 #include "isa/machine.hpp"
 
@@ -159,7 +159,7 @@ template <class F> double best_native_seconds(int repeat, F&& once) {
 
 // Timed twice from the same loaded state: with compiled runs (when the kernel has them), then
 // after a reset on the threaded interpreter alone (Processor::set_compiled_runs(false)).
-template <class Load, class Drive> void time_kernel(KernelRun& r, machine::KernelRunner& run, Load&& load, Drive&& drive) {
+template <class Load, class Drive> void time_kernel(KernelRun& r, kbuild::KernelRunner& run, Load&& load, Drive&& drive) {
     r.compiled = run.proc->compiled_runs();
     for (bool compiled : {true, false}) {
         run.proc->reset();
@@ -181,7 +181,7 @@ template <class Load, class Drive> void time_kernel(KernelRun& r, machine::Kerne
 
 KernelRun bench_dda(const kernels::SourceSet& src, const std::string& m, int nrays) {
     KernelRun r{"3DDDA, empty 40^3 grid", m};
-    machine::KernelRunner run(machine::assemble_kernel(src, kernels::kernel_path(m != "seq", false), m));
+    kbuild::KernelRunner run(kbuild::assemble_kernel(src, kernels::kernel_path(m != "seq", false), m));
     const kernels::twins::GridGeom g = kernels::twins::cubic_grid(40, -10.0f, 20.0f);
     const kernels::MemImage image = kernels::os_image(g, std::vector<uint8_t>(40 * 40 * 40, 0));
     std::mt19937 rng(5);
@@ -215,7 +215,7 @@ KernelRun bench_dda(const kernels::SourceSet& src, const std::string& m, int nra
 
 KernelRun bench_spheres(const kernels::SourceSet& src, const std::string& m, int nrays) {
     KernelRun r{"intersection, 40 spheres", m};
-    machine::KernelRunner run(machine::assemble_kernel(src, kernels::kernel_path(m != "seq", true), m));
+    kbuild::KernelRunner run(kbuild::assemble_kernel(src, kernels::kernel_path(m != "seq", true), m));
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> p(-2.0f, 2.0f);
     std::vector<kernels::Shape> shapes(40);

@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
                                   !args.values.count("--ic-machine") && !list.empty();
             if (user_row) {
                 machine::Options user = mo;
-                user.ic_machine = machine::StageMachine(
+                user.ic_machine = kbuild::StageMachine(
                     isa::parse_machine("inherits = \"ic\"\nname = \"user-ic\"\n[latency]\nfadd = 2\n", "user-ic.toml"), "user-ic");
                 row(list.front() + "*", list.front(), user);
                 fmt::print("*: the IC on a user's description (ic with 2-cycle fadd): kernels scheduled for it, runs compiled at "

@@ -3,7 +3,7 @@
 #include "errors.hpp"
 
 #include "base/write_file.hpp"
-#include "machine/schedule_cache.hpp"
+#include "machine/provenance.hpp"
 
 #include <fmt/format.h>
 

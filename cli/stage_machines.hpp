@@ -1,10 +1,10 @@
 // --os-machine, --ic-machine, --seq-machine: the stages' machine descriptions, the same three
 // options (and help) on every command that runs or measures the kernels. The names given are
 // loaded once, when the command runs (after --help and the required arguments, which CLI11 checks
-// after option callbacks), into machine::StageMachine values that everything downstream shares.
+// after option callbacks), into kbuild::StageMachine values that everything downstream shares.
 #pragma once
 #include "machine/machine.hpp"
-#include "machine/stage_machine.hpp"
+#include "kbuild/stage_machine.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -17,10 +17,10 @@ struct StageMachineNames {
 
     // Loads the ones given into the three machines (a description that does not load throws, with
     // its file and line).
-    void load(machine::StageMachine& os_machine, machine::StageMachine& ic_machine, machine::StageMachine& seq_machine) const {
-        if (!os.empty()) os_machine = machine::StageMachine(os);
-        if (!ic.empty()) ic_machine = machine::StageMachine(ic);
-        if (!seq.empty()) seq_machine = machine::StageMachine(seq);
+    void load(kbuild::StageMachine& os_machine, kbuild::StageMachine& ic_machine, kbuild::StageMachine& seq_machine) const {
+        if (!os.empty()) os_machine = kbuild::StageMachine(os);
+        if (!ic.empty()) ic_machine = kbuild::StageMachine(ic);
+        if (!seq.empty()) seq_machine = kbuild::StageMachine(seq);
     }
     void load(machine::Options& mo) const { load(mo.os_machine, mo.ic_machine, mo.seq_machine); }
 };

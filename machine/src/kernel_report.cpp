@@ -2,7 +2,7 @@
 // workload's run from the ISS's label regions, its bounds from sched/bounds.hpp; text and JSON.
 #include "machine/kernel_report.hpp"
 
-#include "workloads.hpp"
+#include "kbuild/workloads.hpp"
 
 #include "isa/encoding.hpp"
 #include "isa/machine.hpp"
@@ -29,7 +29,7 @@ struct Measure {
     double cycles = 0, ops = 0, entries = 0;
     Ranges ranges;
 };
-Measure measure(const KernelRunner& run, const std::vector<std::string>& labels) {
+Measure measure(const kbuild::KernelRunner& run, const std::vector<std::string>& labels) {
     const iss::Stats st = iss::compute_stats(*run.proc, 0);
     Measure m;
     for (const auto& l : labels) {
@@ -45,7 +45,7 @@ Measure measure(const KernelRunner& run, const std::vector<std::string>& labels)
 }
 
 // Executions of the bundles in `ranges` that load the occupancy byte: the voxel steps.
-double loads(const KernelRunner& run, const Ranges& ranges) {
+double loads(const kbuild::KernelRunner& run, const Ranges& ranges) {
     double steps = 0;
     for (auto [a, b] : ranges)
         for (std::uint32_t pc = a; pc < b; ++pc)
@@ -121,7 +121,7 @@ std::vector<std::string> run_labels(const iss::Program& p, const std::string& fi
 
 // The loop of run `label` in a kernel of per-kind runs: the kernel's loops are in source order, as
 // its `*_run` labels are in address order, one loop each (none when the counts differ).
-const KernelLoop* run_loop(const iss::Program& p, const KernelBuild& b, const std::string& label) {
+const kbuild::KernelLoop* run_loop(const iss::Program& p, const kbuild::KernelBuild& b, const std::string& label) {
     std::vector<std::pair<std::uint32_t, std::string>> runs;
     for (const isa::Symbol& x : p.object().symbols)
         if (x.kind == isa::SymbolKind::Code && x.name.size() > 4 && x.name.compare(x.name.size() - 4, 4, "_run") == 0)
@@ -139,7 +139,7 @@ const KernelLoop* run_loop(const iss::Program& p, const KernelBuild& b, const st
 //   recurrences through the exit test (a load that is not .speculate waits for the last test);
 // - the run bound: a software-pipelined run of n iterations issues its last one (n - 1) x II
 //   after its first, and that one lasts at least its longest path.
-void add_loop_bounds(KernelRow& r, const KernelLoop* loop, double iterations, double runs) {
+void add_loop_bounds(KernelRow& r, const kbuild::KernelLoop* loop, double iterations, double runs) {
     if (!loop) return;
     if (loop->rec_mii > r.rec_mii) {
         r.rec_mii = loop->rec_mii;
@@ -151,8 +151,8 @@ void add_loop_bounds(KernelRow& r, const KernelLoop* loop, double iterations, do
 }
 
 // A row of a per-kind loop kernel (KernelMetric::run).
-KernelRow measure_run_row(const KernelMetric& k, const WorkloadRun& w, KernelRow r) {
-    const KernelRunner& run = *w.run;
+KernelRow measure_run_row(const KernelMetric& k, const kbuild::WorkloadRun& w, KernelRow r) {
+    const kbuild::KernelRunner& run = *w.run;
     const iss::Program& p = *run.prog;
     const std::vector<std::string> labels = run_labels(p, k.run + "_run");
     const Measure ms = measure(run, labels);
@@ -171,8 +171,8 @@ KernelRow measure_run_row(const KernelMetric& k, const WorkloadRun& w, KernelRow
     return r;
 }
 
-KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
-    const KernelRunner& run = *w.run;
+KernelRow measure_row(const KernelMetric& k, const kbuild::WorkloadRun& w) {
+    const kbuild::KernelRunner& run = *w.run;
     KernelRow r;
     r.metric = k.metric;
     r.machine = k.machine;
@@ -221,19 +221,19 @@ KernelRow measure_row(const KernelMetric& k, const WorkloadRun& w) {
 class Runs {
   public:
     Runs(const kernels::SourceSet& sources, const KernelMachines& machines) : sources_(sources), machines_(machines) {}
-    const WorkloadRun& get(Workload w, const std::string& machine) {
+    const kbuild::WorkloadRun& get(kbuild::Workload w, const std::string& machine) {
         const isa::Machine& desc = machines_.of(machine).machine();
-        if (is_grid(w)) {
+        if (kbuild::is_grid(w)) {
             if (dda_machine_ != machine) {
-                dda_ = DdaRuns{};
-                dda_ = run_dda(sources_, machine, desc);
+                dda_ = kbuild::DdaRuns{};
+                dda_ = kbuild::run_dda(sources_, machine, desc);
                 dda_machine_ = machine;
             }
-            return w == Workload::EmptyGrid ? dda_.empty : dda_.sparse;
+            return w == kbuild::Workload::EmptyGrid ? dda_.empty : dda_.sparse;
         }
         if (!prim_.run || prim_workload_ != w || prim_machine_ != machine) {
-            prim_ = WorkloadRun{};
-            prim_ = run_intersect(sources_, machine, desc, w);
+            prim_ = kbuild::WorkloadRun{};
+            prim_ = kbuild::run_intersect(sources_, machine, desc, w);
             prim_workload_ = w;
             prim_machine_ = machine;
         }
@@ -244,9 +244,9 @@ class Runs {
     const kernels::SourceSet& sources_;
     const KernelMachines& machines_;
     std::string dda_machine_, prim_machine_;
-    DdaRuns dda_;
-    Workload prim_workload_ = Workload::Triangles;
-    WorkloadRun prim_;
+    kbuild::DdaRuns dda_;
+    kbuild::Workload prim_workload_ = kbuild::Workload::Triangles;
+    kbuild::WorkloadRun prim_;
 };
 
 std::string goals_line(const KernelReport& r) {
@@ -332,13 +332,13 @@ std::string KernelReport::json(bool loops) const {
     return j.dump(2);
 }
 
-const StageMachine& KernelMachines::of(std::string_view role) const { return role == "os" ? os : role == "ic" ? ic : seq; }
+const kbuild::StageMachine& KernelMachines::of(std::string_view role) const { return role == "os" ? os : role == "ic" ? ic : seq; }
 
 KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines) {
     KernelReport r;
     Runs runs(sources, machines);
     for (const KernelMetric& k : kernel_metrics()) {
-        const WorkloadRun& run = runs.get(k.workload, k.machine);
+        const kbuild::WorkloadRun& run = runs.get(k.workload, k.machine);
         if (machines.of(k.machine).reference() != k.machine) {
             const std::string &given = machines.of(k.machine).machine().name, &used = run.run->prog->machine().name;
             r.machines[k.machine] = given == used ? given : fmt::format("{} (the preset {} under another name)", given, used);

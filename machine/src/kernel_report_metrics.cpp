@@ -8,6 +8,8 @@ namespace nesshi::machine {
 
 namespace {
 
+using kbuild::Workload;
+
 using L = std::vector<std::string>;
 
 KernelMetric metric(std::string name, const std::string& m, Workload w, L labels, PerWhat per, std::optional<double> paper) {

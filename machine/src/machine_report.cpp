@@ -1,7 +1,7 @@
 // Machine reports: stats JSON (render's keys plus "cycles" and "host"), the terminal summary and
 // the sampled activity trace.
 #include "pe.hpp"
-#include "kernel_build_json.hpp"
+#include "kbuild/kernel_build_json.hpp"
 #include "base/error.hpp"
 #include "base/write_file.hpp"
 
@@ -92,13 +92,13 @@ nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions
     if (mo.ray_slots) j["machine"]["ray_slots"] = mo.ray_slots; // limited rays in flight (0: all 4096)
     // Kernels scheduled for a machine other than their preset (absent when both are the committed ones).
     if (m.os_kernel.scheduled || m.ic_kernel.scheduled || !m.os_kernel.choice.empty() || !m.ic_kernel.choice.empty()) {
-        auto build = [](const KernelBuild& b) {
+        auto build = [](const kbuild::KernelBuild& b) {
             nlohmann::json j{{"source", b.source}, {"machine", b.machine}, {"scheduled", b.scheduled},
                              {"blocks", b.blocks}, {"blocks_shortest", b.blocks_shortest}, {"nops_inserted", b.nops}};
             if (!b.choice.empty()) j["choice"] = b.choice;
             if (!b.loops.empty()) {
                 j["loops"] = nlohmann::json::array();
-                for (const KernelLoop& l : b.loops) j["loops"].push_back(loop_json(l));
+                for (const kbuild::KernelLoop& l : b.loops) j["loops"].push_back(kbuild::loop_json(l));
             }
             return j;
         };
@@ -149,7 +149,7 @@ std::string format_stats(const Stats& m) {
     for (const auto& [stage, b] : {std::pair{"OS", &m.os_kernel}, std::pair{"IC", &m.ic_kernel}}) {
         if (b->scheduled) {
             std::string loops;
-            for (const KernelLoop& l : b->loops)
+            for (const kbuild::KernelLoop& l : b->loops)
                 loops += fmt::format("; {} loop at line {}: II {} (MII {}), {} stage{}, unrolled {}x, one iteration {} cycles "
                                      "(longest path {})",
                                      l.is_while ? "while" : "counted", l.line, l.ii, l.mii, l.stages, l.stages == 1 ? "" : "s",

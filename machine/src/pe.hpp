@@ -31,7 +31,7 @@ namespace nesshi::machine {
 // Built once per render, shared read-only by every PE.
 struct MachineSetup {
     std::shared_ptr<const iss::Program> os_prog, ic_prog;
-    KernelBuild os_build, ic_build;
+    kbuild::KernelBuild os_build, ic_build;
     kernels::MemImage os_image;
     kernels::MemImage ic_resident;
     std::shared_ptr<iss::PagedMemory> global; // the IC global memory (ICGM), shared by all ICs

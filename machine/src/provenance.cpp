@@ -5,6 +5,7 @@
 
 #include "base/hash.hpp"
 #include "base/read_file.hpp"
+#include "kbuild/schedule_cache.hpp"
 #include "isa/machine.hpp"
 #include "kernels/sources.hpp"
 #include "rt/spd.hpp"
@@ -25,7 +26,7 @@ std::string scene_text(const std::string& scene) {
     return base::read_file(scene);
 }
 
-std::string machine_id(const StageMachine& s) { return fmt::format("{} {}", s.reference(), base::hex64(s.machine().fingerprint())); }
+std::string machine_id(const kbuild::StageMachine& s) { return fmt::format("{} {}", s.reference(), base::hex64(s.machine().fingerprint())); }
 
 } // namespace
 
@@ -84,6 +85,10 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
 }
 
 std::string build_identity() { return NESSHI_BUILD_ID; }
+
+void enable_default_schedule_cache() {
+    kbuild::enable_schedule_cache(kbuild::default_schedule_cache_dir(), build_identity());
+}
 
 std::string result_digest(nlohmann::json stats) {
     stats.erase("host");

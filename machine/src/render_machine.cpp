@@ -5,8 +5,8 @@
 #include "base/write_file.hpp"
 #include "kernels/abi.hpp"
 #include "kernels/image.hpp"
-#include "machine/runner.hpp"
-#include "machine/scene_sample.hpp"
+#include "kbuild/runner.hpp"
+#include "kbuild/scene_sample.hpp"
 
 #include <fmt/format.h>
 
@@ -28,12 +28,12 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions&
     const bool vliw = mo.model == Model::V;
     MachineSetup s;
     const isa::Machine& seq = mo.seq_machine.machine();
-    s.os_prog = assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? mo.os_machine.machine() : seq,
+    s.os_prog = kbuild::assemble_kernel(src, kernels::kernel_path(vliw, false), vliw ? mo.os_machine.machine() : seq,
                                 &s.os_build);
     // The IC kernel's candidates (on a preset: its committed kernel and the alternatives) are
     // measured on this scene.
-    const LazySceneSample sample(prep, opt);
-    s.ic_prog = assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? mo.ic_machine.machine() : seq,
+    const kbuild::LazySceneSample sample(prep, opt);
+    s.ic_prog = kbuild::assemble_kernel(src, kernels::kernel_path(vliw, true), vliw ? mo.ic_machine.machine() : seq,
                                 &s.ic_build, vliw ? &sample : nullptr);
     const rt::Grid& g = prep.grid;
     if (!abi::os_sram_fits(g.geom.n[0], g.geom.n[1], g.geom.n[2]))
@@ -43,7 +43,7 @@ MachineSetup build_setup(const rt::PreparedScene& prep, const rt::RenderOptions&
             g.geom.n[0], g.geom.n[1], g.geom.n[2], abi::os_padded_map_bytes(g.geom.n[0], g.geom.n[1], g.geom.n[2]),
             abi::kOsOcc, abi::kOsOccLimit));
     s.os_image = kernels::os_image(g.geom, g.occupancy);
-    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes, mo.resident, list_layout(*s.ic_prog));
+    kernels::IcImage ic = kernels::ic_image(g.geom, g.offsets, g.prims, prep.shapes.shapes, mo.resident, kbuild::list_layout(*s.ic_prog));
     // The global memory's size is the IC machine's: its [[memory]] region at IC_GLOBAL.
     const isa::Machine& icm = s.ic_prog->machine();
     const isa::MemoryDesc* global = icm.memory_at(abi::kIcGlobal, 4);

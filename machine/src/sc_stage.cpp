@@ -1,7 +1,7 @@
 // The SC stage: shading of HIT and MISS messages, the ray trees of pixel corners, DIS and COL.
 #include "sc_stage.hpp"
 
-#include "ray_tag.hpp"
+#include "kbuild/ray_tag.hpp"
 
 #include "kernels/abi.hpp"
 #include "kernels/messages.hpp"
@@ -73,7 +73,7 @@ void ScStage::give(std::uint32_t corner, std::uint64_t at) {
 }
 
 void ScStage::send_ray(const rt::Ray& r, std::uint32_t slot, std::uint64_t& at, bool charge_sc) {
-    const abi::Tag tag{slot, tag_kind(r.kind), static_cast<std::uint32_t>(r.depth)};
+    const abi::Tag tag{slot, kbuild::tag_kind(r.kind), static_cast<std::uint32_t>(r.depth)};
     const abi::NewRay nr{tag.word(), {r.o.x, r.o.y, r.o.z}, {r.d.x, r.d.y, r.d.z}, r.tmin, r.tmax};
     const auto words = nr.words();
     to_os_.send(words, at, !charge_sc); // DIS's link runs ahead of SC's clock

@@ -2,7 +2,7 @@
 // preset: which kernel file was scheduled for it, and what that schedule costs per step and per
 // primitive (the headline rows of `nesshi kernels` on the same machines).
 #include "machine/kernel_report.hpp"
-#include "machine/runner.hpp"
+#include "kbuild/runner.hpp"
 
 #include "isa/machine.hpp"
 
@@ -49,8 +49,8 @@ std::string schedules_used(const Options& mo, const std::vector<Model>& models) 
     const KernelReport report = kernel_report(src, km);
     std::string out = "schedules, in cycles (`nesshi kernels` with the same --*-machine options has the whole table):\n";
     for (const Stage& s : stages) {
-        KernelBuild b;
-        (void)assemble_kernel(src, kernels::kernel_path(s.role != std::string("seq"), s.intersect),
+        kbuild::KernelBuild b;
+        (void)kbuild::assemble_kernel(src, kernels::kernel_path(s.role != std::string("seq"), s.intersect),
                               km.of(s.role).machine(), &b); // cached: the run builds it again for free
         std::vector<std::string> rows;
         for (const std::string& m : s.metrics)

@@ -42,16 +42,16 @@ std::string from_spec_folder(const std::string& axis, const std::string& value, 
 }
 
 // A machine axis's value, loaded (a description that does not load is the spec's error).
-machine::StageMachine load_stage_machine(const std::string& axis, const std::string& value) {
+kbuild::StageMachine load_stage_machine(const std::string& axis, const std::string& value) {
     try {
-        return machine::StageMachine(value);
+        return kbuild::StageMachine(value);
     } catch (const std::exception& e) {
         throw PaperError(fmt::format("{} = {}: {}", axis, value, e.what()));
     }
 }
 
 // A cell's machine: the spec's, loaded when it was read (a spec built in code loads it here).
-machine::StageMachine stage_machine(const SweepSpec& s, const std::string& axis, const std::string& value) {
+kbuild::StageMachine stage_machine(const SweepSpec& s, const std::string& axis, const std::string& value) {
     if (const auto it = s.machines.find(value); it != s.machines.end()) return it->second;
     return load_stage_machine(axis, value);
 }

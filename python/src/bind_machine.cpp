@@ -64,15 +64,15 @@ isa::Machine machine_arg(const py::handle& arg, const std::string& fallback) {
     return make_machine(py::str(arg).cast<std::string>(), "").m;
 }
 
-machine::StageMachine stage_machine(const py::handle& arg, const char* preset) {
-    if (arg.is_none()) return machine::StageMachine(preset);
+kbuild::StageMachine stage_machine(const py::handle& arg, const char* preset) {
+    if (arg.is_none()) return kbuild::StageMachine(preset);
     if (py::isinstance<PyMachine>(arg)) {
         const PyMachine& pm = arg.cast<const PyMachine&>();
-        return machine::StageMachine(pm.m, pm.toml.empty() ? pm.m.reference() : pm.m.name);
+        return kbuild::StageMachine(pm.m, pm.toml.empty() ? pm.m.reference() : pm.m.name);
     }
     const std::string spec = py::str(arg).cast<std::string>();
     PyMachine pm = make_machine(spec, "");
-    return machine::StageMachine(std::move(pm.m), pm.toml.empty() ? spec : pm.m.name);
+    return kbuild::StageMachine(std::move(pm.m), pm.toml.empty() ? spec : pm.m.name);
 }
 
 void bind_machine(py::module_& m) {

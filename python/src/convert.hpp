@@ -3,7 +3,7 @@
 #pragma once
 
 #include "isa/machine.hpp"
-#include "machine/stage_machine.hpp"
+#include "kbuild/stage_machine.hpp"
 
 #include <nlohmann/json.hpp>
 #include <pybind11/pybind11.h>
@@ -23,7 +23,7 @@ isa::Machine machine_arg(const py::handle& arg, const std::string& fallback);
 // The same as a stage option of machine::Options: a Machine as it is (one made from TOML text is
 // named by its name in provenance), a str naming a preset or a file or holding TOML text, or None
 // for `preset`.
-machine::StageMachine stage_machine(const py::handle& arg, const char* preset);
+kbuild::StageMachine stage_machine(const py::handle& arg, const char* preset);
 
 // A source argument: a path (os.PathLike, a str naming an existing file and holding no newline, or
 // one word with a '/' or ending .s, .sa or .pk) read from disk, else the text itself, named

@@ -4,7 +4,7 @@
 #include "convert.hpp"
 
 #include "base/error.hpp"
-#include "machine/schedule_cache.hpp"
+#include "machine/provenance.hpp"
 
 #include <pybind11/eval.h>
 #include <pybind11/stl.h>

@@ -138,7 +138,7 @@ void run_ic(const std::shared_ptr<const iss::Program>& prog, iss::Engine engine,
         }
         if (!any_length) lists[5].resize(std::min<std::size_t>(lists[5].size(), 1));
         test::Rig rig(prog, engine);
-        const IcImage im = ic_image_lists(lists, shapes, true, machine::list_layout(*rig.prog));
+        const IcImage im = ic_image_lists(lists, shapes, true, kbuild::list_layout(*rig.prog));
         rig.load(im.resident);
         rig.load(im.global);
         rig.run();
@@ -231,12 +231,12 @@ TEST_CASE("the hybrid ic kernel matches the twins on both paths", "[unit][kernel
                                               "[latency]\nalu = 12\nmul = 2\nfadd = 2\nfmul = 2\nfdiv = 2\nload = 10\n"
                                               "store = 8\nbranch = 11\nfifo = 6\nmisc = 2\n",
                                               "ic-long-alu.toml");
-    machine::KernelBuild build;
-    const auto prog = machine::assemble_kernel(embedded(), "ic/intersect.s", m, &build);
+    kbuild::KernelBuild build;
+    const auto prog = kbuild::assemble_kernel(embedded(), "ic/intersect.s", m, &build);
     INFO(build.choice);
     REQUIRE(build.choice.find("for lists of") != std::string::npos);
-    REQUIRE(machine::list_layout(*prog).long_from > 0);
-    const std::uint32_t from = machine::list_layout(*prog).long_from;
+    REQUIRE(kbuild::list_layout(*prog).long_from > 0);
+    const std::uint32_t from = kbuild::list_layout(*prog).long_from;
     INFO("lists of " << from << " or more take the loops");
     run_ic(prog, iss::Engine::Fast, 16, 300, 16, 40, true);
     run_ic(prog, iss::Engine::Checked, 4, 100, 17, 40, true);

@@ -5,7 +5,7 @@
 #include "kernels/messages.hpp"
 #include "kernels/image.hpp"
 #include "kernels/sources.hpp"
-#include "machine/runner.hpp"
+#include "kbuild/runner.hpp"
 
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
@@ -31,13 +31,13 @@ inline std::shared_ptr<const iss::Program> kernel_program(const std::string& rel
     const std::string key = rel + "@" + machine;
     auto it = cache.find(key);
     if (it != cache.end()) return it->second;
-    auto prog = machine::assemble_kernel(embedded(), rel, machine);
+    auto prog = kbuild::assemble_kernel(embedded(), rel, machine);
     cache.emplace(key, prog);
     return prog;
 }
 
 // One processor running a kernel, with its input channel 0 and output channels 1 and 2.
-struct Rig : machine::KernelRunner {
+struct Rig : kbuild::KernelRunner {
     Rig(const std::string& rel, const std::string& machine, iss::Engine engine)
         : KernelRunner(kernel_program(rel, machine), engine) {}
     Rig(std::shared_ptr<const iss::Program> prog, iss::Engine engine) : KernelRunner(std::move(prog), engine) {}

@@ -2,8 +2,8 @@
 // lock-step: every built-in kernel on grids and primitive workloads, with and without caches
 // (memory stalls, and the cycle a cache model sees) and a bad voxel (a memory fault), three
 // processors compared after every step of a varying number of bundles.
-#include "machine/synthetic_inputs.hpp"
-#include "machine/runner.hpp"
+#include "kbuild/synthetic_inputs.hpp"
+#include "kbuild/runner.hpp"
 
 #include "base/vec.hpp"
 #include "iss/cache.hpp"
@@ -80,7 +80,7 @@ struct NullTracer : iss::Tracer {
 // without them, G on the general loop (the reference both are held to).
 struct Pair {
     std::shared_ptr<const iss::Program> prog;
-    machine::KernelRunner a, b, g;
+    kbuild::KernelRunner a, b, g;
     NullTracer tracer;
     std::vector<std::unique_ptr<CycleCache>> caches; // per memory: A's, B's, G's
     std::mt19937 steps{11};
@@ -96,7 +96,7 @@ struct Pair {
         REQUIRE_FALSE(b.proc->compiled_runs());
         if (cache)
             for (const auto& m : prog->machine().memories)
-                for (machine::KernelRunner* r : {&a, &b, &g}) {
+                for (kbuild::KernelRunner* r : {&a, &b, &g}) {
                     caches.push_back(std::make_unique<CycleCache>());
                     caches.back()->proc = r->proc.get();
                     r->proc->attach_cache(m.name, caches.back().get());
@@ -183,16 +183,16 @@ constexpr int kIntersectLists = 7;
 // outside the lists.
 iss::Status drive_intersect(Pair& p, std::mt19937& rng, int rays, bool fault) {
     std::vector<kernels::Shape> shapes;
-    for (int i = 0; i < 24; ++i) shapes.push_back(i % 4 == 0   ? machine::random_triangle(rng, i % 8 == 0)
-                         : i % 4 == 3 ? machine::random_cylinder(rng)
-                                      : machine::random_sphere(rng, i % 4 == 2));
+    for (int i = 0; i < 24; ++i) shapes.push_back(i % 4 == 0   ? kbuild::random_triangle(rng, i % 8 == 0)
+                         : i % 4 == 3 ? kbuild::random_cylinder(rng)
+                                      : kbuild::random_sphere(rng, i % 4 == 2));
     // Lists of 1 to 6 shapes of each kind (and all 24): every exit of a per-kind loop kernel's
     // unrolled copies is taken somewhere.
     std::vector<std::vector<std::uint32_t>> lists(kIntersectLists);
     for (int v = 0; v < kIntersectLists; ++v)
         for (int i = 0; i < 24; ++i)
             if (i / 4 <= v % 6 || v == kIntersectLists - 1) lists[static_cast<std::size_t>(v)].push_back(static_cast<std::uint32_t>(i));
-    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, machine::list_layout(*p.prog));
+    const kernels::IcImage im = kernels::ic_image_lists(lists, shapes, true, kbuild::list_layout(*p.prog));
     p.load(im.resident);
     p.load(im.global);
     p.run();
@@ -235,8 +235,8 @@ const std::vector<std::string> kIntersect = {"ic/intersect.s@ic", "ic/intersect.
 std::shared_ptr<const iss::Program> program(const std::string& spec) {
     const size_t at = spec.find('@');
     const std::string kernel = spec.substr(0, at), m = spec.substr(at + 1);
-    return kernel.ends_with(".pk") ? machine::assemble_source(kernels::embedded(), kernel, m)
-                                   : machine::assemble_kernel(kernels::embedded(), kernel, m);
+    return kernel.ends_with(".pk") ? kbuild::assemble_source(kernels::embedded(), kernel, m)
+                                   : kbuild::assemble_kernel(kernels::embedded(), kernel, m);
 }
 
 void lockstep_dda() {
@@ -245,12 +245,12 @@ void lockstep_dda() {
             INFO(spec << (cache ? " with caches" : ""));
             Pair p(program(spec), cache);
             std::mt19937 rng(5);
-            const machine::OccupancyGrid g = machine::random_grid(12, 0.0, rng);
+            const kbuild::OccupancyGrid g = kbuild::random_grid(12, 0.0, rng);
             p.load(kernels::os_image(g.g, g.occ));
             drive_dda(p, rng, 25);
             note_reached(p);
             Pair q(program(spec), cache);
-            const machine::OccupancyGrid s = machine::random_grid(10, 0.05, rng);
+            const kbuild::OccupancyGrid s = kbuild::random_grid(10, 0.05, rng);
             q.load(kernels::os_image(s.g, s.occ));
             drive_dda(q, rng, 40);
             note_reached(q);
@@ -315,7 +315,7 @@ TEST_CASE("compiled runs: stopped at every offset of their runs", "[compiled]") 
             Pair q(program(spec), cache);
             q.fixed_step = step;
             std::mt19937 rng(step);
-            const machine::OccupancyGrid g = machine::random_grid(8, 0.05, rng);
+            const kbuild::OccupancyGrid g = kbuild::random_grid(8, 0.05, rng);
             q.load(kernels::os_image(g.g, g.occ));
             drive_dda(q, rng, 3);
         }
@@ -324,7 +324,7 @@ TEST_CASE("compiled runs: stopped at every offset of their runs", "[compiled]") 
 
 TEST_CASE("compiled runs: a program one immediate away from a compiled one runs interpreted", "[compiled]") {
     const kernels::SourceSet src = kernels::embedded();
-    const auto same = machine::assemble_kernel(src, "ic/intersect.s", "ic");
+    const auto same = kbuild::assemble_kernel(src, "ic/intersect.s", "ic");
     REQUIRE(same->compiled());
     kernels::SourceSet edited = src;
     bool changed = false;
@@ -336,13 +336,13 @@ TEST_CASE("compiled runs: a program one immediate away from a compiled one runs 
             changed = true;
         }
     REQUIRE(changed);
-    const auto other = machine::assemble_kernel(edited, "ic/intersect.s", "ic");
+    const auto other = kbuild::assemble_kernel(edited, "ic/intersect.s", "ic");
     CHECK(other->size() == same->size());
     CHECK(other->decoded_hash() != same->decoded_hash());
     CHECK(other->compiled() == nullptr);
     iss::Processor proc(other);
     CHECK_FALSE(proc.compiled_runs());
     // Rescheduled for another machine: not compiled either.
-    CHECK(machine::assemble_kernel(src, "ic/intersect.s", std::string(NESSHI_TEST_DATA) + "/ic-2iu.toml")->compiled() ==
+    CHECK(kbuild::assemble_kernel(src, "ic/intersect.s", std::string(NESSHI_TEST_DATA) + "/ic-2iu.toml")->compiled() ==
           nullptr);
 }

@@ -1,9 +1,9 @@
-// The scene sample a render measures its IC kernel's candidates on (machine/scene_sample.hpp),
+// The scene sample a render measures its IC kernel's candidates on (kbuild/scene_sample.hpp),
 // and the choice it makes with it.
 #include "support.hpp"
 
-#include "machine/runner.hpp"
-#include "machine/scene_sample.hpp"
+#include "kbuild/runner.hpp"
+#include "kbuild/scene_sample.hpp"
 #include "rt/scene.hpp"
 
 #include <catch2/catch.hpp>
@@ -28,7 +28,7 @@ std::uint64_t nonempty_visits(const rt::RenderStats& s) {
 TEST_CASE("A scene sample is the native renderer's visits of the sampled corners", "[unit][machine]") {
     const rt::PreparedScene prep = rt::prepare(rt::load_scene("balls:1"), 8);
     const rt::RenderOptions opt = small(16); // 17 x 17 corners: the default raster takes them all
-    const machine::SceneSample s = machine::sample_scene(prep, opt);
+    const kbuild::SceneSample s = kbuild::sample_scene(prep, opt);
     CHECK(s.corners == 17u * 17u);
     CHECK(s.visits.size() == nonempty_visits(rt::render_native(prep, opt).stats));
     REQUIRE(!s.visits.empty());
@@ -38,11 +38,11 @@ TEST_CASE("A scene sample is the native renderer's visits of the sampled corners
         for (std::uint32_t i : l) REQUIRE(i < s.shapes.size());
     }
     CHECK(s.shapes.size() <= prep.shapes.shapes.size());
-    const machine::SceneSample again = machine::sample_scene(prep, opt);
+    const kbuild::SceneSample again = kbuild::sample_scene(prep, opt);
     REQUIRE(again.visits.size() == s.visits.size());
     for (std::size_t i = 0; i < s.visits.size(); ++i) CHECK(again.visits[i].words() == s.visits[i].words());
     // A coarser raster of a bigger image: fewer corners, fewer visits.
-    const machine::SceneSample coarse = machine::sample_scene(prep, small(64), 9);
+    const kbuild::SceneSample coarse = kbuild::sample_scene(prep, small(64), 9);
     CHECK(coarse.corners == 81u);
     CHECK(coarse.visits.size() < nonempty_visits(rt::render_native(prep, small(64)).stats));
 }

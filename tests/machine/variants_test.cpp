@@ -3,7 +3,7 @@
 #include "support.hpp"
 
 #include "kernels/sources.hpp"
-#include "machine/runner.hpp"
+#include "kbuild/runner.hpp"
 #include "rt/scene.hpp"
 
 #include <catch2/catch.hpp>
@@ -69,7 +69,7 @@ TEST_CASE("os-real's pipelined voxel loop renders native's image, ids and depths
     // The build says how its loop was scheduled: the .pk's while loop, at its RecMII of 9 (lbu 2 +
     // bnez, the step's fle/and/sel/add chain) on os-real, with the line of its `.pipeline`.
     REQUIRE(real.machine.os_kernel.loops.size() == 1);
-    const machine::KernelLoop& l = real.machine.os_kernel.loops[0];
+    const kbuild::KernelLoop& l = real.machine.os_kernel.loops[0];
     CHECK(l.is_while);
     CHECK(l.ii == l.mii);
     CHECK(l.stages >= 1);
@@ -126,62 +126,8 @@ TEST_CASE("A stage with more resources and the same latencies is never busier th
         CHECK(b.render.id_buffer == a.render.id_buffer);
         // The preset's kernel is a candidate on its superset (os's committed one, os-real's as
         // scheduled for os-real), and the render says which candidate ran and what the others cost.
-        const machine::KernelBuild& kb = p.os ? b.machine.os_kernel : b.machine.ic_kernel;
+        const kbuild::KernelBuild& kb = p.os ? b.machine.os_kernel : b.machine.ic_kernel;
         CHECK_FALSE(kb.choice.empty());
         if (std::string(p.preset).ends_with("-real")) CHECK(kb.choice.find(std::string("scheduled for ") + p.preset) != std::string::npos);
     }
-}
-
-TEST_CASE("A variant's kernel is scheduled from its .pk source, the preset's is the committed one", "[unit][machine]") {
-    const kernels::SourceSet src = kernels::embedded();
-    const auto preset = machine::assemble_kernel(src, "ic/intersect.s", "ic");
-    const auto variant = machine::assemble_kernel(src, "ic/intersect.s", kData + "/ic-2iu.toml");
-    CHECK(preset->machine().name == "ic");
-    CHECK(variant->machine().name == "ic-2iu");
-    // The second IU shortens the straight-line bodies (the variant may take the hybrid kernel,
-    // which has the bodies and the loops: its size says nothing).
-    auto body = [](const iss::Program& p) { return p.find_symbol("tri2_A")->value - p.find_symbol("tri1_A")->value; };
-    CHECK(body(*variant) < body(*preset));
-    // The code around the voxel loop gets the nops os-real's latencies need, and the loop (a
-    // .pipeline while region) is modulo-scheduled for it; the os preset runs the hand loop.
-    machine::KernelBuild build;
-    const auto real = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &build);
-    CHECK(real->machine().name == "os-real");
-    CHECK(build.scheduled);
-    CHECK(build.source == "kernels/os/dda.pk");
-    CHECK(build.nops > 0);
-    CHECK(real->find_symbol("__sa_kernel"));
-    CHECK_FALSE(real->find_symbol("leave_b"));
-    const auto os = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os"), &build);
-    CHECK_FALSE(build.scheduled); // the committed kernel
-    CHECK(build.source == "kernels/os/dda.s");
-    CHECK(os->find_symbol("leave_b"));
-    CHECK_FALSE(os->find_symbol("__sa_kernel"));
-    CHECK_THROWS_WITH(machine::assemble_kernel(src, "os/dda.s", kData + "/os-32regs.toml"),
-                      Catch::Contains("register r60 out of range: os-32regs has r0..r31"));
-    // The IC kernel is straight-line bodies only (its pipeline across primitives is in the data
-    // flow), so it is scheduled for realistic latencies as a whole.
-    CHECK(machine::assemble_kernel(src, "ic/intersect.s", "ic-real")->machine().name == "ic-real");
-}
-
-TEST_CASE("A kernel scheduled once for a machine is the same program when asked again", "[unit][machine]") {
-    const kernels::SourceSet src = kernels::embedded();
-    machine::KernelBuild first, again;
-    const auto a = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &first);
-    const auto b = machine::assemble_kernel(src, "os/dda.s", isa::load_machine("os-real"), &again); // the cached schedule
-    CHECK(again.scheduled);
-    CHECK(again.source == first.source);
-    CHECK(again.blocks == first.blocks);
-    CHECK(again.blocks_shortest == first.blocks_shortest);
-    CHECK(first.blocks_shortest > 0); // the constraint model proves most blocks shortest
-    CHECK(first.blocks_shortest <= first.blocks);
-    CHECK(again.nops == first.nops);
-    REQUIRE(a->size() == b->size());
-    for (std::size_t i = 0; i < a->size(); ++i) CHECK(a->format_bundle(i) == b->format_bundle(i));
-    // Another source set (one file changed, here broken) is scheduled afresh, not served from the cache.
-    kernels::SourceSet edited = src;
-    for (kernels::SourceFile& f : edited.files)
-        if (f.path == "os/dda.pk") f.text += "\n    nosuchop r1, r2, r3\n";
-    CHECK_THROWS_WITH(machine::assemble_kernel(edited, "os/dda.s", isa::load_machine("os-real")),
-                      Catch::Contains("nosuchop"));
 }

@@ -393,7 +393,7 @@ TEST_CASE("a file with two regions: each pipelined and verified, the whole progr
 }
 
 TEST_CASE("sequential_region writes every region between markers, restore_region puts each back", "[unit][sched][pipeline]") {
-    // machine::assemble_kernel legalizes the code around a kernel's regions this way.
+    // kbuild::assemble_kernel legalizes the code around a kernel's regions this way.
     const std::string text = base::read_file(std::string(NESSHI_SOURCE_DIR) + "/examples/linear/two_loops.sa");
     const isa::Machine m = isa::load_machine("os-real");
     const std::string seq = sched::sequential_region(text, "t.sa", m);

@@ -13,6 +13,7 @@
 //   std::ofstream("k.json") << r.json() << "\n";     // {"kernels": [{"metric": ..., ...}, ...]}
 #pragma once
 
+#include "kbuild/workloads.hpp"
 #include "kernels/paper_figures.hpp"
 #include "kernels/sources.hpp"
 #include "machine/machine.hpp"
@@ -31,17 +32,6 @@ using kernels::PaperFigures;
 // The synthetic inputs. Grids: rays from random points outside aimed into the box; each VISIT is
 // answered with a RETURN (no hit). Primitives: one voxel listing 40 shapes of one kind, rays
 // aimed at the origin (or past the shapes, for SpheresMissed).
-enum class Workload {
-    EmptyGrid,       // 40^3, empty, 300 rays: every step is a loop step
-    SparseGrid,      // 20^3, 3% full, 300 rays: VISITs and RETURNs (continues EmptyGrid's random stream)
-    Triangles,       // one-sided triangles, 200 rays
-    Spheres,         // one-sided plain spheres, 200 rays
-    SpheresMissed,   // the same spheres, 200 rays that miss them
-    TwoSidedSpheres, // two-sided spheres, 200 rays
-    Cylinders,       // one-sided cylinders of length 4 along z, 200 rays
-    ShortLists,      // 64 voxels of 1-12 mixed shapes (the SPD scenes' 2.5-21 per voxel), 2000 rays
-};
-
 // What a metric's cycles and ops are divided by.
 enum class PerWhat {
     Entries,   // executions of the first bundle of each measured region
@@ -61,7 +51,7 @@ enum class BoundsFrom {
 struct KernelMetric {
     std::string metric;  // "dda_step"
     std::string machine; // "os", "ic", "seq"; the kernel is kernels::kernel_path of it
-    Workload workload = Workload::EmptyGrid;
+    kbuild::Workload workload = kbuild::Workload::EmptyGrid;
     std::vector<std::string> labels; // the label regions measured
     PerWhat per = PerWhat::Entries;
     std::vector<std::string> count_labels; // PerWhat::EntriesOf
@@ -127,12 +117,12 @@ struct KernelReport {
 };
 
 // Runs every metric of kernel_metrics() on the kernels of `sources`. Throws std::runtime_error
-// when a kernel does not assemble or does not behave (machine::KernelRunner).
+// when a kernel does not assemble or does not behave (kbuild::KernelRunner).
 // The machine each stage's rows are measured on. A description other than the preset gets the
 // kernel's straight-line blocks scheduled for it (runner.hpp).
 struct KernelMachines {
-    StageMachine os{"os"}, ic{"ic"}, seq{"seq"};
-    const StageMachine& of(std::string_view role) const;
+    kbuild::StageMachine os{"os"}, ic{"ic"}, seq{"seq"};
+    const kbuild::StageMachine& of(std::string_view role) const;
 };
 
 KernelReport kernel_report(const kernels::SourceSet& sources, const KernelMachines& machines = {});

@@ -11,11 +11,11 @@
 // count (each PE is simulated by one host thread from start to end; PEs share only read-only
 // data). See machine/README.md for the scheduling and cost models.
 #pragma once
+#include "kbuild/kernel_build.hpp"
+#include "kbuild/stage_machine.hpp"
 #include "iss/cache.hpp"
 #include "iss/stats.hpp"
 #include "kernels/abi.hpp"
-#include "machine/kernel_build.hpp"
-#include "machine/stage_machine.hpp"
 #include "rt/render.hpp"
 
 #include <cstdint>
@@ -69,7 +69,7 @@ struct Options {
     // runs OS and IC on os_machine and ic_machine, models S and M both on seq_machine; the SC's
     // operation prices come from seq_machine. The kernels are assembled for them; a description
     // they cannot run on is an error that names the first problem.
-    StageMachine os_machine{"os"}, ic_machine{"ic"}, seq_machine{"seq"};
+    kbuild::StageMachine os_machine{"os"}, ic_machine{"ic"}, seq_machine{"seq"};
     std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
     std::string timeline_svg;         // the same as a picture: stage busy fractions and FIFO words over time ("" = none)
     bool traced() const { return !trace_json.empty() || !timeline_svg.empty(); } // activity and FIFO samples kept
@@ -119,7 +119,7 @@ struct Stats {
     std::uint64_t visits = 0, returns = 0, misses = 0, hits = 0; // FIFO messages
     std::uint64_t cache_accesses = 0, cache_misses = 0;
     std::uint64_t max_fifo_words = 0;      // highest occupancy seen on any FIFO
-    KernelBuild os_kernel, ic_kernel;      // how the OS and IC stages' kernels were built
+    kbuild::KernelBuild os_kernel, ic_kernel;      // how the OS and IC stages' kernels were built
     double wall_seconds = 0;               // host time of the simulation
     double machine_setup_seconds = 0;      // host time before it: kernels built (or loaded), memories laid out
     std::uint64_t simulated_bundles = 0;   // bundles issued by every ISS instance

@@ -34,6 +34,10 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
 // build computes it; cmake/BuildId.cmake), so a result from an older timing model is not current.
 std::string build_identity();
 
+// The kernel cache the front ends turn on (the command line, the Python module, the machine
+// tests): kbuild::enable_schedule_cache(kbuild::default_schedule_cache_dir(), build_identity()).
+void enable_default_schedule_cache();
+
 // The digest of a stored result: FNV-1a of the JSON document without its "host" (wall times) and
 // "digest" members, so a hand-edited number is caught. `stats` is a JSON object.
 std::string result_digest(nlohmann::json stats);

@@ -48,7 +48,7 @@ struct SweepSpec {
     bool chart_scale_given = false; // y_scale written; else the chart goes log when values span 30x or more
     // The machine axes' values (os_machine, ic_machine, seq_machine), each loaded once as the spec
     // is read: every cell takes its machine from here.
-    std::map<std::string, machine::StageMachine> machines;
+    std::map<std::string, kbuild::StageMachine> machines;
 };
 
 // The axes a spec may name (scene, size, grid, model, pes, balance, epoch, window, ray_slots,

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-namespace nesshi::machine::detail {
+namespace nesshi::kbuild::detail {
 
 struct HybridText {
     std::optional<std::string> text; // none: `loops` does not say how (no `hybrid_start`), or `why`
@@ -27,4 +27,4 @@ HybridText hybrid_kernel_text(const std::string& dispatch, const std::string& lo
 // `text` (a hybrid's, legalized or not) for lists of at least `long_from` references instead.
 std::string with_long_from(const std::string& text, std::uint32_t long_from);
 
-} // namespace nesshi::machine::detail
+} // namespace nesshi::kbuild::detail

@@ -4,7 +4,7 @@
 //
 //   machine::Options mo;                       // os, ic and seq by default
 //   mo.ic_machine = "ic-real";                 // loads the preset (or a .toml file) now
-//   mo.ic_machine = machine::StageMachine(m, "my-ic");  // a machine built in memory
+//   mo.ic_machine = kbuild::StageMachine(m, "my-ic");  // a machine built in memory
 //   mo.ic_machine.same_as_preset("ic")         // identity by fingerprint, whatever its name
 #pragma once
 #include "isa/machine.hpp"
@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 class StageMachine {
   public:
@@ -35,4 +35,4 @@ class StageMachine {
     std::string reference_;
 };
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

@@ -4,7 +4,7 @@
 #include "kernels/messages.hpp"
 #include "rt/trace.hpp"
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 inline kernels::abi::Kind tag_kind(rt::RayKind k) {
     switch (k) {
@@ -16,4 +16,4 @@ inline kernels::abi::Kind tag_kind(rt::RayKind k) {
     return kernels::abi::Kind::eye;
 }
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

@@ -6,19 +6,16 @@
 
 #include <string>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
-// Keep scheduled kernels under `dir`/`build` (created when first written; `build` is
-// machine::build_identity(), so another build's schedules are never read, and the folders of
-// other builds unused for 30 days are removed). An empty dir turns the cache off.
+// Keep scheduled kernels under `dir`/`build` (created when first written; `build` is the build's
+// identity, machine::build_identity() for the front ends, so another build's schedules are never
+// read, and the folders of other builds unused for 30 days are removed). An empty dir turns the
+// cache off.
 void enable_schedule_cache(const std::string& dir, const std::string& build);
 
 // Where the command line keeps them: $NESSHI_CACHE_DIR (empty: off), else
 // $XDG_CACHE_HOME/nesshi/kernels, else $HOME/.cache/nesshi/kernels, else off.
 std::string default_schedule_cache_dir();
 
-// The cache the front ends turn on (the command line, the Python module, the machine tests):
-// enable_schedule_cache(default_schedule_cache_dir(), build_identity()).
-void enable_default_schedule_cache();
-
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

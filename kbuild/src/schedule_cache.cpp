@@ -1,7 +1,7 @@
-#include "machine/schedule_cache.hpp"
+#include "kbuild/schedule_cache.hpp"
 
 #include "schedule_cache.hpp"
-#include "kernel_build_json.hpp"
+#include "kbuild/kernel_build_json.hpp"
 
 #include "base/cache_dir.hpp"
 #include "base/hash.hpp"
@@ -16,7 +16,7 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 namespace {
 
@@ -110,4 +110,4 @@ void store_schedule(const std::string& key, const StoredSchedule& s) {
 
 } // namespace detail
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

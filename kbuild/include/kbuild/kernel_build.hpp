@@ -1,11 +1,11 @@
-// How a stage's kernel was built for its machine (machine/runner.hpp builds it; machine::Stats
+// How a stage's kernel was built for its machine (kbuild/runner.hpp builds it; machine::Stats
 // and the stats JSON report it).
 #pragma once
 
 #include <string>
 #include <vector>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 // A `.pipeline` loop of a kernel, modulo-scheduled for the machine.
 struct KernelLoop {
@@ -30,4 +30,4 @@ struct KernelBuild {
     std::string loop_report;       // the pipeliner's report of those loops (`nesshi pipeline`'s), one block each
 };
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

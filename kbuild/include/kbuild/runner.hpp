@@ -3,11 +3,11 @@
 // kernel tests.
 //
 //   kernels::SourceSet src = kernels::embedded();
-//   machine::KernelRunner run(machine::assemble_kernel(src, "os/dda.s", "os"));
+//   kbuild::KernelRunner run(kbuild::assemble_kernel(src, "os/dda.s", "os"));
 //   run.load(kernels::os_image(geom, occupancy));  run.run();  run.feed(ray.words());  run.run();
 #pragma once
 
-#include "machine/kernel_build.hpp"
+#include "kbuild/kernel_build.hpp"
 
 #include "kernels/image.hpp"
 #include "kernels/sources.hpp"
@@ -21,9 +21,9 @@
 #include <memory>
 #include <string>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
-class LazySceneSample; // machine/scene_sample.hpp
+class LazySceneSample; // kbuild/scene_sample.hpp
 
 // Assembles kernel `path` of `sources` ("os/dda.s") for machine `m`; its .include of
 // "../abi.inc" resolves inside `sources`. When `m` is not the preset the kernel was scheduled for
@@ -75,4 +75,4 @@ class KernelRunner {
     void run(std::uint64_t max_cycles = 100'000'000);
 };
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

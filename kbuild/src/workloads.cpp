@@ -1,8 +1,8 @@
 // The kernel report's synthetic workloads (workloads.hpp): fixed seeds, so every run of the
 // report measures the same rays on the same grids and shapes.
-#include "workloads.hpp"
+#include "kbuild/workloads.hpp"
 
-#include "machine/synthetic_inputs.hpp"
+#include "kbuild/synthetic_inputs.hpp"
 
 #include "base/vec.hpp"
 #include "kernels/abi.hpp"
@@ -21,7 +21,7 @@
 #include <random>
 #include <vector>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 namespace {
 
@@ -197,4 +197,4 @@ WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workl
     return out;
 }
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

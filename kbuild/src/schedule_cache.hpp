@@ -1,12 +1,12 @@
-// Internal: the on-disk store behind machine/schedule_cache.hpp, as the kernel build uses it.
+// Internal: the on-disk store behind kbuild/schedule_cache.hpp, as the kernel build uses it.
 #pragma once
 
-#include "machine/kernel_build.hpp"
+#include "kbuild/kernel_build.hpp"
 
 #include <optional>
 #include <string>
 
-namespace nesshi::machine::detail {
+namespace nesshi::kbuild::detail {
 
 // One source scheduled for one machine: its text and build, or why it did not schedule.
 struct StoredSchedule {
@@ -22,4 +22,4 @@ std::optional<StoredSchedule> load_schedule(const std::string& key);
 // is silent (the cache only saves time).
 void store_schedule(const std::string& key, const StoredSchedule& s);
 
-} // namespace nesshi::machine::detail
+} // namespace nesshi::kbuild::detail

@@ -1,13 +1,12 @@
-#include "machine/runner.hpp"
+#include "kbuild/runner.hpp"
 
-#include "compiled_runs.hpp"
 #include "hybrid_kernel.hpp"
 
-#include "kernel_measure.hpp"
+#include "kbuild/workloads.hpp"
 #include "presets.hpp"
 #include "schedule_cache.hpp"
 
-#include "machine/scene_sample.hpp"
+#include "kbuild/scene_sample.hpp"
 
 #include "assembler/assembler.hpp"
 #include "sched/block.hpp"
@@ -34,7 +33,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 namespace {
 
@@ -191,7 +190,7 @@ Scheduled schedule_source(const kernels::SourceSet& sources, const std::string& 
     return out;
 }
 
-// schedule_source through the disk cache (machine/schedule_cache.hpp): an alternative that did not
+// schedule_source through the disk cache (kbuild/schedule_cache.hpp): an alternative that did not
 // schedule is kept as its error, to be thrown again.
 Scheduled cached_schedule_source(const kernels::SourceSet& sources, const std::string& pk, const isa::Machine& m,
                                  const assembler::AsmOptions& opts, bool alternative) {
@@ -534,7 +533,6 @@ std::shared_ptr<const iss::Program> assemble_kernel(const kernels::SourceSet& so
     if (!r.ok)
         throw std::runtime_error(name + " (" + sources.origin + ") does not assemble for machine '" + m.name +
                                  "' (" + m.source + "):\n" + r.diagnostics);
-    detail::register_compiled_runs(); // the built-in kernels' compiled runs, found by the program's hash
     return iss::load_program(r.object, m);
 }
 
@@ -559,7 +557,6 @@ std::shared_ptr<const iss::Program> assemble_source(const kernels::SourceSet& so
     const Scheduled s = cached_schedule_source(sources, pk, m, opts, pk != stem + ".pk");
     const assembler::AsmResult r = assembler::assemble_string(s.text, s.name, m, opts);
     if (!r.ok) throw std::runtime_error(s.name + " does not assemble for machine '" + m.name + "':\n" + r.diagnostics);
-    detail::register_compiled_runs(); // as assemble_kernel: the built-in programs' compiled runs
     std::shared_ptr<const iss::Program> prog = iss::load_program(r.object, m);
     std::lock_guard lock(mutex);
     built.emplace(key, prog);
@@ -598,4 +595,4 @@ void KernelRunner::run(std::uint64_t max_cycles) {
         throw std::runtime_error("kernel did not wait for input: " + proc->fault_report());
 }
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

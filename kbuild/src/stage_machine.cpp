@@ -1,8 +1,8 @@
-#include "machine/stage_machine.hpp"
+#include "kbuild/stage_machine.hpp"
 
 #include "presets.hpp"
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 namespace detail {
 const std::vector<isa::Machine>& presets() {
@@ -35,4 +35,4 @@ bool StageMachine::same_as_preset(std::string_view name) const {
     return p && p->same_as(machine_);
 }
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

@@ -1,9 +1,9 @@
 // A scene's IC work, sampled natively (scene_sample.hpp), and a kernel's cycles on it.
-#include "machine/scene_sample.hpp"
+#include "kbuild/scene_sample.hpp"
 
-#include "machine/runner.hpp"
+#include "kbuild/runner.hpp"
 
-#include "ray_tag.hpp"
+#include "kbuild/ray_tag.hpp"
 
 #include "iss/stats.hpp"
 #include "kernels/abi.hpp"
@@ -16,7 +16,7 @@
 #include <algorithm>
 #include <map>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 namespace abi = kernels::abi;
 
@@ -145,4 +145,4 @@ std::uint64_t sample_busy_cycles(const std::shared_ptr<const iss::Program>& prog
     return st.processing_cycles + st.communication_cycles;
 }
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 struct OccupancyGrid {
     kernels::twins::GridGeom g;
@@ -23,4 +23,4 @@ kernels::Shape random_triangle(std::mt19937& rng, bool two_sided);
 kernels::Shape random_sphere(std::mt19937& rng, bool two_sided);
 kernels::Shape random_cylinder(std::mt19937& rng); // one-sided
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

@@ -1,6 +1,6 @@
-#include "kernel_build_json.hpp"
+#include "kbuild/kernel_build_json.hpp"
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 nlohmann::json loop_json(const KernelLoop& l) {
     return {{"line", l.line},     {"kind", l.is_while ? "while" : "counted"},
@@ -37,4 +37,4 @@ KernelBuild build_from_json(const nlohmann::json& j) {
     return b;
 }
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

@@ -1,16 +1,30 @@
-// The synthetic workloads of the kernel report (machine::Workload): grids and rays for the 3DDDA
-// kernels, voxels of one shape kind and rays for the intersection kernels, run to completion.
+// The synthetic workloads of the kernel report (machine/kernel_report.hpp): grids and rays for the
+// 3DDDA kernels, voxels of one shape kind and rays for the intersection kernels, run to completion.
+// The kernel build weighs candidate kernels on them.
 #pragma once
 
-#include "machine/kernel_report.hpp"
-#include "machine/runner.hpp"
-#include "kernel_measure.hpp"
+#include "kbuild/runner.hpp"
 
 #include <cstdint>
 #include <memory>
 #include <string>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
+
+enum class Workload {
+    EmptyGrid,       // 40^3, empty, 300 rays: every step is a loop step
+    SparseGrid,      // 20^3, 3% full, 300 rays: VISITs and RETURNs (continues EmptyGrid's random stream)
+    Triangles,       // one-sided triangles, 200 rays
+    Spheres,         // one-sided plain spheres, 200 rays
+    SpheresMissed,   // the same spheres, 200 rays that miss them
+    TwoSidedSpheres, // two-sided spheres, 200 rays
+    Cylinders,       // one-sided cylinders of length 4 along z, 200 rays
+    ShortLists,      // 64 voxels of 1-12 mixed shapes (the SPD scenes' 2.5-21 per voxel), 2000 rays
+};
+
+// Processing plus communication cycles of `prog` (a kernel at `path`: "os/dda.s", "ic/intersect.s")
+// over every workload of its kind: what a candidate kernel is chosen by.
+std::uint64_t workload_busy_cycles(const std::shared_ptr<const iss::Program>& prog, const std::string& path);
 
 struct WorkloadRun {
     std::unique_ptr<KernelRunner> run;
@@ -37,4 +51,4 @@ WorkloadRun run_intersect(const std::shared_ptr<const iss::Program>& prog, Workl
 
 bool is_grid(Workload w);
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

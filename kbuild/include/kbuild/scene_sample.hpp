@@ -4,8 +4,8 @@
 // candidates on it and keeps the fastest for the scene: lists of one or two shapes and lists of
 // forty favour different kernels on the same machine.
 //
-//   const machine::SceneSample s = machine::sample_scene(prep, opt);   // or LazySceneSample, traced when asked
-//   std::uint64_t busy = machine::sample_busy_cycles(prog, s);
+//   const kbuild::SceneSample s = kbuild::sample_scene(prep, opt);   // or LazySceneSample, traced when asked
+//   std::uint64_t busy = kbuild::sample_busy_cycles(prog, s);
 #pragma once
 
 #include "kernels/messages.hpp"
@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 struct SceneSample {
     std::vector<kernels::Shape> shapes;             // the shapes the lists name, in scene order
@@ -52,4 +52,4 @@ SceneSample sample_scene(const rt::PreparedScene& prep, const rt::RenderOptions&
 // time, on the sample's lists laid out as the kernel wants them (kernels::ic_image_lists).
 std::uint64_t sample_busy_cycles(const std::shared_ptr<const iss::Program>& prog, const SceneSample& s);
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild

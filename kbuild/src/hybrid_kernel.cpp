@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nesshi::machine::detail {
+namespace nesshi::kbuild::detail {
 
 namespace {
 
@@ -161,4 +161,4 @@ std::string with_long_from(const std::string& text, std::uint32_t long_from) {
     return std::regex_replace(text, label, long_label(long_from), std::regex_constants::format_first_only);
 }
 
-} // namespace nesshi::machine::detail
+} // namespace nesshi::kbuild::detail

@@ -3,11 +3,11 @@
 // keeps it and reads it back.
 #pragma once
 
-#include "machine/kernel_build.hpp"
+#include "kbuild/kernel_build.hpp"
 
 #include <nlohmann/json.hpp>
 
-namespace nesshi::machine {
+namespace nesshi::kbuild {
 
 nlohmann::json loop_json(const KernelLoop& l);
 nlohmann::json build_json(const KernelBuild& b);
@@ -15,4 +15,4 @@ nlohmann::json build_json(const KernelBuild& b);
 KernelLoop loop_from_json(const nlohmann::json& j);
 KernelBuild build_from_json(const nlohmann::json& j);
 
-} // namespace nesshi::machine
+} // namespace nesshi::kbuild
