@@ -5,6 +5,9 @@
 #include "kernels/twins/quadric.hpp"
 #include "kernels/twins/triangle.hpp"
 
+#include <cstdint>
+#include <span>
+
 namespace nesshi::rt {
 
 const char* ray_kind_name(RayKind k) {
@@ -84,14 +87,28 @@ bool VoxelWalk::next(VoxelSpan& span, TraceCounters& c) {
     return false;
 }
 
+namespace {
+
+// The shapes listed in the voxel a span crosses.
+std::span<const std::uint32_t> voxel_shapes(const Grid& grid, const VoxelSpan& span) {
+    const auto addr = static_cast<std::size_t>(span.addr);
+    return {grid.prims.data() + grid.offsets[addr], grid.prims.data() + grid.offsets[addr + 1]};
+}
+
+// One ray-shape test, counted.
+Hit test_shape(const ShapeSet& set, std::uint32_t shape, const Ray& ray, TraceCounters& c) {
+    count_test(set, shape, c);
+    const Hit h = intersect_shape(set, shape, ray);
+    c.quadric_two_roots += h.two_roots;
+    return h;
+}
+
+} // namespace
+
 bool intersect_voxel_nearest(const Grid& grid, const ShapeSet& set, const Ray& ray, const VoxelSpan& span, Hit& best,
                              TraceCounters& c) {
-    const std::uint32_t* p = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr)];
-    const std::uint32_t* e = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr) + 1];
-    for (; p != e; ++p) {
-        count_test(set, *p, c);
-        Hit h = intersect_shape(set, *p, ray);
-        c.quadric_two_roots += h.two_roots;
+    for (const std::uint32_t shape : voxel_shapes(grid, span)) {
+        const Hit h = test_shape(set, shape, ray, c);
         if (!h.hit || !(h.t <= span.t_out) || !(h.t < ray.tmax)) continue;
         if (h.t < best.t || (h.t == best.t && h.shape < best.shape)) best = h;
     }
@@ -100,12 +117,8 @@ bool intersect_voxel_nearest(const Grid& grid, const ShapeSet& set, const Ray& r
 
 bool intersect_voxel_any(const Grid& grid, const ShapeSet& set, const Ray& ray, const VoxelSpan& span,
                          TraceCounters& c) {
-    const std::uint32_t* p = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr)];
-    const std::uint32_t* e = grid.prims.data() + grid.offsets[static_cast<std::size_t>(span.addr) + 1];
-    for (; p != e; ++p) {
-        count_test(set, *p, c);
-        Hit h = intersect_shape(set, *p, ray);
-        c.quadric_two_roots += h.two_roots;
+    for (const std::uint32_t shape : voxel_shapes(grid, span)) {
+        const Hit h = test_shape(set, shape, ray, c);
         if (h.hit && h.t < ray.tmax) return true;
     }
     return false;
