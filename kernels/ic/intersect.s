@@ -3,7 +3,7 @@
 # VISIT, every primitive of its list (triangles by the plane-equation method, quadrics in the general
 # form), the nearest hit with tmin < t <= t_out, t < tmax (shadow rays: any t < tmax), ties to the
 # lower shape index; HIT to the SC, or the tag back to the OS (RETURN). Float operations exactly as
-# the twins rt/twins/triangle.hpp and quadric.hpp; protocol and memory layout: kernels/abi.hpp.
+# the twins kernels/twins/triangle.hpp and quadric.hpp; protocol and memory layout: kernels/abi.hpp.
 #
 # GENERATED from kernels/ic/intersect.pk: `nesshi schedule` places each body's temporaries and
 # list-schedules it into the bundles below (edit the .pk, then run kernels/tools/build.sh).

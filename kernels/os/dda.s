@@ -1,6 +1,6 @@
 # machine: os
 # kernels/os/dda.s: the OS processor's 3DDDA traversal (Amanatides-Woo / Snyder-Barr), the
-# operation order of the native twin rt/twins/dda.hpp, software-pipelined to 5 cycles per voxel
+# operation order of the native twin kernels/twins/dda.hpp, software-pipelined to 5 cycles per voxel
 # step (the paper: 11). Protocol, record layouts and memory map: kernels/abi.hpp.
 #
 # Generated: the straight-line blocks (setup, VISIT, resume) are list-scheduled from dda.pk by

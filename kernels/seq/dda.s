@@ -3,7 +3,7 @@
 # careful sequential programmer writes it: branch on the axis, update only that axis. Same
 # protocol, state table, padded occupancy map and deferred t_exit test as kernels/os/dda.s (read
 # its header for the why); the same float operations in the twin's order, so every VISIT, state
-# word and MISS is bit-identical to rt/twins/dda.hpp.
+# word and MISS is bit-identical to kernels/twins/dda.hpp.
 #
 # One voxel step is 9 operations, 9 cycles (paper, sequential: 23):
 #   fle c1 = nx <= ny ; beqz c1 -> not_x ; fle c2 = nx <= nz ; beqz c2 -> step_z   (x path)

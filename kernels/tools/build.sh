@@ -9,7 +9,7 @@
 # os/dda.s is the os preset's build of os/dda.pk: its `#if machine os` sections (the hand-scheduled
 # voxel loop and its two leave paths) are kept and the `#else` ones (the `.pipeline while` region)
 # dropped, so nothing here pipelines; other machines get the region modulo-scheduled for them when
-# the kernel is built for them (machine::assemble_kernel), never from a file written here.
+# the kernel is built for them (kbuild::assemble_kernel), never from a file written here.
 set -eu
 kernels="$(cd "$(dirname "$0")/.." && pwd)"
 nesshi="${NESSHI:-$kernels/../build/nesshi}"

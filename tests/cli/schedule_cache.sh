@@ -1,5 +1,5 @@
 #!/bin/sh
-# The kernels scheduled for a machine file are kept on disk (machine/schedule_cache.hpp): a run
+# The kernels scheduled for a machine file are kept on disk (kbuild/schedule_cache.hpp): a run
 # writes them under NESSHI_CACHE_DIR, a second run reads them (and prints the same), a damaged
 # cache file is scheduled again (same output, no error), another build's folder goes after 30
 # days unused, and an empty NESSHI_CACHE_DIR writes nothing. usage: schedule_cache.sh NESSHI OUTDIR

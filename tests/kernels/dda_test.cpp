@@ -1,5 +1,5 @@
 // Differential test of the 3DDDA kernels (kernels/os/dda.s, kernels/seq/dda.s) against the
-// native twin (rt/twins/dda.hpp): the same VISITs (voxel, t_in, t_out bit for bit), the same saved
+// native twin (kernels/twins/dda.hpp): the same VISITs (voxel, t_in, t_out bit for bit), the same saved
 // state after each VISIT, and a MISS at the same point, on random grids and rays.
 #include "support.hpp"
 

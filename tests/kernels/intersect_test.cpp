@@ -1,5 +1,5 @@
 // Differential test of the IC intersection kernel (kernels/ic/intersect.s) against the native
-// twins (rt/twins/triangle.hpp, quadric.hpp) and the closest-hit / any-hit rules of rt/trace.cpp:
+// twins (kernels/twins/triangle.hpp, quadric.hpp) and the closest-hit / any-hit rules of rt/trace.cpp:
 // same HIT or RETURN, same shape, bit-identical t, u, v and front, on random primitives and rays.
 #include "support.hpp"
 

@@ -11,6 +11,9 @@
 
 namespace nesshi::kbuild {
 
+// The synthetic inputs. Grids: rays from random points outside aimed into the box; each VISIT is
+// answered with a RETURN (no hit). Primitives: one voxel listing 40 shapes of one kind, rays
+// aimed at the origin (or past the shapes, for SpheresMissed).
 enum class Workload {
     EmptyGrid,       // 40^3, empty, 300 rays: every step is a loop step
     SparseGrid,      // 20^3, 3% full, 300 rays: VISITs and RETURNs (continues EmptyGrid's random stream)

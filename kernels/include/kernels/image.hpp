@@ -93,7 +93,7 @@ struct IcImage {
     std::uint32_t end_record = 0;
 };
 
-// How an IC kernel wants its voxel lists laid out (machine::list_layout reads it off the program).
+// How an IC kernel wants its voxel lists laid out (kbuild::list_layout reads it off the program).
 struct ListLayout {
     bool by_kind = false;        // every list kind by kind (stably, by dispatch code)
     std::uint32_t long_from = 0; // hybrid: lists of at least this many references start with the

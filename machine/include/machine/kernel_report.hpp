@@ -29,9 +29,6 @@ namespace nesshi::machine {
 using kernels::kPaper; // the paper's step costs (kernels/paper_figures.hpp)
 using kernels::PaperFigures;
 
-// The synthetic inputs. Grids: rays from random points outside aimed into the box; each VISIT is
-// answered with a RETURN (no hit). Primitives: one voxel listing 40 shapes of one kind, rays
-// aimed at the origin (or past the shapes, for SpheresMissed).
 // What a metric's cycles and ops are divided by.
 enum class PerWhat {
     Entries,   // executions of the first bundle of each measured region

@@ -65,7 +65,7 @@ struct Options {
     bool resident = true;
     bool checked = false;             // ISS checked engine (ports and hazards checked dynamically)
     std::string kernels_dir;          // a folder of kernel sources overriding the built-in ones ("" = built in)
-    // The stages' machine descriptions, loaded where they are named (stage_machine.hpp): model V
+    // The stages' machine descriptions, loaded where they are named (kbuild/stage_machine.hpp): model V
     // runs OS and IC on os_machine and ic_machine, models S and M both on seq_machine; the SC's
     // operation prices come from seq_machine. The kernels are assembled for them; a description
     // they cannot run on is an error that names the first problem.

@@ -63,7 +63,7 @@ struct PipelineOptions {
     int max_ii_search = 64;  // how far above the MII to search
     // > 0: give up after this many IIs in a row at which no op order gave a modulo schedule at
     // all (not one whose code failed to assemble): a larger II rarely helps such a loop, and a
-    // caller with another candidate (machine::assemble_kernel) need not pay the whole search.
+    // caller with another candidate (kbuild::assemble_kernel) need not pay the whole search.
     int max_unscheduled_iis = 0;
     // > 0: when the II found is above the MII, every modulo reservation table (a Gecode model) at
     // each II from the MII up, for this long in all; the first whose code assembles is kept. The
@@ -118,7 +118,7 @@ struct TripChoice {
     std::string json() const;     // one object
 };
 
-// One region's schedule, for whoever builds code with the tool (machine::KernelBuild).
+// One region's schedule, for whoever builds code with the tool (kbuild::KernelBuild).
 struct LoopSummary {
     int line = 0; // of its .pipeline
     bool is_while = false;
@@ -175,7 +175,7 @@ PipelineResult pipeline_source(std::string_view text, std::string_view filename,
 
 // The file with its region replaced by the region's sequential meaning between the comment lines
 // kRegionBegin and kRegionEnd, assembled nowhere: legalizing the code around a region for a
-// machine starts from it (machine::assemble_kernel), then restore_region puts the region back.
+// machine starts from it (kbuild::assemble_kernel), then restore_region puts the region back.
 inline constexpr const char* kRegionBegin = "# sequential meaning of the .pipeline region: begin";
 inline constexpr const char* kRegionEnd = "# sequential meaning of the .pipeline region: end";
 std::string sequential_region(std::string_view text, std::string_view filename, const isa::Machine& m);

@@ -1,10 +1,13 @@
 // An outside program built against an installed Nesshisen (find_package or pkg-config): assembles
-// a bundle for the os preset, runs it on the simulator and reads the statistics, and bundles a
-// straight-line block with the scheduler.
+// a bundle for the os preset, runs it on the simulator and reads the statistics, bundles a
+// straight-line block with the scheduler, and builds the OS kernel, which runs its compiled runs
+// when the build made them (EXPECT_COMPILED: they register themselves when the program starts).
 #include "assembler/assembler.hpp"
 #include "isa/machine.hpp"
 #include "iss/processor.hpp"
 #include "iss/stats.hpp"
+#include "kbuild/runner.hpp"
+#include "kernels/sources.hpp"
 #include "sched/block.hpp"
 
 #include <cstdio>
@@ -25,5 +28,10 @@ int main() {
     // The scheduler too (it links z3 and Gecode): two independent ops packed into one bundle.
     const sched::PackResult packed = sched::pack_source("#pack begin\n        li r1, 6\n        li r2, 7\n#pack end\n        halt\n", "t.pk", m);
     if (packed.blocks.size() != 1 || packed.blocks[0].bundles != 1) return 1;
+    const kbuild::KernelRunner dda(kbuild::assemble_kernel(kernels::embedded(), "os/dda.s", "os"));
+    if (dda.proc->compiled_runs() != bool(EXPECT_COMPILED)) {
+        std::fprintf(stderr, "os/dda.s on os: compiled runs %s\n", dda.proc->compiled_runs() ? "on" : "off");
+        return 1;
+    }
     return p.reg(3) == 42 ? 0 : 1;
 }
