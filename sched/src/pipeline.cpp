@@ -349,11 +349,14 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
         return fmt::format("at {} trips it would gain at most {} of {} cycles a run, under {}%", runs_of, gain, run,
                            kShortenWorthPercent);
     };
+    // Whether the solver could shorten `s` enough to matter: its iteration half an II or more above
+    // the longest path, and more stages than the fewest the II allows.
+    auto could_shorten = [&](const Schedule& s) {
+        return iteration_length(g, s) >= bounds.length + (s.ii + 1) / 2 && s.stages() > bounds.fewest_stages(s.ii);
+    };
     bool solver_ran = false;
     auto shortest = [&](const Schedule& s) {
-        if (solver_ran || iteration_length(g, s) < bounds.length + (s.ii + 1) / 2 ||
-            s.stages() <= bounds.fewest_stages(s.ii) || !why_not_shorten(s).empty())
-            return std::vector<Schedule>{};
+        if (solver_ran || !could_shorten(s) || !why_not_shorten(s).empty()) return std::vector<Schedule>{};
         solver_ran = true;
         const std::optional<Schedule> shorter = shortest_schedule(g, m, s, r.is_while ? r.exit_op : -1, kSolverBudget);
         return shorter ? shifted(*shorter) : std::vector<Schedule>{};
@@ -653,7 +656,7 @@ Impl pipeline_impl(std::string_view text, std::string_view filename, const isa::
                                                  : fmt::format(" ({} above the MII)", res.ii - res.mii));
     rep += fmt::format("#   one iteration {} cycles from its first issue to its last landing (its longest path: {})\n",
                        res.iteration_cycles, res.iteration_lower);
-    if (!solver_ran && res.iteration_cycles >= bounds.length + (sched->ii + 1) / 2 && sched->stages() > bounds.fewest_stages(sched->ii))
+    if (!solver_ran && could_shorten(*sched))
         if (const std::string why = why_not_shorten(*sched); !why.empty())
             rep += fmt::format("#   not shortened by the solver: {} (--shorten searches anyway)\n", why);
     if (!tried.empty()) {
