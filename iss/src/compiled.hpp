@@ -114,8 +114,9 @@ template <uint32_t W0, uint32_t W1, uint16_t... R> [[gnu::always_inline]] inline
 }
 
 // What the end of bundle j does about the ring: probe the next cycle's slot when writes are
-// pending (Probe), nothing (NoRing: the generator proved that no write lands then), or land the
-// slot (Ring: it proved that it holds exactly writes to R...; gen_compiled_runs.cpp has the proof).
+// pending (Probe), nothing (NoRing: the generator proved that no write lands then), land the
+// slot (Ring: it proved that it holds exactly writes to R...; compiled_emit.cpp has the proof), or
+// land R... when the slot holds no more (Expect: it knows those, not what was pushed before the run).
 struct Probe {
     template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] static void after(Core& c, const Counts& n, uint32_t j) {
         if (c.pending) [[unlikely]]
@@ -128,6 +129,19 @@ struct NoRing {
 template <uint16_t... R> struct Ring {
     template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] static void after(Core& c, const Counts& n, uint32_t j) {
         cland_known<W0, W1, R...>(c, n.cycle(j + 1));
+    }
+};
+// The slot holds writes to R... pushed by the run since its entry, after any pushed before it
+// that land then too (the generator cannot rule those out): it holds just R... exactly when its
+// count is theirs, else it lands as Probe would.
+template <uint16_t... R> struct Expect {
+    template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] static void after(Core& c, const Counts& n, uint32_t j) {
+        const uint64_t cycle = n.cycle(j + 1);
+        if (c.ring[cycle & c.mask].n == sizeof...(R)) [[likely]] {
+            if constexpr (sizeof...(R) != 0) cland_known<W0, W1, R...>(c, cycle);
+        } else {
+            cland_ring<W0, W1>(c, cycle);
+        }
     }
 };
 

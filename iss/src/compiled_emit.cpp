@@ -95,8 +95,9 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
     // happen is a faulting load's, whose bundle stops the run); when C' < C, before the entry,
     // possible only while j + 1 - f < max_lat. So past the
     // first max_lat - 1 ends the entry at f lands exactly what its own bundles pushed, in the
-    // order they pushed it (bundle, then op order); entries anywhere else (by the switch or a
-    // goto) run a second copy of the run that probes at every end.
+    // order they pushed it (bundle, then op order); in those first ends, after whatever was pushed
+    // before it (Expect: its own writes alone when the slot holds as many). Entries anywhere else
+    // (by the switch or a goto) run a second copy of the run that probes at every end.
     uint32_t max_lat = 1;
     for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
     for (uint32_t r = 0; r < starts.size(); ++r) {
@@ -133,9 +134,11 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                const std::string land = !fast || pc + 1 - first < max_lat ? "Probe"
-                                         : lands.count(pc)                  ? fmt::format("Ring<{}>", fmt::join(lands[pc], ", "))
-                                                                            : "NoRing";
+                const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now
+                const std::string land = !fast                 ? "Probe"
+                                         : lands.count(pc)     ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands[pc], ", "))
+                                         : known               ? "NoRing"
+                                                               : "Expect<>";
                 out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events,
                                    t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc);
             } else if (const iss::DecodedOp* j = constant_jump(prog, pc)) {
