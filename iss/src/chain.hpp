@@ -61,11 +61,10 @@ inline constexpr int kNumTails = kJump + 2;
 // ring_landed: what follows the stores once `count` writes (`ring_float` of them to float
 // registers) landed from slot s; w0, w1: the bundle before's lat1_writes. Compiled runs call it
 // with constants when the generator knows the slot (compiled.hpp cland_known).
-[[gnu::always_inline]] inline void ring_landed(Core& c, RingSlot& s, uint64_t cycle, uint32_t count,
-                                               uint32_t ring_float, uint32_t w0, uint32_t w1) {
-    c.pending -= count;
-    s.n = 0;
-    const uint32_t ring_int = count - ring_float;
+// landed_counts: the part that follows any writes landing from the run's own values instead
+// (compiled.hpp clocal).
+[[gnu::always_inline]] inline void landed_counts(Core& c, uint64_t cycle, uint32_t ring_int, uint32_t ring_float,
+                                                 uint32_t w0, uint32_t w1) {
     c.last_ring_cycle = cycle;
     c.last_ring = {ring_int, ring_float};
     // The credit moves per file by hand: a loop over a local pair kept the pair on the stack.
@@ -79,6 +78,12 @@ inline constexpr int kNumTails = kJump + 2;
         --adjust[w1];
         ++adjust[w1 + ring_float];
     }
+}
+[[gnu::always_inline]] inline void ring_landed(Core& c, RingSlot& s, uint64_t cycle, uint32_t count,
+                                               uint32_t ring_float, uint32_t w0, uint32_t w1) {
+    c.pending -= count;
+    s.n = 0;
+    landed_counts(c, cycle, count - ring_float, ring_float, w0, w1);
 }
 [[gnu::always_inline]] inline void land_ring_at(Core& c, uint64_t cycle, uint32_t w0, uint32_t w1) {
     RingSlot& s = c.ring[cycle & c.mask];

@@ -23,6 +23,7 @@
 #include "isa/ops.hpp"
 
 #include <cstdint>
+#include <cstring>
 
 namespace nesshi::iss::detail {
 
@@ -144,6 +145,87 @@ template <uint16_t... R> struct Expect {
         }
     }
 };
+
+// Held writes. A compute or load result of a run's head copy (the code entered at its first bundle,
+// straight on to its first control bundle) that lands at the end of a bundle of that copy, in a
+// ring slot that receives only such results from the copy, is kept in the run's array v rather
+// than pushed into the ring: `v[i] = val<O>(...)` at issue, `c.r[dst] = uint32_t(v[i])` and clocal at the
+// end that lands it. When the run stops before that end, cexit pushes the held writes still in
+// flight, in their issue order, so that the ring holds what it would have held. An end in the
+// first max_lat - 1 of the copy may find writes pushed before the run in the slot: land_before
+// lands those first.
+struct Held {
+    uint32_t issue, end; // the bundle that computes it, the one whose end lands it
+    uint16_t dst;
+    uint32_t latency, index;
+};
+
+// Row O's result on registers ra, rb, rc and imm, read now (as semantics<> computes it): a
+// Compute row's value, or a Load row's, or Core::kLoadFailed when the load faulted (it raised
+// the fault; its bundle then stops the run, and nothing is pushed for it).
+template <size_t O>
+[[gnu::noinline]] uint64_t cload_miss(Core& c, uint64_t cycle, uint32_t index, uint32_t addr) {
+    c.cycle = cycle; // a host's cache model may ask its processor's cycle()
+    const uint64_t v = c.load_checked(c.ops[index], addr, isa::kOps[O].mem_bytes);
+    return v == Core::kLoadFailed ? v : extend<O>(uint32_t(v));
+}
+template <size_t O>
+[[gnu::always_inline]] inline uint64_t val(Core& c, uint64_t cycle, uint16_t ra, uint16_t rb, uint16_t rc, uint32_t imm,
+                                           uint32_t index) {
+    constexpr const isa::OpInfo& info = isa::kOps[O];
+    const Constants f{kNoReg, ra, rb, rc, imm, 0, index, 0};
+    const uint32_t v = info.eval(src<O, isa::Field::Rs1>(c, f), src<O, isa::Field::Rs2>(c, f), src<O, isa::Field::Rs3>(c, f), imm);
+    if constexpr (info.kind == isa::Kind::Compute) {
+        return v;
+    } else {
+        static_assert(info.kind == isa::Kind::Load);
+        if (!c.mem->tlb_hit<info.mem_bytes>(v)) [[unlikely]]
+            return cload_miss<O>(c, cycle, index, v);
+        uint32_t w = 0;
+        std::memcpy(&w, c.mem->tlb_data(v), info.mem_bytes);
+        return extend<O>(w);
+    }
+}
+inline void push_held(Core& c, const Counts& n, const Held& h, uint64_t value) {
+    if (value != Core::kLoadFailed) c.push_at(n.cycle(h.issue), h.dst, h.latency, h.index, uint32_t(value));
+}
+// The run stopped in bundle `bundle` (end<> returned false): its held writes not landed yet go
+// into the ring.
+[[gnu::noinline]] inline bool cexit(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
+    for (uint32_t i = 0; i < count; ++i)
+        if (held[i].issue <= bundle && held[i].end >= bundle) push_held(c, n, held[i], v[i]);
+    return false;
+}
+// The writes pushed before the run that land with held ones at the end of bundle j (the first
+// max_lat - 1 ends of the head copy: the run before may have pushed them), landed first, as they
+// were pushed first: how many per file.
+struct Landed {
+    uint32_t ints = 0, floats = 0;
+};
+[[gnu::noinline]] inline Landed cland_before(Core& c, uint64_t cycle) {
+    RingSlot& s = c.ring[cycle & c.mask];
+    Landed l;
+    for (const RingWrite *w = s.w.data(), *e = w + s.n; w != e; ++w) {
+        c.r[w->reg] = w->value;
+        l.floats += (w->reg >> 7) & 1;
+    }
+    l.ints = s.n - l.floats;
+    c.pending -= s.n;
+    s.n = 0;
+    return l;
+}
+[[gnu::always_inline]] inline Landed land_before(Core& c, const Counts& n, uint32_t j) {
+    const uint64_t cycle = n.cycle(j + 1);
+    if (c.ring[cycle & c.mask].n == 0) [[likely]]
+        return {};
+    return cland_before(c, cycle);
+}
+// After the held writes landing at the end of bundle j were stored (NI integer and NF float ones,
+// after `before`).
+template <uint32_t W0, uint32_t W1, uint32_t NI, uint32_t NF>
+[[gnu::always_inline]] inline void clocal(Core& c, const Counts& n, uint32_t j, Landed before = {}) {
+    landed_counts(c, n.cycle(j + 1), NI + before.ints, NF + before.floats, W0, W1);
+}
 
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its

@@ -102,15 +102,53 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
     for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
     for (uint32_t r = 0; r < starts.size(); ++r) {
         const uint32_t first = starts[r], end = r + 1 < starts.size() ? starts[r + 1] : nb;
-        out = fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n    switch (c.pc) {{\n",
-                          first, end - 1, r);
-        out += fmt::format("    case {0}: goto f{0};\n", first);
+        auto label = [first](uint32_t pc) { return fmt::format("{}{}", pc == first ? 'f' : 'b', pc); };
+        // The head copy (entered at `first`) runs straight on to `last`, its first bundle that does
+        // not end as End. Its ring writes, by the bundle whose end lands them, in push order
+        // (bundle, then op order): a slot landing before `last` that receives compute and load
+        // results only is held (compiled.hpp Held); the others are landed from the ring (`lands`: their
+        // registers).
+        uint32_t last = first;
+        while (tail_of(prog, last).kind == Tail::End)
+            if (++last == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+        auto pushes = [&](const iss::DecodedOp& d) { // its result goes into the ring (handlers.hpp put)
+            const isa::Kind k = d.instr.info().kind;
+            return !iss::detail::op_direct(d) && d.latency > 1 &&
+                   (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink || k == isa::Kind::Recv);
+        };
+        std::map<uint32_t, std::vector<const iss::DecodedOp*>> slots;
+        for (uint32_t pc = first; pc <= last; ++pc)
+            for (uint32_t i = prog.bundles()[pc].first; i < prog.bundles()[pc].first + prog.bundles()[pc].count; ++i)
+                if (pushes(prog.ops()[i])) slots[pc + prog.ops()[i].latency - 1].push_back(&prog.ops()[i]);
+        std::map<uint32_t, std::vector<uint16_t>> lands;
+        std::map<uint32_t, uint32_t> held_of; // op index -> its place in v
+        std::vector<const iss::DecodedOp*> held;
+        for (const auto& [at, ops] : slots) {
+            const bool hold = at < last && std::all_of(ops.begin(), ops.end(), [](const iss::DecodedOp* d) {
+                                  return d->instr.info().kind == isa::Kind::Compute || d->instr.info().kind == isa::Kind::Load;
+                              });
+            for (const iss::DecodedOp* d : ops)
+                if (hold) held_of[d->index] = 0;
+                else lands[at].push_back(d->dst);
+        }
+        for (auto& [index, place] : held_of) { // op indices ascend in push order
+            place = uint32_t(held.size());
+            held.push_back(&prog.ops()[index]);
+        }
+        auto landing = [](const iss::DecodedOp& d) { return d.bundle + d.latency - 1; };
+        out = fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n", first, end - 1, r);
+        if (!held.empty()) {
+            out += fmt::format("    uint64_t v[{}];\n    static constexpr Held kHeld[] = {{", held.size());
+            for (uint32_t i = 0; i < held.size(); ++i)
+                out += fmt::format("{}{{{}, {}, {}, {}, {}}}", sep(i, 6), held[i]->bundle, landing(*held[i]), held[i]->dst,
+                                   held[i]->latency, held[i]->index);
+            out += "};\n";
+        }
+        out += fmt::format("    switch (c.pc) {{\n    case {0}: goto f{0};\n", first);
         for (uint32_t pc = first + 1; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
         out += "    default: __builtin_unreachable();\n    }\n";
-        auto label = [first](uint32_t pc) { return fmt::format("{}{}", pc == first ? 'f' : 'b', pc); };
-        // Bundle pc's code; `lands`: by bundle end, the registers of the writes pushed by the copy
-        // that land then, in push order (fast copy).
-        auto bundle_code = [&](uint32_t pc, bool fast, std::map<uint32_t, std::vector<uint16_t>>& lands) {
+        // Bundle pc's code, in the head copy (fast) or the other.
+        auto bundle_code = [&](uint32_t pc, bool fast) {
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             std::set<uint32_t> targets; // constant branch targets inside this run
@@ -121,11 +159,11 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) && d.imm >= first &&
                     d.imm < end)
                     targets.insert(d.imm);
-                const bool ring = !iss::detail::op_direct(d) && d.latency > 1;
-                // The kinds whose semantics put a result (handlers.hpp); a load only if it does not fault.
-                if (ring && (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink ||
-                             k == isa::Kind::Recv))
-                    lands[pc + d.latency - 1].push_back(d.dst);
+                if (fast && held_of.count(d.index)) {
+                    out += fmt::format("    v[{}] = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", held_of[d.index],
+                                       int(d.instr.opcode), pc, d.a, d.b, d.c, d.imm, d.index, isa::format_instr(d.instr));
+                    continue;
+                }
                 out += fmt::format("    op<{}, {}>(c, n.cycle({}), {}, {}, {}, {}, 0x{:x}u, {}, {}, {}); // {}\n", int(d.instr.opcode),
                                    iss::detail::op_direct(d), pc, d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
@@ -135,12 +173,35 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
                 const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now
-                const std::string land = !fast                 ? "Probe"
-                                         : lands.count(pc)     ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands[pc], ", "))
-                                         : known               ? "NoRing"
-                                                               : "Expect<>";
-                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return false;\n", t.commit, t.events,
-                                   t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc);
+                std::vector<uint32_t> now; // held writes landing at this end
+                bool flying = false;       // held writes issued and not landed when the run stops here
+                for (uint32_t i = 0; fast && i < held.size(); ++i) {
+                    if (landing(*held[i]) == pc) now.push_back(i);
+                    flying |= held[i]->bundle <= pc && landing(*held[i]) >= pc;
+                }
+                const std::string land = !fast                    ? "Probe"
+                                         : !now.empty()           ? "NoRing"
+                                         : lands.count(pc)        ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands[pc], ", "))
+                                         : known                  ? "NoRing"
+                                                                  : "Expect<>";
+                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return {};\n", t.commit, t.events,
+                                   t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc,
+                                   flying ? fmt::format("cexit(c, n, {}, kHeld, {}, v)", pc, held.size()) : "false");
+                if (!now.empty()) {
+                    std::string stores;
+                    uint32_t floats = 0;
+                    for (uint32_t i : now) {
+                        stores += fmt::format("c.r[{}] = uint32_t(v[{}]); ", held[i]->dst, i);
+                        floats += (held[i]->dst >> 7) & 1u;
+                    }
+                    if (known)
+                        out += fmt::format("    {}clocal<{}, {}, {}, {}>(c, n, {});\n", stores, b.lat1_writes[0],
+                                           b.lat1_writes[1], now.size() - floats, floats, pc);
+                    else
+                        out += fmt::format("    {{\n        const Landed before = land_before(c, n, {});\n        {}clocal<{}, {}, "
+                                           "{}, {}>(c, n, {}, before);\n    }}\n",
+                                           pc, stores, b.lat1_writes[0], b.lat1_writes[1], now.size() - floats, floats, pc);
+                }
             } else if (const iss::DecodedOp* j = constant_jump(prog, pc)) {
                 // Taken to j->imm, or (a branch) not taken to pc + 1: stops where jump() would.
                 const bool cond = j->instr.info().kind == isa::Kind::Branch;
@@ -171,17 +232,12 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             }
             return t.kind;
         };
-        // The copy entered at `first`, up to its first bundle that does not go straight on.
-        std::map<uint32_t, std::vector<uint16_t>> lands, none;
+        // The head copy, then the copy entered anywhere else.
         out += fmt::format("f{}:\n", first);
-        for (uint32_t pc = first;; ++pc) {
-            if (pc == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
-            if (bundle_code(pc, true, lands) != Tail::End) break;
-        }
-        // The copy entered anywhere else.
+        for (uint32_t pc = first; pc <= last; ++pc) bundle_code(pc, true);
         for (uint32_t pc = first + 1; pc < end; ++pc) {
             out += fmt::format("b{}:\n", pc);
-            bundle_code(pc, false, none);
+            bundle_code(pc, false);
         }
         out += "}\n";
         code[r] = std::move(out);
