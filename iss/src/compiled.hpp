@@ -1,12 +1,14 @@
 // What compiled runs (iss/compiled.hpp) are made of: the generated code of a straight run keeps
 // its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands and its
-// issue cycle (Counts::cycle) for each operation and one of end/jump/stop/leave
-// for each bundle's end, and nothing else of the engine, so that the engine can change behind these.
+// issue cycle (Counts::cycle) for each operation (or val<O> for a held result, below) and one
+// of end/jump/stop/leave for each bundle's end, and nothing else of the engine, so that the
+// engine can change behind these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
 // known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> and jump_to<> then<kJump + flags>,
-// stop() kExit.
+// stop() kExit. It may go further than the chain: on a machine with a branch penalty, past a
+// branch not taken (which costs no bubble), where the chain stops at every control bundle.
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
 // ends as the chain ends it (chain.hpp finish_counts, or jump_to: execution counts by pass; the counts in
 // Counts), its ring slot lands as land_ring_at lands it, and a run goes into a FIFO bundle only when

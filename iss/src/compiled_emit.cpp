@@ -17,11 +17,29 @@ namespace nesshi::iss {
 
 namespace {
 
+// The one control op of control bundle `pc` when its target is a constant (branch, jump, jal),
+// else nullptr (jr, or more than one).
+const iss::DecodedOp* constant_jump(const iss::Program& prog, uint32_t pc) {
+    const iss::DecodedBundle& b = prog.bundles()[pc];
+    const iss::DecodedOp* found = nullptr;
+    int control = 0;
+    for (uint32_t i = b.first; i < b.first + b.count; ++i) {
+        const isa::Kind k = prog.ops()[i].instr.info().kind;
+        if (k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) found = &prog.ops()[i];
+        control += k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink || k == isa::Kind::JumpReg;
+    }
+    return control == 1 ? found : nullptr;
+}
+
 // The tail of bundle `pc`'s last op, as Program builds it (program.cpp); checked against the
 // handler Program chose, so that the generated code cannot drift from the threaded form.
 struct Tail {
     enum Kind { Exit, End, Jump } kind = Exit;
     bool commit = false, events = false, gate = false;
+    // An Exit whose bundle's one control op is a branch with a constant target, on a machine with
+    // a branch penalty: not taken, control goes on to the next bundle without a bubble, which the
+    // compiled run does itself; taken, it stops there and the general loop adds the bubble.
+    bool falls = false;
 };
 
 Tail tail_of(const iss::Program& prog, uint32_t pc) {
@@ -40,6 +58,9 @@ Tail tail_of(const iss::Program& prog, uint32_t pc) {
     t.kind = b.control && !halt && prog.machine().branch_penalty == 0 ? Tail::Jump
              : b.run == 1                                            ? Tail::Exit
                                                                      : Tail::End;
+    const iss::DecodedOp* branch = constant_jump(prog, pc);
+    t.falls = t.kind == Tail::Exit && b.control && !halt && branch && branch->instr.info().kind == isa::Kind::Branch &&
+              pc + 1 < prog.size();
     const int commit = t.commit ? d::kEndCommit : 0;
     const int tail = t.kind == Tail::Jump ? d::kJump + commit
                      : t.kind == Tail::Exit ? d::kExit
@@ -48,20 +69,6 @@ Tail tail_of(const iss::Program& prog, uint32_t pc) {
     if (last.tfn != d::threaded_handler(last.instr.opcode, d::op_direct(last), tail))
         throw std::runtime_error(fmt::format("bundle {}: the generator's tail {} is not the threaded form's", pc, tail));
     return t;
-}
-
-// The one control op of control bundle `pc` when its target is a constant (branch, jump, jal),
-// else nullptr (jr, or more than one).
-const iss::DecodedOp* constant_jump(const iss::Program& prog, uint32_t pc) {
-    const iss::DecodedBundle& b = prog.bundles()[pc];
-    const iss::DecodedOp* found = nullptr;
-    int control = 0;
-    for (uint32_t i = b.first; i < b.first + b.count; ++i) {
-        const isa::Kind k = prog.ops()[i].instr.info().kind;
-        if (k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) found = &prog.ops()[i];
-        control += k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink || k == isa::Kind::JumpReg;
-    }
-    return control == 1 ? found : nullptr;
 }
 
 // Between the items of an array initializer, `per_line` a line.
@@ -147,6 +154,23 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
         out += fmt::format("    switch (c.pc) {{\n    case {0}: goto f{0};\n", first);
         for (uint32_t pc = first + 1; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
         out += "    default: __builtin_unreachable();\n    }\n";
+        // Control bundle pc goes on to `to` (taken, or a branch not taken to pc + 1), or stops where
+        // jump() would.
+        auto go = [&](uint32_t pc, bool taken, bool cond, uint32_t to) {
+            const iss::DecodedBundle& b = prog.bundles()[pc];
+            std::string s = taken && cond ? "    if (c.event) {\n" : "    {\n";
+            if (to >= nb) {
+                s += fmt::format("        return stop(c, n, {});\n    }}\n", pc);
+                return s;
+            }
+            s += fmt::format("        if (!jump_to<{}, {}, {}, {}, {}>(c, n, {}, {})) return false;\n", tail_of(prog, pc).commit,
+                             taken, bool(prog.bundles()[to].slow), b.lat1_writes[0], b.lat1_writes[1], pc, to);
+            if (to >= first && to < end)
+                s += fmt::format("        n.go({}, {});\n        goto {};\n    }}\n", pc, to, label(to));
+            else
+                s += fmt::format("        return leave(c, n, {}, {});\n    }}\n", pc, to);
+            return s;
+        };
         // Bundle pc's code, in the head copy (fast) or the other.
         auto bundle_code = [&](uint32_t pc, bool fast) {
             const iss::DecodedBundle& b = prog.bundles()[pc];
@@ -169,7 +193,10 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                    isa::format_instr(d.instr));
             }
             const Tail t = tail_of(prog, pc);
-            if (t.kind == Tail::Exit) {
+            if (t.kind == Tail::Exit && t.falls) {
+                out += fmt::format("    if (jump_held(c, n, {0}) || c.event) return stop(c, n, {0}); // taken: the loop adds the bubble\n", pc);
+                out += go(pc, false, true, pc + 1);
+            } else if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
                 const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now
@@ -206,22 +233,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 // Taken to j->imm, or (a branch) not taken to pc + 1: stops where jump() would.
                 const bool cond = j->instr.info().kind == isa::Kind::Branch;
                 out += fmt::format("    if (jump_held(c, n, {})) return stop(c, n, {});\n", pc, pc);
-                auto go = [&](bool taken, uint32_t to) {
-                    std::string s = taken && cond ? "    if (c.event) {\n" : "    {\n";
-                    if (to >= nb) {
-                        s += fmt::format("        return stop(c, n, {});\n    }}\n", pc);
-                        return s;
-                    }
-                    s += fmt::format("        if (!jump_to<{}, {}, {}, {}, {}>(c, n, {}, {})) return false;\n", t.commit,
-                                     taken, bool(prog.bundles()[to].slow), b.lat1_writes[0], b.lat1_writes[1], pc, to);
-                    if (to >= first && to < end)
-                        s += fmt::format("        n.go({}, {});\n        goto {};\n    }}\n", pc, to, label(to));
-                    else
-                        s += fmt::format("        return leave(c, n, {}, {});\n    }}\n", pc, to);
-                    return s;
-                };
-                out += go(true, j->imm);
-                if (cond) out += go(false, pc + 1);
+                out += go(pc, true, cond, j->imm);
+                if (cond) out += go(pc, false, cond, pc + 1);
             } else {
                 out += fmt::format("    {{\n        const uint32_t to = jump<{}, {}, {}>(c, n, {});\n", t.commit,
                                    b.lat1_writes[0], b.lat1_writes[1], pc);

@@ -157,7 +157,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
-    // and, without a branch penalty, the runs control goes to, until a run's last bundle, a
+    // and, without a branch penalty, the runs control goes to (compiled runs: with one, past a
+    // branch not taken), until a run's last bundle, a
     // bundle whose handlers raised an event other than a taken branch, or one whose successor
     // is a FIFO bundle whose fast gate does not pass (chain.hpp) has executed its operations;
     // loop() then finishes that bundle as any other, and its fifo_gate decides at the FIFO
