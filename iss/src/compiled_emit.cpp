@@ -107,17 +107,28 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
     // (by the switch or a goto) run a second copy of the run that probes at every end.
     uint32_t max_lat = 1;
     for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
+    auto run_end = [&](uint32_t pc) { return run_of[pc] + 1 < starts.size() ? starts[run_of[pc] + 1] : nb; };
+    constexpr uint32_t kHeadCap = 96;
     for (uint32_t r = 0; r < starts.size(); ++r) {
         const uint32_t first = starts[r], end = r + 1 < starts.size() ? starts[r + 1] : nb;
         auto label = [first](uint32_t pc) { return fmt::format("{}{}", pc == first ? 'f' : 'b', pc); };
-        // The head copy (entered at `first`) runs straight on to `last`, its first bundle that does
-        // not end as End. Its ring writes, by the bundle whose end lands them, in push order
-        // (bundle, then op order): a slot landing before `last` that receives compute and load
-        // results only is held (compiled.hpp Held); the others are landed from the ring (`lands`: their
-        // registers).
+        // The head copy (entered at `first`) runs straight on to `last`: across the ends of its
+        // bundles (End) and, while it holds at most kHeadCap bundles, across branches not taken
+        // (Tail::falls) into the runs after it, which it then knows the ring of. Its ring writes,
+        // by the bundle whose end lands them, in push order (bundle, then op order): a slot
+        // landing before `last` that receives compute and load results only is held (compiled.hpp
+        // Held); the others are landed from the ring (`lands`: their registers).
         uint32_t last = first;
-        while (tail_of(prog, last).kind == Tail::End)
-            if (++last == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+        for (;;) {
+            const Tail t = tail_of(prog, last);
+            if (t.kind == Tail::End) {
+                if (++last == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+            } else if (t.falls && run_end(last + 1) - first <= kHeadCap) {
+                ++last;
+            } else {
+                break;
+            }
+        }
         auto pushes = [&](const iss::DecodedOp& d) { // its result goes into the ring (handlers.hpp put)
             const isa::Kind k = d.instr.info().kind;
             return !iss::detail::op_direct(d) && d.latency > 1 &&
@@ -192,7 +203,11 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                    iss::detail::op_direct(d), pc, d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
             }
-            const Tail t = tail_of(prog, pc);
+            Tail t = tail_of(prog, pc);
+            if (fast && pc < last && t.falls) { // inside the head copy: taken, it stops as at an event
+                t.kind = Tail::End;
+                t.events = true;
+            }
             if (t.kind == Tail::Exit && t.falls) {
                 out += fmt::format("    if (jump_held(c, n, {0}) || c.event) return stop(c, n, {0}); // taken: the loop adds the bubble\n", pc);
                 out += go(pc, false, true, pc + 1);
@@ -201,10 +216,11 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             } else if (t.kind == Tail::End) {
                 const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now
                 std::vector<uint32_t> now; // held writes landing at this end
-                bool flying = false;       // held writes issued and not landed when the run stops here
+                // The held writes issued and not landed when the run stops here: among v[lo, hi).
+                uint32_t lo = ~0u, hi = 0;
                 for (uint32_t i = 0; fast && i < held.size(); ++i) {
                     if (landing(*held[i]) == pc) now.push_back(i);
-                    flying |= held[i]->bundle <= pc && landing(*held[i]) >= pc;
+                    if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
                 }
                 const std::string land = !fast                    ? "Probe"
                                          : !now.empty()           ? "NoRing"
@@ -213,7 +229,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                                                   : "Expect<>";
                 out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return {};\n", t.commit, t.events,
                                    t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc,
-                                   flying ? fmt::format("cexit(c, n, {}, kHeld, {}, v)", pc, held.size()) : "false");
+                                   hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false");
                 if (!now.empty()) {
                     std::string stores;
                     uint32_t floats = 0;
