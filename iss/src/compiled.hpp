@@ -191,11 +191,15 @@ template <size_t O>
 inline void push_held(Core& c, const Counts& n, const Held& h, uint64_t value) {
     if (value != Core::kLoadFailed) c.push_at(n.cycle(h.issue), h.dst, h.latency, h.index, uint32_t(value));
 }
-// The run stopped in bundle `bundle` (end<> returned false): its held writes not landed yet go
-// into the ring.
-[[gnu::noinline]] inline bool cexit(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
+// The run leaves the head copy after bundle `bundle`'s ops (a stop, or a branch taken out of
+// it): its held writes not landed yet go into the ring.
+[[gnu::noinline]] inline void cflush(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
     for (uint32_t i = 0; i < count; ++i)
         if (held[i].issue <= bundle && held[i].end >= bundle) push_held(c, n, held[i], v[i]);
+}
+// The run stopped in bundle `bundle` (end<> returned false): cflush.
+[[gnu::noinline]] inline bool cexit(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
+    cflush(c, n, bundle, held, count, v);
     return false;
 }
 // The writes pushed before the run that land with held ones at the end of bundle j (the first

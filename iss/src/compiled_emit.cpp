@@ -36,9 +36,10 @@ const iss::DecodedOp* constant_jump(const iss::Program& prog, uint32_t pc) {
 struct Tail {
     enum Kind { Exit, End, Jump } kind = Exit;
     bool commit = false, events = false, gate = false;
-    // An Exit whose bundle's one control op is a branch with a constant target, on a machine with
-    // a branch penalty: not taken, control goes on to the next bundle without a bubble, which the
-    // compiled run does itself; taken, it stops there and the general loop adds the bubble.
+    // A control bundle whose one control op is a branch with a constant target: not taken,
+    // control goes on to the next bundle (without a bubble). On a machine with a branch penalty
+    // (an Exit) the compiled run does that itself; taken, it stops there and the general loop
+    // adds the bubble.
     bool falls = false;
 };
 
@@ -59,8 +60,7 @@ Tail tail_of(const iss::Program& prog, uint32_t pc) {
              : b.run == 1                                            ? Tail::Exit
                                                                      : Tail::End;
     const iss::DecodedOp* branch = constant_jump(prog, pc);
-    t.falls = t.kind == Tail::Exit && b.control && !halt && branch && branch->instr.info().kind == isa::Kind::Branch &&
-              pc + 1 < prog.size();
+    t.falls = b.control && !halt && branch && branch->instr.info().kind == isa::Kind::Branch && pc + 1 < prog.size();
     const int commit = t.commit ? d::kEndCommit : 0;
     const int tail = t.kind == Tail::Jump ? d::kJump + commit
                      : t.kind == Tail::Exit ? d::kExit
@@ -166,10 +166,10 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
         for (uint32_t pc = first + 1; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
         out += "    default: __builtin_unreachable();\n    }\n";
         // Control bundle pc goes on to `to` (taken, or a branch not taken to pc + 1), or stops where
-        // jump() would.
-        auto go = [&](uint32_t pc, bool taken, bool cond, uint32_t to) {
+        // jump() would; `before`: what it does first (the head copy's held writes into the ring).
+        auto go = [&](uint32_t pc, bool taken, bool cond, uint32_t to, const std::string& before = {}) {
             const iss::DecodedBundle& b = prog.bundles()[pc];
-            std::string s = taken && cond ? "    if (c.event) {\n" : "    {\n";
+            std::string s = (taken && cond ? "    if (c.event) {\n" : "    {\n") + before;
             if (to >= nb) {
                 s += fmt::format("        return stop(c, n, {});\n    }}\n", pc);
                 return s;
@@ -203,10 +203,22 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                    iss::detail::op_direct(d), pc, d.dst, d.a, d.b, d.c, d.imm, d.latency, d.index, d.bundle,
                                    isa::format_instr(d.instr));
             }
+            // The held writes issued and not landed when the run stops at the end of bundle pc: among
+            // v[lo, hi) (hi = 0: none).
+            uint32_t lo = ~0u, hi = 0;
+            for (uint32_t i = 0; fast && i < held.size(); ++i)
+                if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
+            const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false";
             Tail t = tail_of(prog, pc);
-            if (fast && pc < last && t.falls) { // inside the head copy: taken, it stops as at an event
+            if (fast && pc < last && t.falls) { // inside the head copy, not taken, it goes on as an End
+                if (t.kind == Tail::Jump) { // taken, it leaves the copy
+                    out += fmt::format("    if (jump_held(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit);
+                    out += go(pc, true, true, constant_jump(prog, pc)->imm,
+                              hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {}, v + {});\n", pc, lo, hi - lo, lo) : "");
+                } else { // taken, it stops as at an event
+                    t.events = true;
+                }
                 t.kind = Tail::End;
-                t.events = true;
             }
             if (t.kind == Tail::Exit && t.falls) {
                 out += fmt::format("    if (jump_held(c, n, {0}) || c.event) return stop(c, n, {0}); // taken: the loop adds the bubble\n", pc);
@@ -216,12 +228,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             } else if (t.kind == Tail::End) {
                 const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now
                 std::vector<uint32_t> now; // held writes landing at this end
-                // The held writes issued and not landed when the run stops here: among v[lo, hi).
-                uint32_t lo = ~0u, hi = 0;
-                for (uint32_t i = 0; fast && i < held.size(); ++i) {
+                for (uint32_t i = 0; fast && i < held.size(); ++i)
                     if (landing(*held[i]) == pc) now.push_back(i);
-                    if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
-                }
                 const std::string land = !fast                    ? "Probe"
                                          : !now.empty()           ? "NoRing"
                                          : lands.count(pc)        ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands[pc], ", "))
@@ -229,7 +237,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                                                   : "Expect<>";
                 out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return {};\n", t.commit, t.events,
                                    t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc,
-                                   hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false");
+                                   exit);
                 if (!now.empty()) {
                     std::string stores;
                     uint32_t floats = 0;
