@@ -72,6 +72,10 @@ struct Counts {
         c.left = k - j;
     }
     void go(uint32_t j, uint32_t t) { k += uint64_t{t} - (j + 1); } // bundle j finished, t next
+    // A branch penalty: p cycles pass with no bundle issued, when the budget has room for them
+    // after bundle j.
+    bool room(uint32_t j, uint32_t p) const { return k - j - 1 >= p; }
+    void bubble(uint32_t p) { k -= p; }
 };
 
 // The ring writes landing at `cycle`, once bundle j of a run has ended: land_ring (chain.hpp)
@@ -278,11 +282,41 @@ template <bool Commit, uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline u
 [[gnu::always_inline]] inline bool jump_held(const Core& c, const Counts& n, uint32_t bundle) {
     return (c.event & ~uint32_t{kTaken}) || n.spent(bundle);
 }
-template <bool Commit, bool Taken, bool Gate, uint32_t W0, uint32_t W1>
+// Bubble: the machine's branch penalty, the cycles after a taken branch in which no bundle issues
+// (EngineLoop::loop's kTaken): counted in c.bubbled, landing the ring as land_slow lands cycles
+// that follow no bundle (cbubble); a budget without room for them stops in the branch, and the
+// general loop carries the bubble past the limit as it does.
+[[gnu::noinline]] inline void cbubble(Core& c, uint64_t from, uint32_t p) {
+    for (uint64_t t = from + 1; t <= from + p; ++t) {
+        RingSlot& s = c.ring[t & c.mask];
+        const uint32_t count = s.n;
+        uint32_t floats = 0;
+        for (const RingWrite *w = s.w.data(), *e = w + count; w != e; ++w) {
+            c.r[w->reg] = w->value;
+            floats += (w->reg >> 7) & 1;
+        }
+        c.pending -= count;
+        s.n = 0;
+        if (count) {
+            c.last_ring_cycle = t;
+            c.last_ring = {count - floats, floats};
+        }
+        ++c.write_adjust[0][count - floats];
+        ++c.write_adjust[1][floats];
+    }
+}
+template <bool Commit, bool Taken, bool Gate, uint32_t W0, uint32_t W1, uint32_t Bubble = 0>
 [[gnu::always_inline]] inline bool jump_to(Core& c, Counts& n, uint32_t bundle, uint32_t to) {
-    if constexpr (Gate)
-        if (!cgate(c, n, bundle, to)) [[unlikely]]
+    constexpr uint32_t bubble = Taken ? Bubble : 0;
+    if constexpr (bubble != 0)
+        if (!n.room(bundle, bubble)) [[unlikely]]
             return stop(c, n, bundle);
+    if constexpr (Gate) {
+        Counts after = n; // `to` issues after the bubble
+        after.bubble(bubble);
+        if (!cgate(c, after, bundle, to)) [[unlikely]]
+            return stop(c, n, bundle);
+    }
     if constexpr (Commit) c.land_direct();
     ++c.leave[bundle + 1];
     ++c.enter[to];
@@ -292,8 +326,20 @@ template <bool Commit, bool Taken, bool Gate, uint32_t W0, uint32_t W1>
     }
     c.jump_from = bundle;
     c.jump_to = to;
+    c.jump_bubbled = bubble != 0;
     if (c.pending) [[unlikely]]
         cland<W0, W1>(c, n, bundle);
+    if constexpr (bubble != 0) {
+        const uint64_t from = n.cycle(bundle + 1);
+        n.bubble(bubble);
+        c.bubbled += bubble;
+        if (c.pending) [[unlikely]] {
+            cbubble(c, from, bubble);
+        } else {
+            c.write_adjust[0][0] += bubble;
+            c.write_adjust[1][0] += bubble;
+        }
+    }
     return true;
 }
 

@@ -37,10 +37,12 @@ struct Tail {
     enum Kind { Exit, End, Jump } kind = Exit;
     bool commit = false, events = false, gate = false;
     // A control bundle whose one control op is a branch with a constant target: not taken,
-    // control goes on to the next bundle (without a bubble). On a machine with a branch penalty
-    // (an Exit) the compiled run does that itself; taken, it stops there and the general loop
-    // adds the bubble.
+    // control goes on to the next bundle.
     bool falls = false;
+    // On a machine with a branch penalty, the threaded form stops at every control bundle (an
+    // Exit); the compiled runs go on across one whose target is a constant, as a Jump, with the
+    // penalty's bubble after a taken branch (compiled.hpp jump_to).
+    uint32_t bubble = 0;
 };
 
 Tail tail_of(const iss::Program& prog, uint32_t pc) {
@@ -68,6 +70,10 @@ Tail tail_of(const iss::Program& prog, uint32_t pc) {
     const iss::DecodedOp& last = prog.ops()[b.first + b.count - 1];
     if (last.tfn != d::threaded_handler(last.instr.opcode, d::op_direct(last), tail))
         throw std::runtime_error(fmt::format("bundle {}: the generator's tail {} is not the threaded form's", pc, tail));
+    if (t.kind == Tail::Exit && b.control && !halt && branch) {
+        t.kind = Tail::Jump;
+        t.bubble = prog.machine().branch_penalty;
+    }
     return t;
 }
 
@@ -174,8 +180,9 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 s += fmt::format("        return stop(c, n, {});\n    }}\n", pc);
                 return s;
             }
-            s += fmt::format("        if (!jump_to<{}, {}, {}, {}, {}>(c, n, {}, {})) return false;\n", tail_of(prog, pc).commit,
-                             taken, bool(prog.bundles()[to].slow), b.lat1_writes[0], b.lat1_writes[1], pc, to);
+            const Tail t = tail_of(prog, pc);
+            s += fmt::format("        if (!jump_to<{}, {}, {}, {}, {}, {}>(c, n, {}, {})) return false;\n", t.commit, taken,
+                             bool(prog.bundles()[to].slow), b.lat1_writes[0], b.lat1_writes[1], t.bubble, pc, to);
             if (to >= first && to < end)
                 s += fmt::format("        n.go({}, {});\n        goto {};\n    }}\n", pc, to, label(to));
             else
@@ -210,20 +217,13 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
             const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false";
             Tail t = tail_of(prog, pc);
-            if (fast && pc < last && t.falls) { // inside the head copy, not taken, it goes on as an End
-                if (t.kind == Tail::Jump) { // taken, it leaves the copy
-                    out += fmt::format("    if (jump_held(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit);
-                    out += go(pc, true, true, constant_jump(prog, pc)->imm,
-                              hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {}, v + {});\n", pc, lo, hi - lo, lo) : "");
-                } else { // taken, it stops as at an event
-                    t.events = true;
-                }
+            if (fast && pc < last && t.falls) { // inside the head copy: taken, it leaves the copy; not, it goes on as an End
+                out += fmt::format("    if (jump_held(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit);
+                out += go(pc, true, true, constant_jump(prog, pc)->imm,
+                          hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {}, v + {});\n", pc, lo, hi - lo, lo) : "");
                 t.kind = Tail::End;
             }
-            if (t.kind == Tail::Exit && t.falls) {
-                out += fmt::format("    if (jump_held(c, n, {0}) || c.event) return stop(c, n, {0}); // taken: the loop adds the bubble\n", pc);
-                out += go(pc, false, true, pc + 1);
-            } else if (t.kind == Tail::Exit) {
+            if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
                 const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now

@@ -77,6 +77,10 @@ struct Core {
     const FifoNeed* needs = nullptr; // Program::fifo_needs
     uint32_t nb = 0;
     uint32_t jump_from = 0, jump_to = 0; // the chain's last step across a control bundle
+    // Compiled runs on a machine with a branch penalty: the bubble cycles of the branches they
+    // took since run_plain entered them, and whether the last step (jump_to) had them.
+    uint64_t bubbled = 0;
+    bool jump_bubbled = false;
     const CompiledRun* compiled = nullptr; // by bundle, or nullptr: the program's compiled runs
     // The first fault raised inside a bundle.
     const DecodedOp* fault_op = nullptr;

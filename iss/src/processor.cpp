@@ -171,6 +171,8 @@ template <bool Checked, bool Traced> struct EngineLoop {
         const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
         c.left = n - 1;
         c.jump_to = ~uint32_t{0};
+        c.bubbled = 0;
+        c.jump_bubbled = false;
         ++c.enter[c.pc]; // a pass begins at the head...
         p.passes_dirty_ = true;
         if (c.compiled) { // compiled runs (issue 16 step 6, compiled.hpp): same contract as the chain
@@ -181,14 +183,16 @@ template <bool Checked, bool Traced> struct EngineLoop {
         }
         const uint32_t pc = c.pc;
         ++c.leave[pc]; // ...and the last one ends before the bundle the chain stops in (loop() counts it)
-        const uint64_t done = n - 1 - c.left; // bundles finished: all but the one it stops in
-        budget -= done;
+        const uint64_t cycles = n - 1 - c.left; // all but the one it stops in, and the bubbles
+        budget -= cycles - c.bubbled;
+        k.bubble_cycles += c.bubbled;
         if (!(c.event & kTaken)) c.next_pc = pc + 1; // only a control bundle sets it
         c.land_next = c.cycle + 1;
         c.lat1_owed = false;
-        if (done) { // this cycle landed the bundle before's writes (a fault here leaves it so)
-            c.last_owed = true;
-            c.lat1_landed = bundles[pc == c.jump_to ? c.jump_from : pc - 1].lat1_writes;
+        if (cycles) { // this cycle landed the bundle before's writes (a fault here leaves it so), or a bubble's
+            const bool jumped = pc == c.jump_to;
+            c.last_owed = !(jumped && c.jump_bubbled);
+            c.lat1_landed = bundles[jumped ? c.jump_from : pc - 1].lat1_writes;
         }
     }
 
