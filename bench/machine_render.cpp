@@ -174,8 +174,13 @@ int main(int argc, char** argv) {
                 user.ic_machine = kbuild::StageMachine(
                     isa::parse_machine("inherits = \"ic\"\nname = \"user-ic\"\n[latency]\nfadd = 2\n", "user-ic.toml"), "user-ic");
                 row(list.front() + "*", list.front(), user);
+                machine::Options real = mo; // latencies and a branch penalty in both stages
+                real.os_machine = "os-real";
+                real.ic_machine = "ic-real";
+                row(list.front() + "**", list.front(), real);
                 fmt::print("*: the IC on a user's description (ic with 2-cycle fadd): kernels scheduled for it, runs compiled at "
-                           "run time\n");
+                           "run time\n**: os-real and ic-real (multi-cycle units, a branch bubble): the IC's runs compiled at run "
+                           "time\n");
             }
             fmt::print("warm-up render of the first scene: {:.1f} s wall (kernels built, runs compiled at run time unless cached)\n",
                        first_warmup);

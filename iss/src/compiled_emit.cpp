@@ -100,9 +100,10 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                            spec, id);
     std::vector<std::string> code(starts.size()); // by run
     std::string out;
-    // Ring landings (compiled.hpp's Probe, NoRing, Ring). A run entered at its first bundle f (by
-    // the entry switch or a goto) in cycle C issues bundle f + o in cycle C + o until its first
-    // control bundle (a stall stops it); the end of bundle j lands cycle C + (j + 1 - f). A write
+    // Ring landings (compiled.hpp's Probe, NoRing, Ring, Expect, Held). A run entered at its first
+    // bundle f (by the entry switch or a goto) in cycle C issues bundle f + o in cycle C + o along
+    // its head copy, which goes straight on (a stall stops it, a branch taken leaves it); the end
+    // of bundle j lands cycle C + (j + 1 - f). A write
     // landing then was pushed in cycle C' = C + (j + 1 - f) - L, L <= max_lat: when C' >= C, by
     // bundle f + (C' - C) of this entry, whose pushes the generator knows (a push that does not
     // happen is a faulting load's, whose bundle stops the run); when C' < C, before the entry,
@@ -124,22 +125,29 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
         // by the bundle whose end lands them, in push order (bundle, then op order): a slot
         // landing before `last` that receives compute and load results only is held (compiled.hpp
         // Held); the others are landed from the ring (`lands`: their registers).
-        uint32_t last = first;
-        for (;;) {
-            const Tail t = tail_of(prog, last);
-            if (t.kind == Tail::End) {
-                if (++last == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
-            } else if (t.falls && run_end(last + 1) - first <= kHeadCap) {
-                ++last;
-            } else {
-                break;
-            }
-        }
+        // It crosses into the next run only when writes of its own are still in flight there:
+        // without them there is nothing to gain, and the longer function ran slower (tree on `ic`).
         auto pushes = [&](const iss::DecodedOp& d) { // its result goes into the ring (handlers.hpp put)
             const isa::Kind k = d.instr.info().kind;
             return !iss::detail::op_direct(d) && d.latency > 1 &&
                    (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink || k == isa::Kind::Recv);
         };
+        auto in_flight = [&](uint32_t after) { // a push of bundles first..after lands past after's end
+            for (uint32_t i = prog.bundles()[first].first; i < prog.bundles()[after].first + prog.bundles()[after].count; ++i)
+                if (pushes(prog.ops()[i]) && prog.ops()[i].bundle + prog.ops()[i].latency - 1 > after) return true;
+            return false;
+        };
+        uint32_t last = first;
+        for (;;) {
+            const Tail t = tail_of(prog, last);
+            if (t.kind == Tail::End) {
+                if (++last == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+            } else if (t.falls && run_end(last + 1) - first <= kHeadCap && in_flight(last)) {
+                ++last;
+            } else {
+                break;
+            }
+        }
         std::map<uint32_t, std::vector<const iss::DecodedOp*>> slots;
         for (uint32_t pc = first; pc <= last; ++pc)
             for (uint32_t i = prog.bundles()[pc].first; i < prog.bundles()[pc].first + prog.bundles()[pc].count; ++i)
