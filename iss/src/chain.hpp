@@ -14,6 +14,10 @@
 // at the next cycle the ring slot's writes (land_then: registers, c.pending, last_ring and the
 // write_adjust credit of the bundle before). Execution counts are by pass: falling through counts
 // nothing, a jump from b to t does ++c.leave[b + 1], ++c.enter[t] and sets jump_from/jump_to.
+// A taken jump on a machine with a branch penalty (compiled runs only) then passes the bubble's
+// cycles: c.left and the cycle move by them, c.bubbled counts them (run_plain takes them out of
+// the bundle budget and into bubble_cycles), their ring slots land as cycles that follow no
+// bundle, and jump_bubbled says so (the cycle a stop in t landed last was a bubble's).
 // Entering a FIFO bundle needs its fast gate (step_gated: asked at its issue cycle). The stop:
 // c.pc = the bundle whose ops have run but which is not finished (its events in c.event,
 // next_pc set by a taken control op); run_plain then ends the pass (++c.leave[c.pc]) and

@@ -1,14 +1,17 @@
 // What compiled runs (iss/compiled.hpp) are made of: the generated code of a straight run keeps
 // its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands and its
-// issue cycle (Counts::cycle) for each operation (or val<O> for a held result, below) and one
-// of end/jump/stop/leave for each bundle's end, and nothing else of the engine, so that the
-// engine can change behind these.
+// issue cycle (Counts::cycle) for each operation (val<O> for a held result, below), one of
+// end/jump/jump_to/stop/leave for each bundle's end (with clocal, land_before, cexit or cflush
+// around held results), and nothing else of the engine, so that the engine can change behind
+// these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
 // known, so isa::kOps[O].eval; end<> is then<kEnd + flags>, jump<> and jump_to<> then<kJump + flags>,
-// stop() kExit. It may go further than the chain: on a machine with a branch penalty, past a
-// branch not taken (which costs no bubble), where the chain stops at every control bundle.
+// stop() kExit. It may go further than the chain: on a machine with a branch penalty, where the
+// chain stops at every control bundle, it goes on across a control bundle with a constant
+// target, and when it takes the branch it adds the bubble as EngineLoop::loop does (jump_to's
+// Bubble; c.bubbled, which run_plain counts as cycles, not bundles).
 // The run entry/exit contract at the top of chain.hpp holds for them as for the chain: a bundle
 // ends as the chain ends it (chain.hpp finish_counts, or jump_to: execution counts by pass; the counts in
 // Counts), its ring slot lands as land_ring_at lands it, and a run goes into a FIFO bundle only when
@@ -56,7 +59,8 @@ template <size_t O, bool Direct>
 
 // The cycle and the budget inside a run, kept in the generated function's locals rather than
 // in c.cycle and c.left. Inside a run both are a function of the bundle's index j as long as
-// control goes straight on: the budget left in bundle j is k - j, its cycle end - (k - j) (end:
+// control goes straight on: the budget left in bundle j is k - j cycles (bundles, and the bubbles
+// of branches taken: run_plain takes those out of the bundle budget), its cycle end - (k - j) (end:
 // the cycle at which the budget reaches 0), so a bundle's end tests k against its index and
 // updates nothing; a goto from bundle j to bundle t adds t - (j + 1) to k. Written back at every
 // exit; the cycle also before anything a host provides may read it (semantics<> puts it before
@@ -73,7 +77,7 @@ struct Counts {
     }
     void go(uint32_t j, uint32_t t) { k += uint64_t{t} - (j + 1); } // bundle j finished, t next
     // A branch penalty: p cycles pass with no bundle issued, when the budget has room for them
-    // after bundle j.
+    // after bundle j (a budget of bundles that has none stops a little early: loop() goes on).
     bool room(uint32_t j, uint32_t p) const { return k - j - 1 >= p; }
     void bubble(uint32_t p) { k -= p; }
 };
@@ -152,12 +156,14 @@ template <uint16_t... R> struct Expect {
     }
 };
 
-// Held writes. A compute or load result of a run's head copy (the code entered at its first bundle,
-// straight on to its first control bundle) that lands at the end of a bundle of that copy, in a
-// ring slot that receives only such results from the copy, is kept in the run's array v rather
-// than pushed into the ring: `v[i] = val<O>(...)` at issue, `c.r[dst] = uint32_t(v[i])` and clocal at the
-// end that lands it. When the run stops before that end, cexit pushes the held writes still in
-// flight, in their issue order, so that the ring holds what it would have held. An end in the
+// Held writes. A compute or load result of a run's head copy (the code entered at its first
+// bundle, straight on to its `last` bundle, across branches not taken: compiled_emit.cpp) that
+// lands at the end of a bundle of that copy before `last`, in a ring slot that receives only such
+// results from the copy, is kept in the run's array v rather than pushed into the ring:
+// `v[i] = val<O>(...)` at issue, `c.r[dst] = uint32_t(v[i])` and clocal at the end that lands it.
+// When the run stops before that end (cexit), or a branch taken leaves the copy (cflush), the
+// held writes still in flight go into the ring in their issue order, so that the ring holds what
+// it would have held. An end in the
 // first max_lat - 1 of the copy may find writes pushed before the run in the slot: land_before
 // lands those first.
 struct Held {
@@ -201,7 +207,7 @@ inline void push_held(Core& c, const Counts& n, const Held& h, uint64_t value) {
     for (uint32_t i = 0; i < count; ++i)
         if (held[i].issue <= bundle && held[i].end >= bundle) push_held(c, n, held[i], v[i]);
 }
-// The run stopped in bundle `bundle` (end<> returned false): cflush.
+// The run stopped in bundle `bundle` (end<> returned false, or jump_held held it): cflush.
 [[gnu::noinline]] inline bool cexit(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
     cflush(c, n, bundle, held, count, v);
     return false;

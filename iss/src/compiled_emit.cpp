@@ -141,7 +141,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
         for (;;) {
             const Tail t = tail_of(prog, last);
             if (t.kind == Tail::End) {
-                if (++last == end) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+                if (last + 1 == run_end(last)) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+                ++last;
             } else if (t.falls && run_end(last + 1) - first <= kHeadCap && in_flight(last)) {
                 ++last;
             } else {

@@ -157,16 +157,17 @@ template <bool Checked, bool Traced> struct EngineLoop {
     }
 
     // Fast engine: bundle c.pc and those after it in its run (DecodedBundle::run) issue here,
-    // and, without a branch penalty, the runs control goes to (compiled runs: with one, past a
-    // branch not taken), until a run's last bundle, a
+    // and, without a branch penalty, the runs control goes to (compiled runs: with one too,
+    // across constant-target control bundles, bubbles included), until a run's last bundle, a
     // bundle whose handlers raised an event other than a taken branch, or one whose successor
     // is a FIFO bundle whose fast gate does not pass (chain.hpp) has executed its operations;
     // loop() then finishes that bundle as any other, and its fifo_gate decides at the FIFO
     // bundle. Only those stops end a chain early, so the cycle limit and the budget are checked
     // once; inside it land_next always equals the cycle and the bundle before is owed its
     // histogram credit, so landing reduces to the cycle's ring slot, and that state is written
-    // back once, at the end. The chain of threaded handlers (chain.hpp) leaves c.pc at the
-    // bundle it stops in, and c.left at the bundles it could still have finished.
+    // back once, at the end (compiled runs also stop in a taken branch whose bubble the budget
+    // has no room for). The chain of threaded handlers (chain.hpp) leaves c.pc at the bundle it
+    // stops in, and c.left at the cycles it could still have run.
     [[gnu::always_inline]] void run_plain(const DecodedBundle* bundles, uint64_t limit, uint64_t& budget) {
         const uint64_t n = std::min<uint64_t>({budget, limit - c.cycle, kChainCap});
         c.left = n - 1;
