@@ -89,15 +89,25 @@ inline constexpr int kNumTails = kJump + 2;
     s.n = 0;
     landed_counts(c, cycle, count - ring_float, ring_float, w0, w1);
 }
-[[gnu::always_inline]] inline void land_ring_at(Core& c, uint64_t cycle, uint32_t w0, uint32_t w1) {
-    RingSlot& s = c.ring[cycle & c.mask];
+// land_slot: the writes of slot s land in their registers, in push order, and leave the ring;
+// how many per file (the rest of the bookkeeping is the caller's: landed_counts, or a bubble's).
+struct Landed {
+    uint32_t ints = 0, floats = 0;
+};
+[[gnu::always_inline]] inline Landed land_slot(Core& c, RingSlot& s) {
     const uint32_t count = s.n;
-    uint32_t ring_float = 0;
+    uint32_t floats = 0;
     for (const RingWrite *w = s.w.data(), *e = w + count; w != e; ++w) { // no copy: GCC kept one on the stack
         c.r[w->reg] = w->value;
-        ring_float += (w->reg >> 7) & 1;
+        floats += (w->reg >> 7) & 1;
     }
-    ring_landed(c, s, cycle, count, ring_float, w0, w1);
+    c.pending -= count;
+    s.n = 0;
+    return {count - floats, floats};
+}
+[[gnu::always_inline]] inline void land_ring_at(Core& c, uint64_t cycle, uint32_t w0, uint32_t w1) {
+    const Landed l = land_slot(c, c.ring[cycle & c.mask]);
+    landed_counts(c, cycle, l.ints, l.floats, w0, w1);
 }
 [[gnu::always_inline]] inline void land_ring_at(Core& c, uint32_t prev_bundle, uint64_t cycle) {
     const auto& prev = c.bundles[prev_bundle].lat1_writes;

@@ -215,21 +215,7 @@ inline void push_held(Core& c, const Counts& n, const Held& h, uint64_t value) {
 // The writes pushed before the run that land with held ones at the end of bundle j (the first
 // max_lat - 1 ends of the head copy: the run before may have pushed them), landed first, as they
 // were pushed first: how many per file.
-struct Landed {
-    uint32_t ints = 0, floats = 0;
-};
-[[gnu::noinline]] inline Landed cland_before(Core& c, uint64_t cycle) {
-    RingSlot& s = c.ring[cycle & c.mask];
-    Landed l;
-    for (const RingWrite *w = s.w.data(), *e = w + s.n; w != e; ++w) {
-        c.r[w->reg] = w->value;
-        l.floats += (w->reg >> 7) & 1;
-    }
-    l.ints = s.n - l.floats;
-    c.pending -= s.n;
-    s.n = 0;
-    return l;
-}
+[[gnu::noinline]] inline Landed cland_before(Core& c, uint64_t cycle) { return land_slot(c, c.ring[cycle & c.mask]); }
 [[gnu::always_inline]] inline Landed land_before(Core& c, const Counts& n, uint32_t j) {
     const uint64_t cycle = n.cycle(j + 1);
     if (c.ring[cycle & c.mask].n == 0) [[likely]]
@@ -294,21 +280,13 @@ template <bool Commit, uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline u
 // general loop carries the bubble past the limit as it does.
 [[gnu::noinline]] inline void cbubble(Core& c, uint64_t from, uint32_t p) {
     for (uint64_t t = from + 1; t <= from + p; ++t) {
-        RingSlot& s = c.ring[t & c.mask];
-        const uint32_t count = s.n;
-        uint32_t floats = 0;
-        for (const RingWrite *w = s.w.data(), *e = w + count; w != e; ++w) {
-            c.r[w->reg] = w->value;
-            floats += (w->reg >> 7) & 1;
-        }
-        c.pending -= count;
-        s.n = 0;
-        if (count) {
+        const Landed l = land_slot(c, c.ring[t & c.mask]);
+        if (l.ints + l.floats) {
             c.last_ring_cycle = t;
-            c.last_ring = {count - floats, floats};
+            c.last_ring = {l.ints, l.floats};
         }
-        ++c.write_adjust[0][count - floats];
-        ++c.write_adjust[1][floats];
+        ++c.write_adjust[0][l.ints];
+        ++c.write_adjust[1][l.floats];
     }
 }
 template <bool Commit, bool Taken, bool Gate, uint32_t W0, uint32_t W1, uint32_t Bubble = 0>
