@@ -1,9 +1,9 @@
 // What compiled runs (iss/compiled.hpp) are made of: the generated code of a straight run keeps
 // its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands and its
-// issue cycle (Counts::cycle) for each operation (val<O> for a held result, below), one of
-// end/jump/jump_to/stop/leave for each bundle's end (with clocal, land_before, cexit or cflush
-// around held results), and nothing else of the engine, so that the engine can change behind
-// these.
+// issue cycle (Counts::cycle) for each operation (val<O> for a held result or a latency-1 result
+// kept in a local, below), one of end/jump/jump_to/stop/leave for each bundle's end (with clocal,
+// land_before, cexit or cflush around held results, end's stores and defer around locals), and
+// nothing else of the engine, so that the engine can change behind these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
@@ -229,20 +229,40 @@ template <uint32_t W0, uint32_t W1, uint32_t NI, uint32_t NF>
     landed_counts(c, n.cycle(j + 1), NI + before.ints, NF + before.floats, W0, W1);
 }
 
+// A latency-1 result the generator keeps in a local to its bundle's end rather than queueing it
+// in Core::wb_* (Core::push_at): stored at the end (end's `stores`); when the run stops in the
+// bundle, queued there as the op would have queued it (`defer`, in op order; a load that faulted
+// queues nothing).
+[[gnu::always_inline]] inline void defer(Core& c, uint64_t v, uint16_t dst, uint32_t index) {
+    if (v != Core::kLoadFailed) c.push_at(0, dst, 1, index, uint32_t(v));
+}
+struct NoLocals {
+    void operator()() const {}
+};
+
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its
-// lat1_writes; Land: what it does about the ring).
-template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class Land>
-[[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle) {
+// lat1_writes; Land: what it does about the ring; stores, defer: its latency-1 results kept in
+// locals, which land before the ring's as Core::land_direct's do).
+template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class Land, class Stores = NoLocals,
+          class Defer = NoLocals>
+[[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle, Stores stores = {}, Defer defer = {}) {
     if constexpr (Events)
-        if (c.event) [[unlikely]]
+        if (c.event) [[unlikely]] {
+            defer();
             return stop(c, n, bundle);
-    if (n.spent(bundle)) [[unlikely]]
+        }
+    if (n.spent(bundle)) [[unlikely]] {
+        defer();
         return stop(c, n, bundle);
+    }
     if constexpr (Gate)
-        if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]]
+        if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]] {
+            defer();
             return stop(c, n, bundle);
+        }
     finish_counts<Commit, false>(c, bundle, bundle + 1);
+    stores();
     Land::template after<W0, W1>(c, n, bundle);
     return true;
 }

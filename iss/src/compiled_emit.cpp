@@ -203,6 +203,26 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             std::set<uint32_t> targets; // constant branch targets inside this run
+            Tail t = tail_of(prog, pc);
+            const bool falls_on = fast && pc < last && t.falls;
+            // An End bundle whose latency-1 results that wait for its end (not op_direct) are all
+            // compute and load results keeps them in locals w<index> (compiled.hpp end's stores
+            // and defer) instead of queueing them in the core; its code is a block, so that the
+            // gotos to the labels around it do not cross their initialisation.
+            std::vector<const iss::DecodedOp*> locals;
+            bool all_local = t.kind == Tail::End && !falls_on;
+            for (uint32_t i = b.first; all_local && i < b.first + b.count; ++i) {
+                const iss::DecodedOp& d = prog.ops()[i];
+                if (d.dst == iss::kNoReg || d.latency != 1 || iss::detail::op_direct(d)) continue;
+                const isa::Kind k = d.instr.info().kind;
+                if (k == isa::Kind::Compute || k == isa::Kind::Load) locals.push_back(&d);
+                else all_local = false;
+            }
+            if (!all_local) locals.clear();
+            auto local = [&](const iss::DecodedOp& d) {
+                return std::find(locals.begin(), locals.end(), &d) != locals.end();
+            };
+            if (!locals.empty()) out += "    {\n";
             for (uint32_t i = b.first; i < b.first + b.count; ++i) {
                 const iss::DecodedOp& d = prog.ops()[i];
                 const isa::Kind k = d.instr.info().kind;
@@ -212,6 +232,11 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                     targets.insert(d.imm);
                 if (fast && held_of.count(d.index)) {
                     out += fmt::format("    v[{}] = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", held_of[d.index],
+                                       int(d.instr.opcode), pc, d.a, d.b, d.c, d.imm, d.index, isa::format_instr(d.instr));
+                    continue;
+                }
+                if (local(d)) {
+                    out += fmt::format("    const uint64_t w{} = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", d.index,
                                        int(d.instr.opcode), pc, d.a, d.b, d.c, d.imm, d.index, isa::format_instr(d.instr));
                     continue;
                 }
@@ -225,8 +250,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             for (uint32_t i = 0; fast && i < held.size(); ++i)
                 if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
             const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false";
-            Tail t = tail_of(prog, pc);
-            if (fast && pc < last && t.falls) { // inside the head copy: taken, it leaves the copy; not, it goes on as an End
+            if (falls_on) { // inside the head copy: taken, it leaves the copy; not, it goes on as an End
                 out += fmt::format("    if (jump_held(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit);
                 out += go(pc, true, true, constant_jump(prog, pc)->imm,
                           hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {}, v + {});\n", pc, lo, hi - lo, lo) : "");
@@ -244,9 +268,15 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                          : lands.count(pc)        ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands[pc], ", "))
                                          : known                  ? "NoRing"
                                                                   : "Expect<>";
-                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {})) return {};\n", t.commit, t.events,
-                                   t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc,
-                                   exit);
+                std::string stores, defers;
+                for (const iss::DecodedOp* d : locals) {
+                    stores += fmt::format(" c.r[{}] = uint32_t(w{});", d->dst, d->index);
+                    defers += fmt::format(" defer(c, w{}, {}, {});", d->index, d->dst, d->index);
+                }
+                const std::string with_locals =
+                    locals.empty() ? "" : fmt::format(", [&] {{{} }}, [&] {{{} }}", stores, defers);
+                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {}{})) return {};\n", t.commit && locals.empty(),
+                                   t.events, t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc, with_locals, exit);
                 if (!now.empty()) {
                     std::string stores;
                     uint32_t floats = 0;
@@ -276,6 +306,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                        to, pc, label(to));
                 out += fmt::format("        if (to == kStopped) return false;\n        return leave(c, n, {}, to);\n    }}\n", pc);
             }
+            if (!locals.empty()) out += "    }\n";
             return t.kind;
         };
         // The head copy, then the copy entered anywhere else.
