@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <string_view>
+#include <type_traits>
 
 namespace nesshi::isa {
 
@@ -75,7 +76,16 @@ constexpr int32_t s(uint32_t x) { return static_cast<int32_t>(x); }
 // An arithmetic result: any NaN becomes the canonical quiet NaN. The host's NaN payload depends
 // on operand order, which the compiler may change, so the ISA defines it (as RISC-V does).
 inline constexpr uint32_t kCanonicalNaN = 0x7fc00000u;
-constexpr uint32_t q(float x) { return x != x ? kCanonicalNaN : std::bit_cast<uint32_t>(x); }
+// A branch the compiler keeps (the empty asm stops it turning it into a select): NaNs are rare,
+// and a select moved every arithmetic result through an integer register and a cmov on its way
+// to the next operation.
+constexpr uint32_t q(float x) {
+    if (x != x) [[unlikely]] {
+        if (!std::is_constant_evaluated()) asm volatile("");
+        return kCanonicalNaN;
+    }
+    return std::bit_cast<uint32_t>(x);
+}
 
 // float -> int32: truncate toward zero, saturate out-of-range values, NaN gives 0.
 inline uint32_t ftoi(uint32_t a) {
