@@ -67,7 +67,15 @@ template <size_t O, bool Direct>
 // a channel or a cache model, put_cycle before a gate). Nothing inside a run reads c.left.
 struct Counts {
     uint64_t k, end;
-    explicit Counts(const Core& c) : k(c.left + c.pc), end(c.cycle + c.left) {}
+    // Scalar loads: the run before stored these one by one (leave), and GCC's vectorizer read
+    // them as one 16-byte load, which cannot be forwarded from two stores (a stall on every
+    // entry: a fifth of the time in the IC's sphere loop at balls).
+    explicit Counts(const Core& c) {
+        uint64_t left = c.left;
+        asm("" : "+r"(left));
+        k = left + c.pc;
+        end = c.cycle + left;
+    }
     bool spent(uint32_t j) const { return k == j; }
     uint64_t cycle(uint32_t j) const { return end - (k - j); }
     void put_cycle(Core& c, uint32_t j) const { c.cycle = cycle(j); }
