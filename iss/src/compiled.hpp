@@ -77,6 +77,9 @@ struct Counts {
         end = c.cycle + left;
     }
     bool spent(uint32_t j) const { return k == j; }
+    // No bundle from the current one to j - 1 spends the budget (a run's head copy tests this once
+    // and then runs a copy of those bundles without the test, compiled_emit.cpp).
+    bool lasts_to(uint32_t j) const { return k >= j; }
     uint64_t cycle(uint32_t j) const { return end - (k - j); }
     void put_cycle(Core& c, uint32_t j) const { c.cycle = cycle(j); }
     void put(Core& c, uint32_t j) const {
@@ -250,17 +253,18 @@ struct NoLocals {
 
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its
-// lat1_writes; Land: what it does about the ring; stores, defer: its latency-1 results kept in
-// locals, which land before the ring's as Core::land_direct's do).
-template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class Land, class Stores = NoLocals,
-          class Defer = NoLocals>
+// lat1_writes; Land: what it does about the ring; Budget: test the budget, unless the generator
+// knows it lasts (Counts::lasts_to); stores, defer: its latency-1 results kept in locals, which
+// land before the ring's as Core::land_direct's do).
+template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class Land, bool Budget = true,
+          class Stores = NoLocals, class Defer = NoLocals>
 [[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle, Stores stores = {}, Defer defer = {}) {
     if constexpr (Events)
         if (c.event) [[unlikely]] {
             defer();
             return stop(c, n, bundle);
         }
-    if (n.spent(bundle)) [[unlikely]] {
+    if (Budget && n.spent(bundle)) [[unlikely]] {
         defer();
         return stop(c, n, bundle);
     }
@@ -299,8 +303,8 @@ template <bool Commit, uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline u
 // where it goes when the branch is taken (Taken) and when not, and whether that bundle is a FIFO
 // bundle (Gate) inside the program; jump()'s tests of c.next_pc, c.nb and slow fold away. The
 // caller has tested the events and the budget (jump_held).
-[[gnu::always_inline]] inline bool jump_held(const Core& c, const Counts& n, uint32_t bundle) {
-    return (c.event & ~uint32_t{kTaken}) || n.spent(bundle);
+template <bool Budget = true> [[gnu::always_inline]] inline bool jump_held(const Core& c, const Counts& n, uint32_t bundle) {
+    return (c.event & ~uint32_t{kTaken}) || (Budget && n.spent(bundle));
 }
 // Bubble: the machine's branch penalty, the cycles after a taken branch in which no bundle issues
 // (EngineLoop::loop's kTaken): counted in c.bubbled, landing the ring as land_slow lands cycles

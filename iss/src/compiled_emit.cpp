@@ -199,7 +199,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             return s;
         };
         // Bundle pc's code, in the head copy (fast) or the other.
-        auto bundle_code = [&](uint32_t pc, bool fast) {
+        auto bundle_code = [&](uint32_t pc, bool fast, bool budget = true) {
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             std::set<uint32_t> targets; // constant branch targets inside this run
@@ -251,7 +251,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
             const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false";
             if (falls_on) { // inside the head copy: taken, it leaves the copy; not, it goes on as an End
-                out += fmt::format("    if (jump_held(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit);
+                out += fmt::format("    if (jump_held{2}(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit,
+                                   budget ? "" : "<false>");
                 out += go(pc, true, true, constant_jump(prog, pc)->imm,
                           hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {}, v + {});\n", pc, lo, hi - lo, lo) : "");
                 t.kind = Tail::End;
@@ -275,8 +276,9 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 }
                 const std::string with_locals =
                     locals.empty() ? "" : fmt::format(", [&] {{{} }}, [&] {{{} }}", stores, defers);
-                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}>(c, n, {}{})) return {};\n", t.commit && locals.empty(),
-                                   t.events, t.gate, b.lat1_writes[0], b.lat1_writes[1], land, pc, with_locals, exit);
+                out += fmt::format("    if (!end<{}, {}, {}, {}, {}, {}{}>(c, n, {}{})) return {};\n", t.commit && locals.empty(),
+                                   t.events, t.gate, b.lat1_writes[0], b.lat1_writes[1], land, budget ? "" : ", false", pc,
+                                   with_locals, exit);
                 if (!now.empty()) {
                     std::string stores;
                     uint32_t floats = 0;
@@ -309,9 +311,24 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             if (!locals.empty()) out += "    }\n";
             return t.kind;
         };
-        // The head copy, then the copy entered anywhere else.
+        // The head copy, then the copy entered anywhere else. A head copy of more than
+        // kBudgetFree bundles tests once whether the budget lasts to its last bundle, and then runs
+        // a copy of the bundles before that one without the budget's test at each end (one fused
+        // compare and branch of the 6-8 host instructions of a sequential machine's bundle); the
+        // last bundle (a control bundle, or the run's end) is the head copy's own, labelled h.
+        constexpr uint32_t kBudgetFree = 3;
+        const bool budget_free = last - first > kBudgetFree;
         out += fmt::format("f{}:\n", first);
-        for (uint32_t pc = first; pc <= last; ++pc) bundle_code(pc, true);
+        if (budget_free) out += fmt::format("    if (n.lasts_to({})) goto g{};\n", last, first);
+        for (uint32_t pc = first; pc <= last; ++pc) {
+            if (budget_free && pc == last) out += fmt::format("h{}:\n", last);
+            bundle_code(pc, true);
+        }
+        if (budget_free) {
+            out += fmt::format("g{}:\n", first);
+            for (uint32_t pc = first; pc < last; ++pc) bundle_code(pc, true, false);
+            out += fmt::format("    goto h{};\n", last);
+        }
         for (uint32_t pc = first + 1; pc < end; ++pc) {
             out += fmt::format("b{}:\n", pc);
             bundle_code(pc, false);
