@@ -2,8 +2,9 @@
 // its cycle and budget in a Counts, calls op<O, Direct>(...) with constant operands and its
 // issue cycle (Counts::cycle) for each operation (val<O> for a held result or a latency-1 result
 // kept in a local, below), one of end/jump/jump_to/stop/leave for each bundle's end (with clocal,
-// land_before, cexit or cflush around held results, end's stores and defer around locals), and
-// nothing else of the engine, so that the engine can change behind these.
+// land_before, cexit or cflush around held results, end's store_locals and queue_locals (defer)
+// around locals, jump_held and Counts::lasts_to), and nothing else of the engine, so that the
+// engine can change behind these.
 //
 // A compiled run is entered at the bundle core.pc and leaves the core exactly as the threaded
 // chain (chain.hpp) would: op<> is the handlers' semantics<> (handlers.hpp) with its operands
@@ -61,7 +62,8 @@ template <size_t O, bool Direct>
 // in c.cycle and c.left. Inside a run both are a function of the bundle's index j as long as
 // control goes straight on: the budget left in bundle j is k - j cycles (bundles, and the bubbles
 // of branches taken: run_plain takes those out of the bundle budget), its cycle end - (k - j) (end:
-// the cycle at which the budget reaches 0), so a bundle's end tests k against its index and
+// the cycle at which the budget reaches 0), so a bundle's end tests k against its index (or not at
+// all, in a head copy's budget-free copy: lasts_to) and
 // updates nothing; a goto from bundle j to bundle t adds t - (j + 1) to k. Written back at every
 // exit; the cycle also before anything a host provides may read it (semantics<> puts it before
 // a channel or a cache model, put_cycle before a gate). Nothing inside a run reads c.left.
@@ -241,7 +243,7 @@ template <uint32_t W0, uint32_t W1, uint32_t NI, uint32_t NF>
 }
 
 // A latency-1 result the generator keeps in a local to its bundle's end rather than queueing it
-// in Core::wb_* (Core::push_at): stored at the end (end's `stores`); when the run stops in the
+// in Core::wb_* (Core::push_at): stored at the end (end's store_locals); when the run stops in the
 // bundle, queued there as the op would have queued it (`defer`, in op order; a load that faulted
 // queues nothing).
 [[gnu::always_inline]] inline void defer(Core& c, uint64_t v, uint16_t dst, uint32_t index) {
@@ -254,27 +256,28 @@ struct NoLocals {
 // The end of bundle `bundle` inside a run (then<kEnd + flags>): false when the chain stops in it
 // (Gate: the next bundle is a FIFO bundle, entered only when its fast gate passes; W0, W1: its
 // lat1_writes; Land: what it does about the ring; Budget: test the budget, unless the generator
-// knows it lasts (Counts::lasts_to); stores, defer: its latency-1 results kept in locals, which
-// land before the ring's as Core::land_direct's do).
+// knows it lasts (Counts::lasts_to); store_locals, queue_locals: its latency-1 results kept in
+// locals, stored before the ring lands as Core::land_direct's were, or queued by `defer`).
 template <bool Commit, bool Events, bool Gate, uint32_t W0, uint32_t W1, class Land, bool Budget = true,
           class Stores = NoLocals, class Defer = NoLocals>
-[[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle, Stores stores = {}, Defer defer = {}) {
+[[gnu::always_inline]] inline bool end(Core& c, Counts& n, uint32_t bundle, Stores store_locals = {},
+                                      Defer queue_locals = {}) {
     if constexpr (Events)
         if (c.event) [[unlikely]] {
-            defer();
+            queue_locals();
             return stop(c, n, bundle);
         }
     if (Budget && n.spent(bundle)) [[unlikely]] {
-        defer();
+        queue_locals();
         return stop(c, n, bundle);
     }
     if constexpr (Gate)
         if (!cgate(c, n, bundle, bundle + 1)) [[unlikely]] {
-            defer();
+            queue_locals();
             return stop(c, n, bundle);
         }
     finish_counts<Commit, false>(c, bundle, bundle + 1);
-    stores();
+    store_locals();
     Land::template after<W0, W1>(c, n, bundle);
     return true;
 }

@@ -110,8 +110,9 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
     // possible only while j + 1 - f < max_lat. So past the
     // first max_lat - 1 ends the entry at f lands exactly what its own bundles pushed, in the
     // order they pushed it (bundle, then op order); in those first ends, after whatever was pushed
-    // before it (Expect: its own writes alone when the slot holds as many). Entries anywhere else
-    // (by the switch or a goto) run a second copy of the run that probes at every end.
+    // before it (Expect: its own writes alone when the slot holds as many). The head copy's
+    // budget-free copy (g, below) is the same code without the budget's tests. Entries anywhere
+    // else (by the switch or a goto) run another copy of the run that probes at every end.
     uint32_t max_lat = 1;
     for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
     auto run_end = [&](uint32_t pc) { return run_of[pc] + 1 < starts.size() ? starts[run_of[pc] + 1] : nb; };
@@ -312,7 +313,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             return t.kind;
         };
         // The head copy, then the copy entered anywhere else. A head copy of more than
-        // kBudgetFree bundles tests once whether the budget lasts to its last bundle, and then runs
+        // kBudgetFree + 1 bundles tests once whether the budget lasts to its last bundle, and then runs
         // a copy of the bundles before that one without the budget's test at each end (one fused
         // compare and branch of the 6-8 host instructions of a sequential machine's bundle); the
         // last bundle (a control bundle, or the run's end) is the head copy's own, labelled h.

@@ -307,7 +307,8 @@ TEST_CASE("compiled runs: the kernels in lock-step use every landing the generat
         for (const std::string& spec : *list)
             for (const std::string& f : iss::compiled_runs_source(*program(spec), spec, "t", 1, "t")) all += f;
     for (const char* form : {"Expect<", "NoRing>", "Probe>", "= val<", "cexit(", "cflush(", "clocal<",
-                             "land_before(", " defer(c, w", "jump_to<", "jump<"}) {
+                             "land_before(", " defer(c, w", "jump_to<", "jump<", "n.lasts_to(", "jump_held<false>(",
+                             ", false>(c, n, "}) {
         INFO(form);
         CHECK(all.find(form) != std::string::npos);
     }
