@@ -62,11 +62,9 @@ inline constexpr int kNumTails = kJump + 2;
 // histogram credit); land_ring_then: then the next bundle's first op. Out of line and reached by
 // tail calls, so that the handlers need no stack frame, and land_then's test of an empty slot
 // needs none either. The chain's state stays in the registers it came in (the extras go last).
-// ring_landed: what follows the stores once `count` writes (`ring_float` of them to float
-// registers) landed from slot s; w0, w1: the bundle before's lat1_writes. Compiled runs call it
-// with constants when the generator knows the slot (compiled.hpp cland_known).
-// landed_counts: the part that follows any writes landing from the run's own values instead
-// (compiled.hpp clocal).
+// landed_counts: what follows the stores once ring_int and ring_float writes landed in cycle
+// `cycle`; w0, w1: the bundle before's lat1_writes. Compiled runs call it with constants when the
+// generator knows the slot (compiled.hpp cland_known) or lands the run's own values (clocal).
 [[gnu::always_inline]] inline void landed_counts(Core& c, uint64_t cycle, uint32_t ring_int, uint32_t ring_float,
                                                  uint32_t w0, uint32_t w1) {
     c.last_ring_cycle = cycle;
@@ -82,12 +80,6 @@ inline constexpr int kNumTails = kJump + 2;
         --adjust[w1];
         ++adjust[w1 + ring_float];
     }
-}
-[[gnu::always_inline]] inline void ring_landed(Core& c, RingSlot& s, uint64_t cycle, uint32_t count,
-                                               uint32_t ring_float, uint32_t w0, uint32_t w1) {
-    c.pending -= count;
-    s.n = 0;
-    landed_counts(c, cycle, count - ring_float, ring_float, w0, w1);
 }
 // land_slot: the writes of slot s land in their registers, in push order, and leave the ring;
 // how many per file (the rest of the bookkeeping is the caller's: landed_counts, or a bubble's).

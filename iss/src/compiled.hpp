@@ -128,13 +128,16 @@ template <uint32_t W0, uint32_t W1> [[gnu::always_inline]] inline void cland(Cor
 }
 
 // The ring slot of `cycle` when the generator knows what it holds: writes to registers R..., in
-// the order they were pushed (cland_ring with its loop and the file test done at compile time).
+// the order they were pushed (chain.hpp land_slot with its loop and the file test done at
+// compile time).
 template <uint32_t W0, uint32_t W1, uint16_t... R> [[gnu::always_inline]] inline void cland_known(Core& c, uint64_t cycle) {
     RingSlot& s = c.ring[cycle & c.mask];
     uint32_t i = 0;
     ((c.r[R] = s.w[i++].value), ...);
-    constexpr uint32_t count = sizeof...(R), ring_float = (0u + ... + ((R >> 7) & 1u)); // as land_ring counts
-    ring_landed(c, s, cycle, count, ring_float, W0, W1);
+    constexpr uint32_t count = sizeof...(R), floats = (0u + ... + ((R >> 7) & 1u));
+    c.pending -= count;
+    s.n = 0;
+    landed_counts(c, cycle, count - floats, floats, W0, W1);
 }
 
 // What the end of bundle j does about the ring: probe the next cycle's slot when writes are
@@ -211,8 +214,14 @@ template <size_t O>
         return extend<O>(w);
     }
 }
+// A result computed by val<O> goes where the op would have put it (Core::push_at), issued in
+// cycle `now`; a load that faulted puts nothing.
+[[gnu::always_inline]] inline void push_result(Core& c, uint64_t now, uint16_t dst, uint32_t latency, uint32_t index,
+                                               uint64_t value) {
+    if (value != Core::kLoadFailed) c.push_at(now, dst, latency, index, uint32_t(value));
+}
 inline void push_held(Core& c, const Counts& n, const Held& h, uint64_t value) {
-    if (value != Core::kLoadFailed) c.push_at(n.cycle(h.issue), h.dst, h.latency, h.index, uint32_t(value));
+    push_result(c, n.cycle(h.issue), h.dst, h.latency, h.index, value);
 }
 // The run leaves the head copy after bundle `bundle`'s ops (a stop, or a branch taken out of
 // it): its held writes not landed yet go into the ring.
@@ -244,10 +253,9 @@ template <uint32_t W0, uint32_t W1, uint32_t NI, uint32_t NF>
 
 // A latency-1 result the generator keeps in a local to its bundle's end rather than queueing it
 // in Core::wb_* (Core::push_at): stored at the end (end's store_locals); when the run stops in the
-// bundle, queued there as the op would have queued it (`defer`, in op order; a load that faulted
-// queues nothing).
+// bundle, queued there as the op would have queued it (`defer`, in op order).
 [[gnu::always_inline]] inline void defer(Core& c, uint64_t v, uint16_t dst, uint32_t index) {
-    if (v != Core::kLoadFailed) c.push_at(0, dst, 1, index, uint32_t(v));
+    push_result(c, 0, dst, 1, index, v); // latency 1: queued for the bundle's end, whatever `now`
 }
 struct NoLocals {
     void operator()() const {}

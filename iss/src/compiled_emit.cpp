@@ -211,7 +211,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             // and defer) instead of queueing them in the core; its code is a block, so that the
             // gotos to the labels around it do not cross their initialisation.
             std::vector<const iss::DecodedOp*> locals;
-            bool all_local = t.kind == Tail::End && !falls_on;
+            bool all_local = t.kind == Tail::End;
             for (uint32_t i = b.first; all_local && i < b.first + b.count; ++i) {
                 const iss::DecodedOp& d = prog.ops()[i];
                 if (d.dst == iss::kNoReg || d.latency != 1 || iss::detail::op_direct(d)) continue;
