@@ -30,6 +30,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 
 namespace nesshi::iss::detail {
 
@@ -175,8 +176,8 @@ template <uint16_t... R> struct Expect {
 // Held writes. A compute or load result of a run's head copy (the code entered at its first
 // bundle, straight on to its `last` bundle, across branches not taken: compiled_emit.cpp) that
 // lands at the end of a bundle of that copy before `last`, in a ring slot that receives only such
-// results from the copy, is kept in the run's array v rather than pushed into the ring:
-// `v[i] = val<O>(...)` at issue, `c.r[dst] = uint32_t(v[i])` and clocal at the end that lands it.
+// results from the copy, is kept in the run's local v<i> rather than pushed into the ring:
+// `v<i> = val<O>(...)` at issue, `c.r[dst] = uint32_t(v<i>)` and clocal at the end that lands it.
 // When the run stops before that end (cexit), or a branch taken leaves the copy (cflush), the
 // held writes still in flight go into the ring in their issue order, so that the ring holds what
 // it would have held. An end in the
@@ -224,14 +225,15 @@ inline void push_held(Core& c, const Counts& n, const Held& h, uint64_t value) {
     push_result(c, n.cycle(h.issue), h.dst, h.latency, h.index, value);
 }
 // The run leaves the head copy after bundle `bundle`'s ops (a stop, or a branch taken out of
-// it): its held writes not landed yet go into the ring.
-[[gnu::noinline]] inline void cflush(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
-    for (uint32_t i = 0; i < count; ++i)
-        if (held[i].issue <= bundle && held[i].end >= bundle) push_held(c, n, held[i], v[i]);
+// it): its held writes not landed yet go into the ring. `v`: the values of held[0, v.size()),
+// a list built on this path alone (the run's own v<i> are scalars that never escape).
+[[gnu::noinline]] inline void cflush(Core& c, Counts n, uint32_t bundle, const Held* held, std::initializer_list<uint64_t> v) {
+    for (uint32_t i = 0; i < v.size(); ++i)
+        if (held[i].issue <= bundle && held[i].end >= bundle) push_held(c, n, held[i], v.begin()[i]);
 }
 // The run stopped in bundle `bundle` (end<> returned false, or jump_held held it): cflush.
-[[gnu::noinline]] inline bool cexit(Core& c, Counts n, uint32_t bundle, const Held* held, uint32_t count, const uint64_t* v) {
-    cflush(c, n, bundle, held, count, v);
+[[gnu::noinline]] inline bool cexit(Core& c, Counts n, uint32_t bundle, const Held* held, std::initializer_list<uint64_t> v) {
+    cflush(c, n, bundle, held, v);
     return false;
 }
 // The writes pushed before the run that land with held ones at the end of bundle j (the first

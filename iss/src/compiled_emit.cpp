@@ -172,7 +172,12 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
         auto landing = [](const iss::DecodedOp& d) { return d.bundle + d.latency - 1; };
         out = fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n", first, end - 1, r);
         if (!held.empty()) {
-            out += fmt::format("    uint64_t v[{}];\n    static constexpr Held kHeld[] = {{", held.size());
+            // Scalars, not an array: an exit hands the values in flight over as a list of their
+            // own (cexit, cflush), so none escapes and the compiler keeps them in registers, or
+            // forwards a landed one from its store in c.r to the op reading it.
+            out += "    uint64_t";
+            for (uint32_t i = 0; i < held.size(); ++i) out += fmt::format("{}v{} = 0", i == 0 ? " " : i % 12 ? ", " : ",\n        ", i);
+            out += ";\n    static constexpr Held kHeld[] = {";
             for (uint32_t i = 0; i < held.size(); ++i)
                 out += fmt::format("{}{{{}, {}, {}, {}, {}}}", sep(i, 6), held[i]->bundle, landing(*held[i]), held[i]->dst,
                                    held[i]->latency, held[i]->index);
@@ -232,7 +237,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                     d.imm < end)
                     targets.insert(d.imm);
                 if (fast && held_of.count(d.index)) {
-                    out += fmt::format("    v[{}] = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", held_of[d.index],
+                    out += fmt::format("    v{} = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", held_of[d.index],
                                        int(d.instr.opcode), pc, d.a, d.b, d.c, d.imm, d.index, isa::format_instr(d.instr));
                     continue;
                 }
@@ -250,12 +255,17 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             uint32_t lo = ~0u, hi = 0;
             for (uint32_t i = 0; fast && i < held.size(); ++i)
                 if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
-            const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {}, v + {})", pc, lo, hi - lo, lo) : "false";
+            auto in_flight_list = [&] { // the list of v[lo, hi)
+                std::string s;
+                for (uint32_t i = lo; i < hi; ++i) s += fmt::format("{}v{}", i == lo ? "" : ", ", i);
+                return "{" + s + "}";
+            };
+            const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {})", pc, lo, in_flight_list()) : "false";
             if (falls_on) { // inside the head copy: taken, it leaves the copy; not, it goes on as an End
                 out += fmt::format("    if (jump_held{2}(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit,
                                    budget ? "" : "<false>");
                 out += go(pc, true, true, constant_jump(prog, pc)->imm,
-                          hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {}, v + {});\n", pc, lo, hi - lo, lo) : "");
+                          hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {});\n", pc, lo, in_flight_list()) : "");
                 t.kind = Tail::End;
             }
             if (t.kind == Tail::Exit) {
@@ -284,7 +294,7 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                     std::string stores;
                     uint32_t floats = 0;
                     for (uint32_t i : now) {
-                        stores += fmt::format("c.r[{}] = uint32_t(v[{}]); ", held[i]->dst, i);
+                        stores += fmt::format("c.r[{}] = uint32_t(v{}); ", held[i]->dst, i);
                         floats += (held[i]->dst >> 7) & 1u;
                     }
                     if (known)
