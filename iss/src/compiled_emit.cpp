@@ -100,10 +100,10 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                            spec, id);
     std::vector<std::string> code(starts.size()); // by run
     std::string out;
-    // Ring landings (compiled.hpp's Probe, NoRing, Ring, Expect, Held). A run entered at its first
-    // bundle f (by the entry switch or a goto) in cycle C issues bundle f + o in cycle C + o along
-    // its head copy, which goes straight on (a stall stops it, a branch taken leaves it); the end
-    // of bundle j lands cycle C + (j + 1 - f). A write
+    // Ring landings (compiled.hpp's Probe, NoRing, Ring, Expect, Held). A run entered at a head
+    // f (its first bundle, or another entry, below; by the entry switch or a goto) in cycle C
+    // issues bundle f + o in cycle C + o along f's head copy, which goes straight on (a stall stops
+    // it, a branch taken leaves it); the end of bundle j lands cycle C + (j + 1 - f). A write
     // landing then was pushed in cycle C' = C + (j + 1 - f) - L, L <= max_lat: when C' >= C, by
     // bundle f + (C' - C) of this entry, whose pushes the generator knows (a push that does not
     // happen is a faulting load's, whose bundle stops the run); when C' < C, before the entry,
@@ -112,27 +112,47 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
     // order they pushed it (bundle, then op order); in those first ends, after whatever was pushed
     // before it (Expect: its own writes alone when the slot holds as many). The head copy's
     // budget-free copy (g, below) is the same code without the budget's tests. Entries anywhere
-    // else (by the switch or a goto) run another copy of the run that probes at every end.
+    // else (by the switch) run another copy of the run that probes at every end, up to the next
+    // head, where it goes on in that head's copy (valid for any entry at that bundle).
     uint32_t max_lat = 1;
     for (const iss::DecodedOp& d : prog.ops()) max_lat = std::max(max_lat, d.latency);
     auto run_end = [&](uint32_t pc) { return run_of[pc] + 1 < starts.size() ? starts[run_of[pc] + 1] : nb; };
+    // The heads: a run's first bundle, and every bundle that a constant jump or branch targets or
+    // that a call returns to (the bundle after a jal): a loop's head or a call's return inside a
+    // run would otherwise enter the copy that probes.
+    std::vector<bool> head(nb, false);
+    for (uint32_t pc : starts) head[pc] = true;
+    for (const iss::DecodedOp& d : prog.ops()) {
+        const isa::Kind k = d.instr.info().kind;
+        if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) && d.imm < nb) head[d.imm] = true;
+        if (k == isa::Kind::JumpLink && d.bundle + 1 < nb) head[d.bundle + 1] = true;
+    }
+    auto label = [&](uint32_t pc) { return fmt::format("{}{}", head[pc] ? 'f' : 'b', pc); };
+    auto pushes = [&](const iss::DecodedOp& d) { // its result goes into the ring (handlers.hpp put)
+        const isa::Kind k = d.instr.info().kind;
+        return !iss::detail::op_direct(d) && d.latency > 1 &&
+               (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink || k == isa::Kind::Recv);
+    };
+    auto landing = [](const iss::DecodedOp& d) { return d.bundle + d.latency - 1; };
     constexpr uint32_t kHeadCap = 96;
-    for (uint32_t r = 0; r < starts.size(); ++r) {
-        const uint32_t first = starts[r], end = r + 1 < starts.size() ? starts[r + 1] : nb;
-        auto label = [first](uint32_t pc) { return fmt::format("{}{}", pc == first ? 'f' : 'b', pc); };
-        // The head copy (entered at `first`) runs straight on to `last`: across the ends of its
-        // bundles (End) and, while it holds at most kHeadCap bundles, across branches not taken
-        // (Tail::falls) into the runs after it, which it then knows the ring of. Its ring writes,
-        // by the bundle whose end lands them, in push order (bundle, then op order): a slot
-        // landing before `last` that receives compute and load results only is held (compiled.hpp
-        // Held); the others are landed from the ring (`lands`: their registers).
-        // It crosses into the next run only when writes of its own are still in flight there:
-        // without them there is nothing to gain, and the longer function ran slower (tree on `ic`).
-        auto pushes = [&](const iss::DecodedOp& d) { // its result goes into the ring (handlers.hpp put)
-            const isa::Kind k = d.instr.info().kind;
-            return !iss::detail::op_direct(d) && d.latency > 1 &&
-                   (k == isa::Kind::Compute || k == isa::Kind::Load || k == isa::Kind::JumpLink || k == isa::Kind::Recv);
-        };
+    // A head copy (entered at head f) runs straight on to `last`: across the ends of its bundles
+    // (End) and, while it holds at most kHeadCap bundles, across branches not taken (Tail::falls)
+    // into the runs after it, which it then knows the ring of. Its ring writes, by the bundle whose
+    // end lands them, in push order (bundle, then op order): a slot landing before `last` that
+    // receives compute and load results only is held (compiled.hpp Held); the others are landed
+    // from the ring (`lands`: their registers).
+    // It crosses into the next run only when writes of its own are still in flight there: without
+    // them there is nothing to gain, and the longer function ran slower (tree on `ic`).
+    struct HeadCopy {
+        uint32_t first = 0, last = 0;
+        std::map<uint32_t, std::vector<uint16_t>> lands;
+        std::map<uint32_t, uint32_t> held_of; // op index -> its place in `held`
+        std::vector<const iss::DecodedOp*> held;
+        uint32_t base = 0; // its held values are v<base + place>, described by kHeld[base + place]
+    };
+    auto plan_head = [&](uint32_t first) {
+        HeadCopy h;
+        h.first = first;
         auto in_flight = [&](uint32_t after) { // a push of bundles first..after lands past after's end
             for (uint32_t i = prog.bundles()[first].first; i < prog.bundles()[after].first + prog.bundles()[after].count; ++i)
                 if (pushes(prog.ops()[i]) && prog.ops()[i].bundle + prog.ops()[i].latency - 1 > after) return true;
@@ -142,7 +162,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
         for (;;) {
             const Tail t = tail_of(prog, last);
             if (t.kind == Tail::End) {
-                if (last + 1 == run_end(last)) throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, r));
+                if (last + 1 == run_end(last))
+                    throw std::runtime_error(fmt::format("{}: run {} ends going straight on", spec, run_of[last]));
                 ++last;
             } else if (t.falls && run_end(last + 1) - first <= kHeadCap && in_flight(last)) {
                 ++last;
@@ -150,41 +171,51 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 break;
             }
         }
+        h.last = last;
         std::map<uint32_t, std::vector<const iss::DecodedOp*>> slots;
         for (uint32_t pc = first; pc <= last; ++pc)
             for (uint32_t i = prog.bundles()[pc].first; i < prog.bundles()[pc].first + prog.bundles()[pc].count; ++i)
                 if (pushes(prog.ops()[i])) slots[pc + prog.ops()[i].latency - 1].push_back(&prog.ops()[i]);
-        std::map<uint32_t, std::vector<uint16_t>> lands;
-        std::map<uint32_t, uint32_t> held_of; // op index -> its place in v
-        std::vector<const iss::DecodedOp*> held;
         for (const auto& [at, ops] : slots) {
             const bool hold = at < last && std::all_of(ops.begin(), ops.end(), [](const iss::DecodedOp* d) {
                                   return d->instr.info().kind == isa::Kind::Compute || d->instr.info().kind == isa::Kind::Load;
                               });
             for (const iss::DecodedOp* d : ops)
-                if (hold) held_of[d->index] = 0;
-                else lands[at].push_back(d->dst);
+                if (hold) h.held_of[d->index] = 0;
+                else h.lands[at].push_back(d->dst);
         }
-        for (auto& [index, place] : held_of) { // op indices ascend in push order
-            place = uint32_t(held.size());
-            held.push_back(&prog.ops()[index]);
+        for (auto& [index, place] : h.held_of) { // op indices ascend in push order
+            place = uint32_t(h.held.size());
+            h.held.push_back(&prog.ops()[index]);
         }
-        auto landing = [](const iss::DecodedOp& d) { return d.bundle + d.latency - 1; };
+        return h;
+    };
+    for (uint32_t r = 0; r < starts.size(); ++r) {
+        const uint32_t first = starts[r], end = r + 1 < starts.size() ? starts[r + 1] : nb;
+        std::vector<HeadCopy> heads;
+        uint32_t held_count = 0;
+        for (uint32_t pc = first; pc < end; ++pc)
+            if (head[pc]) {
+                heads.push_back(plan_head(pc));
+                heads.back().base = held_count;
+                held_count += uint32_t(heads.back().held.size());
+            }
         out = fmt::format("\n// bundles {}..{}\n[[gnu::hot]] bool run_{}(Core& c) {{\n    Counts n(c);\n", first, end - 1, r);
-        if (!held.empty()) {
+        if (held_count) {
             // Scalars, not an array: an exit hands the values in flight over as a list of their
             // own (cexit, cflush), so none escapes and the compiler keeps them in registers, or
             // forwards a landed one from its store in c.r to the op reading it.
             out += "    uint64_t";
-            for (uint32_t i = 0; i < held.size(); ++i) out += fmt::format("{}v{} = 0", i == 0 ? " " : i % 12 ? ", " : ",\n        ", i);
+            for (uint32_t i = 0; i < held_count; ++i) out += fmt::format("{}v{} = 0", i == 0 ? " " : i % 12 ? ", " : ",\n        ", i);
             out += ";\n    static constexpr Held kHeld[] = {";
-            for (uint32_t i = 0; i < held.size(); ++i)
-                out += fmt::format("{}{{{}, {}, {}, {}, {}}}", sep(i, 6), held[i]->bundle, landing(*held[i]), held[i]->dst,
-                                   held[i]->latency, held[i]->index);
+            uint32_t i = 0;
+            for (const HeadCopy& h : heads)
+                for (const iss::DecodedOp* d : h.held)
+                    out += fmt::format("{}{{{}, {}, {}, {}, {}}}", sep(i++, 6), d->bundle, landing(*d), d->dst, d->latency, d->index);
             out += "};\n";
         }
-        out += fmt::format("    switch (c.pc) {{\n    case {0}: goto f{0};\n", first);
-        for (uint32_t pc = first + 1; pc < end; ++pc) out += fmt::format("    case {0}: goto b{0};\n", pc);
+        out += "    switch (c.pc) {\n";
+        for (uint32_t pc = first; pc < end; ++pc) out += fmt::format("    case {}: goto {};\n", pc, label(pc));
         out += "    default: __builtin_unreachable();\n    }\n";
         // Control bundle pc goes on to `to` (taken, or a branch not taken to pc + 1), or stops where
         // jump() would; `before`: what it does first (the head copy's held writes into the ring).
@@ -204,13 +235,16 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 s += fmt::format("        return leave(c, n, {}, {});\n    }}\n", pc, to);
             return s;
         };
-        // Bundle pc's code, in the head copy (fast) or the other.
-        auto bundle_code = [&](uint32_t pc, bool fast, bool budget = true) {
+        // Bundle pc's code, in head copy `hc` (fast) or, hc null, in the copy that probes.
+        auto bundle_code = [&](uint32_t pc, const HeadCopy* hc, bool budget = true) {
+            const bool fast = hc != nullptr;
+            static const HeadCopy kNone;
+            const HeadCopy& h = fast ? *hc : kNone;
             const iss::DecodedBundle& b = prog.bundles()[pc];
             if (b.count == 0) throw std::runtime_error(fmt::format("{}: bundle {} has no op", spec, pc));
             std::set<uint32_t> targets; // constant branch targets inside this run
             Tail t = tail_of(prog, pc);
-            const bool falls_on = fast && pc < last && t.falls;
+            const bool falls_on = fast && pc < h.last && t.falls;
             // An End bundle whose latency-1 results that wait for its end (not op_direct) are all
             // compute and load results keeps them in locals w<index> (compiled.hpp end's stores
             // and defer) instead of queueing them in the core; its code is a block, so that the
@@ -236,8 +270,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                 if ((k == isa::Kind::Branch || k == isa::Kind::Jump || k == isa::Kind::JumpLink) && d.imm >= first &&
                     d.imm < end)
                     targets.insert(d.imm);
-                if (fast && held_of.count(d.index)) {
-                    out += fmt::format("    v{} = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", held_of[d.index],
+                if (auto held = h.held_of.find(d.index); held != h.held_of.end()) {
+                    out += fmt::format("    v{} = val<{}>(c, n.cycle({}), {}, {}, {}, 0x{:x}u, {}); // {}\n", h.base + held->second,
                                        int(d.instr.opcode), pc, d.a, d.b, d.c, d.imm, d.index, isa::format_instr(d.instr));
                     continue;
                 }
@@ -251,35 +285,37 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                                    isa::format_instr(d.instr));
             }
             // The held writes issued and not landed when the run stops at the end of bundle pc: among
-            // v[lo, hi) (hi = 0: none).
+            // v[lo, hi) (hi = 0: none; places in the copy's `held`).
             uint32_t lo = ~0u, hi = 0;
-            for (uint32_t i = 0; fast && i < held.size(); ++i)
-                if (held[i]->bundle <= pc && landing(*held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
+            for (uint32_t i = 0; i < h.held.size(); ++i)
+                if (h.held[i]->bundle <= pc && landing(*h.held[i]) >= pc) lo = std::min(lo, i), hi = i + 1;
             auto in_flight_list = [&] { // the list of v[lo, hi)
                 std::string s;
-                for (uint32_t i = lo; i < hi; ++i) s += fmt::format("{}v{}", i == lo ? "" : ", ", i);
+                for (uint32_t i = lo; i < hi; ++i) s += fmt::format("{}v{}", i == lo ? "" : ", ", h.base + i);
                 return "{" + s + "}";
             };
-            const std::string exit = hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {})", pc, lo, in_flight_list()) : "false";
+            const std::string exit =
+                hi ? fmt::format("cexit(c, n, {}, kHeld + {}, {})", pc, h.base + lo, in_flight_list()) : "false";
             if (falls_on) { // inside the head copy: taken, it leaves the copy; not, it goes on as an End
                 out += fmt::format("    if (jump_held{2}(c, n, {0})) {{\n        stop(c, n, {0});\n        return {1};\n    }}\n", pc, exit,
                                    budget ? "" : "<false>");
                 out += go(pc, true, true, constant_jump(prog, pc)->imm,
-                          hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {});\n", pc, lo, in_flight_list()) : "");
+                          hi ? fmt::format("        cflush(c, n, {}, kHeld + {}, {});\n", pc, h.base + lo, in_flight_list()) : "");
                 t.kind = Tail::End;
             }
             if (t.kind == Tail::Exit) {
                 out += fmt::format("    return stop(c, n, {});\n", pc);
             } else if (t.kind == Tail::End) {
-                const bool known = pc + 1 - first >= max_lat; // nothing pushed before the entry lands now
+                const bool known = pc + 1 - h.first >= max_lat; // nothing pushed before the entry lands now
                 std::vector<uint32_t> now; // held writes landing at this end
-                for (uint32_t i = 0; fast && i < held.size(); ++i)
-                    if (landing(*held[i]) == pc) now.push_back(i);
-                const std::string land = !fast                    ? "Probe"
-                                         : !now.empty()           ? "NoRing"
-                                         : lands.count(pc)        ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands[pc], ", "))
-                                         : known                  ? "NoRing"
-                                                                  : "Expect<>";
+                for (uint32_t i = 0; i < h.held.size(); ++i)
+                    if (landing(*h.held[i]) == pc) now.push_back(i);
+                const auto lands = h.lands.find(pc);
+                const std::string land = !fast                   ? "Probe"
+                                         : !now.empty()          ? "NoRing"
+                                         : lands != h.lands.end() ? fmt::format("{}<{}>", known ? "Ring" : "Expect", fmt::join(lands->second, ", "))
+                                         : known                 ? "NoRing"
+                                                                 : "Expect<>";
                 std::string stores, defers;
                 for (const iss::DecodedOp* d : locals) {
                     stores += fmt::format(" c.r[{}] = uint32_t(w{});", d->dst, d->index);
@@ -294,8 +330,8 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
                     std::string stores;
                     uint32_t floats = 0;
                     for (uint32_t i : now) {
-                        stores += fmt::format("c.r[{}] = uint32_t(v{}); ", held[i]->dst, i);
-                        floats += (held[i]->dst >> 7) & 1u;
+                        stores += fmt::format("c.r[{}] = uint32_t(v{}); ", h.held[i]->dst, h.base + i);
+                        floats += (h.held[i]->dst >> 7) & 1u;
                     }
                     if (known)
                         out += fmt::format("    {}clocal<{}, {}, {}, {}>(c, n, {});\n", stores, b.lat1_writes[0],
@@ -322,27 +358,33 @@ std::vector<std::string> compiled_runs_source(const Program& prog, const std::st
             if (!locals.empty()) out += "    }\n";
             return t.kind;
         };
-        // The head copy, then the copy entered anywhere else. A head copy of more than
-        // kBudgetFree + 1 bundles tests once whether the budget lasts to its last bundle, and then runs
-        // a copy of the bundles before that one without the budget's test at each end (one fused
-        // compare and branch of the 6-8 host instructions of a sequential machine's bundle); the
-        // last bundle (a control bundle, or the run's end) is the head copy's own, labelled h.
+        // Each head copy. One of more than kBudgetFree + 1 bundles tests once whether the budget
+        // lasts to its last bundle, and then runs a copy of the bundles before that one without the
+        // budget's test at each end (one fused compare and branch of the 6-8 host instructions of a
+        // sequential machine's bundle); the last bundle (a control bundle, or the run's end) is the
+        // head copy's own, labelled h.
         constexpr uint32_t kBudgetFree = 3;
-        const bool budget_free = last - first > kBudgetFree;
-        out += fmt::format("f{}:\n", first);
-        if (budget_free) out += fmt::format("    if (n.lasts_to({})) goto g{};\n", last, first);
-        for (uint32_t pc = first; pc <= last; ++pc) {
-            if (budget_free && pc == last) out += fmt::format("h{}:\n", last);
-            bundle_code(pc, true);
+        for (const HeadCopy& h : heads) {
+            const bool budget_free = h.last - h.first > kBudgetFree;
+            out += fmt::format("f{}:\n", h.first);
+            if (budget_free) out += fmt::format("    if (n.lasts_to({})) goto g{};\n", h.last, h.first);
+            for (uint32_t pc = h.first; pc <= h.last; ++pc) {
+                if (budget_free && pc == h.last) out += fmt::format("h{}:\n", h.first);
+                bundle_code(pc, &h);
+            }
+            if (budget_free) {
+                out += fmt::format("g{}:\n", h.first);
+                for (uint32_t pc = h.first; pc < h.last; ++pc) bundle_code(pc, &h, false);
+                out += fmt::format("    goto h{};\n", h.first);
+            }
         }
-        if (budget_free) {
-            out += fmt::format("g{}:\n", first);
-            for (uint32_t pc = first; pc < last; ++pc) bundle_code(pc, true, false);
-            out += fmt::format("    goto h{};\n", last);
-        }
+        // The copy that probes, entered by the switch at a bundle that is no head, up to the next
+        // head, where it goes on in that head's copy.
         for (uint32_t pc = first + 1; pc < end; ++pc) {
+            if (head[pc]) continue;
             out += fmt::format("b{}:\n", pc);
-            bundle_code(pc, false);
+            if (bundle_code(pc, nullptr) == Tail::End && pc + 1 < end && head[pc + 1])
+                out += fmt::format("    goto f{};\n", pc + 1);
         }
         out += "}\n";
         code[r] = std::move(out);
