@@ -77,7 +77,7 @@ nlohmann::json stats_json(const rt::PreparedScene& prep, const rt::RenderOptions
                     {"window", mo.window},
                     {"fifo_capacity", mo.fifo_capacity},
                     {"fifo_latency", mo.fifo_latency},
-                    {"quantum", mo.quantum},
+                    {"quantum", mo.effective_quantum()},
                     {"cache", mo.cache.enabled ? nlohmann::json{{"enabled", true},
                                                                 {"bytes", mo.cache.bytes},
                                                                 {"line", mo.cache.line},

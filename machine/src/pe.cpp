@@ -395,7 +395,7 @@ class Pe {
         turns_.horizon[w] = turn;
         if (mo_.fifo_capacity != 0) // only a bounded FIFO asks (Fifo::pop); unbounded ones always have room
             for (int i = 0; i < 3; ++i) turns_.wants_room[i] = i != w && wants_room(i);
-        const std::uint64_t horizon = turn == kNever ? e[w] + kSoloChunk : std::max(turn, e[w]) + mo_.quantum;
+        const std::uint64_t horizon = turn == kNever ? e[w] + kSoloChunk : std::max(turn, e[w]) + mo_.effective_quantum();
         check_limit(e[w]);
         if (w == 2) sc_.run(std::min(horizon, until));
         else (w == 0 ? os_ : ic_).run(std::min(horizon, until), e[w]);

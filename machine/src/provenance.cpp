@@ -57,7 +57,7 @@ Provenance provenance(const std::string& scene, int grid, const rt::RenderOption
     opt("fifo_capacity", mo.fifo_capacity);
     opt("ray_slots", mo.ray_slots);
     opt("fifo_latency", mo.fifo_latency);
-    opt("quantum", mo.quantum);
+    opt("quantum", mo.effective_quantum());
     opt("cache", mo.cache.enabled ? fmt::format("{} bytes, {}-byte lines, {} ways, {} miss cycles", mo.cache.bytes,
                                                 mo.cache.line, mo.cache.ways, mo.cache.miss_cycles)
                                   : std::string("ideal"));
@@ -76,8 +76,9 @@ std::vector<std::string> provenance_differences(const Provenance& stored, const 
     for (const auto& [k, v] : stored) keys[k] |= 1;
     for (const auto& [k, v] : current) keys[k] |= 2;
     for (const auto& [k, sides] : keys) {
-        // A cycle limit changes no result that finished under it; the others all do.
-        if (k == "tool" || k == "options.max_cycles" || (k == "build" && !same_build)) continue;
+        // A cycle limit changes no result that finished under it, the quantum no result at all;
+        // the others all do.
+        if (k == "tool" || k == "options.max_cycles" || k == "options.quantum" || (k == "build" && !same_build)) continue;
         const std::string a = value(stored, k), b = value(current, k);
         if (a != b) d.push_back(fmt::format("{}: {} -> {}", k, a, b));
     }

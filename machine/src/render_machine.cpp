@@ -80,7 +80,6 @@ Result render(const rt::PreparedScene& prep, const rt::RenderOptions& opt, const
     if (mo.fifo_capacity != 0 && mo.fifo_capacity < 16)
         throw std::invalid_argument("FIFO capacity must be 0 (unbounded) or at least 16 words (a VISIT is 12)");
     if (mo.window < 1) throw std::invalid_argument("the DIS window must be at least 1 corner");
-    if (mo.quantum < 1) throw std::invalid_argument("the quantum must be at least 1 cycle"); // 0 never advances a stage
     if (mo.ray_slots < 0 || mo.ray_slots > static_cast<int>(abi::kOsSlots))
         throw std::invalid_argument(fmt::format("ray slots must be 1 to {} (0: all)", abi::kOsSlots));
     // The host's clock starts once the kernels are built (scheduled for a new machine: seconds),

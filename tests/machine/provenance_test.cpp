@@ -43,6 +43,14 @@ TEST_CASE("Provenance names the scene, kernels, the machines the model uses and 
     CHECK(pm.count("machine.ic") == 0);
     CHECK(pm.at("machine.seq") == p.at("machine.seq"));
 
+    // The quantum changes no result: a cell run with another is the same result.
+    machine::Options quantum = v;
+    quantum.quantum = 7;
+    const machine::Provenance pq = machine::provenance("tetra:1", 8, size(16), quantum);
+    CHECK(pq.at("options.quantum") == "7");
+    CHECK(p.at("options.quantum") == std::to_string(machine::Options::kQuantum));
+    CHECK(machine::provenance_differences(p, pq).empty());
+
     machine::Options real = v;
     real.ic_machine = "ic-real";
     real.fifo_capacity = 64;

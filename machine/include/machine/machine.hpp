@@ -56,7 +56,12 @@ struct Options {
     // flight no FIFO ever fills and bounded FIFOs cannot deadlock (deadlock_free_ray_slots).
     int ray_slots = 0;
     std::uint32_t fifo_latency = 0;   // extra cycles between a send and the receive (ideal: 0)
-    std::uint64_t quantum = 32;       // host switching of a PE's stages (cycles past a turn); no result depends on it
+    // Host switching of a PE's stages: the cycles a stage may run past its turn before the host
+    // switches (no result depends on it). 0: kQuantum, or kTracedQuantum in a traced run, whose
+    // samples of FIFO words and activity are taken at each switch (so a longer run between
+    // switches draws them coarser, and the stage that ran ahead adds its sends early).
+    std::uint64_t quantum = 0;
+    static constexpr std::uint64_t kQuantum = 256, kTracedQuantum = 32;
     CacheOptions cache;
     // IC data placement (kernels/image.hpp): the records, voxel table and lists go to the resident
     // memory when they all fit in it; else the most-referenced shape records (by the number of voxel
@@ -73,6 +78,7 @@ struct Options {
     std::string trace_json;           // Chrome/Perfetto trace of activity and FIFO occupancy ("" = none)
     std::string timeline_svg;         // the same as a picture: stage busy fractions and FIFO words over time ("" = none)
     bool traced() const { return !trace_json.empty() || !timeline_svg.empty(); } // activity and FIFO samples kept
+    std::uint64_t effective_quantum() const { return quantum ? quantum : traced() ? kTracedQuantum : kQuantum; }
     std::uint64_t max_cycles = 0;     // per PE; 0 = no limit. Exceeding it is an error.
     // Called from the calling thread about 10 times a second with (corner rays done, total).
     std::function<void(std::uint64_t, std::uint64_t)> progress;
