@@ -350,7 +350,10 @@ class Pe {
             const Fifo& o = *s.out[ch];
             const std::uint64_t known = o.room_from(cycle, s.sends_needed(ch));
             b.own = known == Fifo::kNone ? kNever : known;
-            b.via[&o == &ic_in_ ? 1 : &o == &os_in_ ? 0 : 2] = 1; // the consumer's next receive
+            // The consumer's next receive. Constant indices: a store at a computed one kept `b` on
+            // the stack, and its copy out stalled on reading it back (Pe::bound 4.8 % of mount V).
+            const int consumer = &o == &ic_in_ ? 1 : &o == &os_in_ ? 0 : 2;
+            b.via = {consumer == 0 ? 1 : kNever, consumer == 1 ? 1 : kNever, consumer == 2 ? 1 : kNever};
             return b;
         }
         const std::size_t need = s.recv_need[s.proc->pc()];
