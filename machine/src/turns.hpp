@@ -46,19 +46,22 @@ struct Bound {
 // `without`: leave that stage out, for the stage about to run.
 inline std::array<std::uint64_t, 3> settle(const std::array<Bound, 3>& b, int without) {
     constexpr std::uint64_t kNever = Bound::kNever;
-    std::array<std::uint64_t, 3> e{b[0].own, b[1].own, b[2].own};
-    if (without >= 0) e[static_cast<std::size_t>(without)] = kNever;
-    auto relax = [&](int i, int k) {
-        const std::uint64_t via = b[static_cast<std::size_t>(i)].via[static_cast<std::size_t>(k)], from = e[static_cast<std::size_t>(k)];
+    // Three scalars, not an array: a store at the computed index `without`, and vector loads that
+    // straddled two bounds, could not be forwarded from the stores before them (stalls that made
+    // this a fifth of the scheduler's step).
+    std::uint64_t e0 = without == 0 ? kNever : b[0].own, e1 = without == 1 ? kNever : b[1].own,
+                  e2 = without == 2 ? kNever : b[2].own;
+    auto relax = [&](std::uint64_t& e, int i, std::uint64_t from, int k) {
+        const std::uint64_t via = b[static_cast<std::size_t>(i)].via[static_cast<std::size_t>(k)];
         if (i == without || via == kNever || from == kNever) return;
-        e[static_cast<std::size_t>(i)] = std::min(e[static_cast<std::size_t>(i)], std::max(b[static_cast<std::size_t>(i)].floor, from + via));
+        e = std::min(e, std::max(b[static_cast<std::size_t>(i)].floor, from + via));
     };
     for (int round = 0; round < 2; ++round) {
-        relax(0, 1), relax(0, 2);
-        relax(1, 0), relax(1, 2);
-        relax(2, 0), relax(2, 1);
+        relax(e0, 0, e1, 1), relax(e0, 0, e2, 2);
+        relax(e1, 1, e0, 0), relax(e1, 1, e2, 2);
+        relax(e2, 2, e0, 0), relax(e2, 2, e1, 1);
     }
-    return e;
+    return {e0, e1, e2};
 }
 
 } // namespace nesshi::machine
