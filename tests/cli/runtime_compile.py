@@ -12,7 +12,8 @@ processes compiling one program at once make one object; a compiler that fails i
 the run goes on interpreted, and the next run does not compile it again; a missing compiler is a
 warning; another compiler gets a cache folder of its own; under NESSHI_COMPILED_CACHE_MB=0 a new
 object replaces the old one, and a limit that is no number is a warning; a model M render
-(several processors, the kernel workloads) gives the interpreter's statistics.
+(several processors, the kernel workloads) gives the interpreter's statistics; a 2-cycle receive
+inside a run (the generator's Ring<R...> landing, which no built-in kernel has) gives them too.
 usage: runtime_compile.py NESSHI SOURCE_DIR OUTDIR
 """
 import json
@@ -177,6 +178,60 @@ def render(mode, name):
 
 check(render("wait:1", "render-compiled") == render("0", "render-interpreted"), "model M: compiled runs changed the render")
 check(len(cache_files("cache-render")) >= 1, "model M: nothing compiled")
+
+
+# A run whose head copy holds a receive of latency 2 (a copy of seq with 2-cycle FIFO operations):
+# the generator lands its slot as writes it knows (compiled.hpp Ring<R...>), a form no built-in
+# kernel has. A compiler wrapper finds it in the generated source; the interpreter's statistics
+# and memory check it (a Ring that landed nothing fails here). Lock-step, which steps one bundle
+# at a time, mostly runs the copy that probes.
+fifo2 = out / "fifo2.toml"
+fifo2.write_text((src / "isa/machines/seq.toml").read_text()
+                 .replace('name = "seq"', 'name = "seqfifo2"').replace("fifo = 1", "fifo = 2"))
+receiver = out / "receiver.s"
+receiver.write_text("""# machine: seq
+        .data 0x200
+total:  .word 0
+        .text
+        li r2, 400000
+        li r5, 0
+loop:   recv r4, 0
+        nop
+        add r5, r5, r4
+        addi r2, r2, -1
+        bnez r2, loop
+        li r6, total
+        sw r5, 0(r6)
+        halt
+""")
+words = out / "words.txt"
+words.write_text("\n".join(str(i * 7919 % 100003) for i in range(400000)) + "\n")
+ring_seen = out / "ring-seen"
+wrapper = out / "cxx-ring.sh"
+wrapper.write_text(f"""#!/bin/sh
+for a in "$@"; do case "$a" in *.cpp) grep -q "Ring<" "$a" && touch '{ring_seen}';; esac; done
+if command -v clang++ >/dev/null; then exec clang++ "$@"; else exec c++ "$@"; fi
+""")
+wrapper.chmod(0o755)
+
+
+def sim_receiver(mode, engine, name):
+    """nesshi sim of the receiving loop: (first line of the report, stats JSON, dumped total)."""
+    stats = out / f"{name}.json"
+    e = dict(base_env, NESSHI_RUNTIME_COMPILE=mode, NESSHI_CXX=str(wrapper), XDG_CACHE_HOME=str(out / "cache-ring"))
+    r = subprocess.run([nesshi, "sim", "-m", str(fifo2), str(receiver), "--fifo-in", str(words), "--engine", engine,
+                        "--stats-json", str(stats), "--dump", "total:1:i32"], env=e, capture_output=True, text=True)
+    check(r.returncode == 0, f"{name}: exit {r.returncode}: {r.stderr}")
+    lines = r.stdout.splitlines()
+    return (lines[0] if lines else ""), (stats.read_text() if stats.exists() else ""), lines[-1:]
+
+
+ring_interpreted = sim_receiver("0", "fast", "ring-interpreted")
+ring_compiled = sim_receiver("wait:1", "fast", "ring-compiled")
+check(ring_compiled[0].endswith("(fast engine, compiled runs)"), f"2-cycle receive: {ring_compiled[0]}")
+check(ring_seen.exists(), "the runs generated for a 2-cycle receive have no Ring<R...> landing")
+check(ring_compiled[1:] == ring_interpreted[1:], "2-cycle receive: compiled runs changed the statistics or memory")
+sim_receiver("wait:1", "lockstep", "ring-lockstep")  # a divergence exits 3
 
 if failures:
     sys.exit(f"{len(failures)} check(s) failed")

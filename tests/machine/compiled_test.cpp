@@ -300,7 +300,7 @@ TEST_CASE("compiled runs: every built-in kernel in lock-step with the interprete
 // results (compiled.hpp), so that the lock-step tests, which stop in every bundle, check each:
 // a change to the generator that stopped emitting one would leave it unchecked. (Ring<R...>, a
 // known slot of results that are not held, needs a link or receive result of latency 2 or more:
-// no built-in kernel has one.)
+// no built-in kernel has one; tests/cli/runtime_compile.py runs one, a 2-cycle receive.)
 TEST_CASE("compiled runs: the kernels in lock-step use every landing the generator emits", "[compiled]") {
     std::string all;
     for (const auto* list : {&kDda, &kIntersect})
