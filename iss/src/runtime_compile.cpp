@@ -166,7 +166,8 @@ const Setup& setup() {
         for (const EmbeddedFile& f : runtime_sources()) h.add(f.path).add(std::string_view("\0", 1)).add(f.text);
         utsname host{};
         ::uname(&host); // a home folder shared by hosts of two architectures keeps both objects
-        h.add(r.compiler).add(flags_for(0)).add(flags_for(~0u)).add(std::to_string(kO2Bundles)).add(std::string_view(host.machine));
+        h.add(r.compiler).add(flags_for(0)).add(flags_for(~0u)).add(std::to_string(kO2Bundles));
+        h.add(std::string_view(host.machine));
         r.key = base::hex64(h.value());
         r.build = r.dir + "/" + r.key;
         r.includes = r.build + "/include";
