@@ -228,7 +228,10 @@ void add_render(CLI::App& app) {
     cmd->add_flag("--no-resident")
         ->description("all IC data in global memory (default: as much as fits in resident memory, the most-referenced records first)")
         ->group(m);
-    cmd->add_option("--quantum", a->mo.quantum, "cycles a stage may run past its turn before the host switches stages (default 256, 32 with --trace-json or --timeline-svg; performance only, no result depends on it)")
+    cmd->add_option("--quantum", a->mo.quantum,
+                    fmt::format("cycles a stage may run past its turn before the host switches stages (default {}, {} with "
+                                "--trace-json or --timeline-svg; performance only, no result depends on it)",
+                                machine::Options::kQuantum, machine::Options::kTracedQuantum))
         ->check(between<std::uint64_t>(1, 1'000'000))->group(m);
     cmd->add_option("--max-cycles", a->mo.max_cycles, "stop with an error past this many cycles per PE (default 0: no limit)")
         ->check(between<std::uint64_t>(0, UINT64_MAX))->group(m);
